@@ -1,0 +1,18 @@
+"""Ruled: optimal ruled-surface fitting for CAD faces.
+
+House rule: this package (the engine) imports no CAD host.  numpy and scipy
+only; OCP (OCCT) is imported only in ``ruled.occ`` (and by the command line
+and the CadQuery entry points through it); FreeCAD only in ``workbench/``.
+Data crosses every boundary as plain arrays in small frozen containers.
+"""
+
+from .errors import (BadInputError, CancelledError, DegenerateFaceError, InfeasibleError, RuledError,
+                     TooBigError)
+from .fit import Direction, FitOptions, FitResult, Objective, fit_surface
+from .nurbs import Curve, Surface
+
+__version__ = "0.1.0"
+
+__all__ = ["Surface", "Curve", "FitOptions", "FitResult", "Objective", "Direction", "fit_surface",
+           "RuledError", "BadInputError", "DegenerateFaceError", "InfeasibleError", "TooBigError",
+           "CancelledError", "__version__"]

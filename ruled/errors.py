@@ -1,0 +1,47 @@
+"""Errors raised by Ruled.
+
+Every error a user can cause is a :class:`RuledError` whose message is one line
+that names the problem and says what to do.  The command line maps every
+RuledError to exit code 2; the FreeCAD workbench shows it on the object.
+"""
+
+from __future__ import annotations
+
+
+class RuledError(Exception):
+    """Base class of every error Ruled raises on purpose."""
+
+    kind = "error"
+
+    def __init__(self, message: str):
+        super().__init__(" ".join(str(message).split()))
+
+
+class BadInputError(RuledError):
+    """The input file, face or option is unusable."""
+
+    kind = "bad input"
+
+
+class DegenerateFaceError(BadInputError):
+    """The face has a collapsed boundary or no area."""
+
+    kind = "degenerate face"
+
+
+class InfeasibleError(RuledError):
+    """No solution satisfies the requested constraint."""
+
+    kind = "infeasible"
+
+
+class TooBigError(RuledError):
+    """The requested work would not fit in memory."""
+
+    kind = "too big"
+
+
+class CancelledError(RuledError):
+    """The user interrupted the work."""
+
+    kind = "cancelled"

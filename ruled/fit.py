@@ -1,0 +1,273 @@
+"""Orchestration of a 2D ruled fit: direction choice, cost table, DP, refinement, rebuild, bound."""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Callable, Optional
+
+import numpy as np
+
+from . import dp
+from .certify import Certificate, certify
+from .distance import ruling_distances
+from .errors import BadInputError, DegenerateFaceError, RuledError, TooBigError
+from .nurbs import Surface
+from .reparam import Pairing, fit_boundaries, fit_delta, refine_pairing, ruled_surface
+
+Progress = Optional[Callable[[str, float], None]]
+
+
+class Objective(str, Enum):
+    SUM = "sum"
+    MAX = "max"
+
+
+class Direction(str, Enum):
+    AUTO = "auto"
+    U = "u"   # rulings run along u, joining the u-min and u-max boundaries
+    V = "v"   # rulings run along v, joining the v-min and v-max boundaries
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    """Options of a 2D fit; defaults live here and nowhere else."""
+
+    samples: int = 40
+    objective: Objective = Objective.SUM
+    max_error: Optional[float] = None
+    direction: Direction = Direction.AUTO
+    refine: bool = True
+    points_per_ruling: int = 9
+
+    def checked(self) -> "FitOptions":
+        if not isinstance(self.samples, (int, np.integer)) or self.samples < 3:
+            raise BadInputError(f"--samples {self.samples} is too small; use at least 3 (40 is a good start)")
+        if self.max_error is not None and not (self.max_error > 0):
+            raise BadInputError(f"--max-error {self.max_error} must be a positive distance in model units")
+        return FitOptions(int(self.samples), Objective(self.objective), self.max_error,
+                          Direction(self.direction), self.refine, self.points_per_ruling)
+
+
+@dataclass(frozen=True)
+class DirectionFit:
+    """The fit along one direction, in the coordinates of the oriented surface."""
+
+    direction: str
+    closed: bool
+    surface: Surface              # the ruled result R(s, t)
+    pairs: np.ndarray             # (K, 2) DP path, sample indices (unwrapped when closed)
+    rulings: np.ndarray           # (K, 2, 3) end points of the DP rulings
+    pair_params: np.ndarray       # (K, 2) boundary parameters of the DP rulings
+    ruling_costs: np.ndarray      # (K,) line–surface distance of each DP ruling
+    dp_score: float
+    refined: tuple                # (sigma, delta, cost) of the continuous refinement
+    pairing: Pairing
+    boundary_fit_error: float
+    certificate: Certificate
+    timings: dict
+
+    @property
+    def error_bound(self) -> float:
+        return self.certificate.bound
+
+
+@dataclass(frozen=True)
+class FitResult:
+    best: DirectionFit
+    candidates: dict              # direction -> DirectionFit (or error message)
+    options: FitOptions
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def surface(self) -> Surface:
+        return self.best.surface
+
+    @property
+    def error_bound(self) -> float:
+        return self.best.error_bound
+
+    @property
+    def direction(self) -> str:
+        return self.best.direction
+
+
+def _diag(S: Surface) -> float:
+    P = S.poles.reshape(-1, 3)
+    return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+
+
+def surface_area(S: Surface, n: int = 48) -> float:
+    u0, u1, v0, v1 = S.domain
+    g, w = np.polynomial.legendre.leggauss(n)
+    u = 0.5 * (u1 - u0) * (g + 1) + u0
+    v = 0.5 * (v1 - v0) * (g + 1) + v0
+    UU, VV = np.meshgrid(u, v, indexing="ij")
+    D = S.evaluate(UU.ravel(), VV.ravel(), 1)
+    J = np.linalg.norm(np.cross(D.Su, D.Sv), axis=1).reshape(n, n)
+    return float(0.25 * (u1 - u0) * (v1 - v0) * (w[:, None] * w[None, :] * J).sum())
+
+
+def _polyline_length(P: np.ndarray) -> float:
+    return float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
+
+
+def check_direction(S: Surface) -> tuple[bool, Optional[str]]:
+    """For the surface oriented along v: (closed boundaries?, reason it cannot be fitted or None)."""
+    u0, u1, v0, v1 = S.domain
+    diag = _diag(S)
+    tol = 1e-7 * max(diag, 1e-300)
+    us = np.linspace(u0, u1, 65)
+    vs = np.linspace(v0, v1, 17)
+    C0 = S(us, np.full(us.size, v0))
+    C1 = S(us, np.full(us.size, v1))
+    for name, C in (("v-min", C0), ("v-max", C1)):
+        if _polyline_length(C) <= 1e-9 * max(diag, 1e-300):
+            return False, f"the {name} boundary collapses to a point"
+    if np.max(np.linalg.norm(C0 - C1, axis=1)) <= tol:
+        return False, "the v-min and v-max boundaries coincide (the face is closed across the rulings)"
+    closed = bool(np.max(np.linalg.norm(S(np.full(vs.size, u0), vs) - S(np.full(vs.size, u1), vs), axis=1)) <= tol)
+    return closed, None
+
+
+def available_memory() -> int:
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 8 << 30
+
+
+def check_memory(n: int, closed: bool) -> None:
+    need = dp.table_bytes(n, closed) + 200 * (1 << 20)
+    have = int(available_memory() * 0.8)
+    if need > have:
+        # largest n that fits
+        lo, hi = 3, n
+        while lo < hi:
+            mid = (lo + hi + 1) // 2
+            if dp.table_bytes(mid, closed) + 200 * (1 << 20) <= have:
+                lo = mid
+            else:
+                hi = mid - 1
+        raise TooBigError(f"--samples {n} needs about {need / 2**30:.1f} GiB for the DP tables but only "
+                          f"{have / 2**30:.1f} GiB is available; use --samples {lo} or fewer")
+
+
+def _stage(progress: Progress, name: str, frac: float) -> None:
+    if progress is not None:
+        progress(name, frac)
+
+
+def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None) -> DirectionFit:
+    """Fit along one direction ('v': boundaries v-min/v-max; 'u': the surface is transposed first)."""
+    So = S if direction == "v" else S.transposed()
+    closed, why = check_direction(So)
+    if why is not None:
+        raise DegenerateFaceError(f"cannot fit rulings along {direction}: {why}; "
+                                  f"use --direction {'u' if direction == 'v' else 'v'} or repair the face")
+    n = opts.samples
+    check_memory(n, closed)
+    T = {}
+    u0, u1, v0, v1 = So.domain
+    L = u1 - u0
+    diag = _diag(So)
+    x = np.arange(n) / (n if closed else n - 1)
+    up = u0 + L * x
+    # cost table
+    t0 = time.perf_counter()
+    I, J = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    uP = up[I.ravel()]
+    uQ = up[J.ravel()]
+    if closed:
+        uQ = uP + (np.mod(uQ - uP + 0.5 * L, L) - 0.5 * L)
+    K = uP.size
+    cost = np.empty(K)
+    chunk = max(1, 200000 // opts.points_per_ruling)
+    for s in range(0, K, chunk):
+        e = min(K, s + chunk)
+        cost[s:e] = ruling_distances(So, uP[s:e], uQ[s:e], opts.points_per_ruling, 3, closed)[1]
+        _stage(progress, f"cost table ({direction})", e / K)
+    cost = cost.reshape(n, n)
+    T["cost_table"] = time.perf_counter() - t0
+    # dynamic programming
+    t0 = time.perf_counter()
+    res = dp.solve(cost, closed, opts.objective.value, opts.max_error,
+                   (lambda d, m: _stage(progress, f"dynamic programming ({direction})", d / m)))
+    T["dp"] = time.perf_counter() - t0
+    path = res.path
+    h = 1.0 / (n if closed else n - 1)
+    ab = path.astype(float) * h
+    # continuous refinement
+    t0 = time.perf_counter()
+    G = max(2 * n, 64)
+    if opts.refine:
+        sig, dlt, rc = refine_pairing(So, u0, L, closed, ab, h, G,
+                                      progress=lambda r, m: _stage(progress, f"refinement ({direction})", r / m))
+    else:
+        sp = 0.5 * (ab[:, 0] + ab[:, 1])
+        sig = sp[0] + np.arange(G) / G if closed else np.linspace(0, 1, G)
+        dlt = np.interp(sig, sp, 0.5 * (ab[:, 1] - ab[:, 0]))
+        rc = ruling_distances(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)[1]
+    n_coef = int(min(max(8, n // 2 + 4), 48))
+    pairing = fit_delta(sig, dlt, closed, n_coef)
+    T["refine"] = time.perf_counter() - t0
+    # rebuild
+    t0 = time.perf_counter()
+    C0 = So.iso_curve("u", v0)
+    C1 = So.iso_curve("u", v1)
+    tol = max(1e-7 * diag, 0.02 * float(np.max(rc)))
+    bd = fit_boundaries(C0, C1, u0, L, pairing, tol)
+    R = ruled_surface(bd)
+    T["rebuild"] = time.perf_counter() - t0
+    _stage(progress, f"certify ({direction})", 0.0)
+    t0 = time.perf_counter()
+    cert = certify(So, u0, L, pairing, bd, R)
+    T["certify"] = time.perf_counter() - t0
+    _stage(progress, f"certify ({direction})", 1.0)
+    pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
+    ppw = u0 + np.mod(pp - u0, L) if closed else pp
+    ends = So(np.concatenate([ppw[:, 0], ppw[:, 1]]),
+              np.concatenate([np.full(len(pp), v0), np.full(len(pp), v1)]))
+    rulings = np.stack([ends[: len(pp)], ends[len(pp):]], axis=1)
+    pc = cost[path[:, 0] % n, path[:, 1] % n]
+    return DirectionFit(direction, closed, R, path, rulings, pp, pc, res.score, (sig, dlt, rc), pairing,
+                        bd.fit_error, cert, T)
+
+
+def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None) -> FitResult:
+    """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified."""
+    opts = options.checked()
+    t0 = time.perf_counter()
+    diag = _diag(S)
+    if not np.isfinite(S.poles).all():
+        raise BadInputError("the surface has non-finite poles; repair the face")
+    if surface_area(S) <= 1e-12 * max(diag, 1e-300) ** 2 or diag == 0:
+        raise DegenerateFaceError("the face has zero area; pick a proper face (see 'ruled faces')")
+    dirs = ["v", "u"] if opts.direction == Direction.AUTO else [opts.direction.value]
+    cands: dict = {}
+    errors = []
+    for d in dirs:
+        try:
+            cands[d] = fit_direction(S, d, opts, progress)
+        except (DegenerateFaceError,) as exc:
+            if len(dirs) == 1:
+                raise
+            cands[d] = str(exc)
+            errors.append(exc)
+        except RuledError:
+            raise
+    ok = {d: c for d, c in cands.items() if not isinstance(c, str)}
+    if not ok:
+        raise DegenerateFaceError("degenerate face: " + "; ".join(str(e) for e in errors))
+    best = min(ok.values(), key=lambda c: c.error_bound)
+    return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
+
+
+def cpu_count() -> int:
+    return os.cpu_count() or 1

@@ -1,0 +1,436 @@
+"""NURBS containers and vectorized evaluation.
+
+A :class:`Surface` or :class:`Curve` holds plain arrays only: poles, optional
+weights, *full* knot vectors (every knot repeated by its multiplicity), degrees
+and periodic flags.  A periodic object is stored unwrapped: the knot vector is
+extended by one period on each side and the first ``degree`` poles repeat at
+the end, so that evaluation is the ordinary (unclamped) B-spline algorithm on
+the parameter range ``[knots[p], knots[-p-1]]``.
+
+Evaluation follows Piegl & Tiller (The NURBS Book, A2.2/A2.3 for the basis and
+its derivatives, A4.4 for rational derivatives), vectorized over many
+parameters at once.  Only NumPy is used, and only functions present in
+NumPy 1.24, so that FreeCAD 0.20's Python gives the same numbers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from .errors import BadInputError
+
+_CHUNK = 40000
+
+
+def _as_f64(a) -> np.ndarray:
+    return np.ascontiguousarray(np.asarray(a, dtype=np.float64))
+
+
+def find_spans(knots: np.ndarray, degree: int, n_poles: int, x: np.ndarray) -> np.ndarray:
+    """Knot span index ``i`` with ``knots[i] <= x < knots[i+1]``, clipped to ``[p, n-1]``.
+
+    Parameters: knots (m,), x (N,).  Returns int array (N,).
+    """
+    i = np.searchsorted(knots, x, side="right") - 1
+    return np.clip(i, degree, n_poles - 1)
+
+
+def basis_derivatives(knots: np.ndarray, degree: int, spans: np.ndarray, x: np.ndarray, nder: int) -> np.ndarray:
+    """Values and derivatives of the ``degree+1`` non-zero B-spline basis functions.
+
+    Returns an array (nder+1, N, degree+1): entry [k, n, r] is the k-th
+    derivative of N_{span-p+r, p} at x[n] (Piegl & Tiller A2.3, vectorized).
+    """
+    p = degree
+    x = np.asarray(x, dtype=np.float64)
+    N = x.shape[0]
+    ndu = np.zeros((p + 1, p + 1, N))
+    ndu[0, 0] = 1.0
+    left = np.zeros((p + 1, N))
+    right = np.zeros((p + 1, N))
+    for j in range(1, p + 1):
+        left[j] = x - knots[spans + 1 - j]
+        right[j] = knots[spans + j] - x
+        saved = np.zeros(N)
+        for r in range(j):
+            ndu[j, r] = right[r + 1] + left[j - r]
+            den = ndu[j, r]
+            safe = np.where(den == 0.0, 1.0, den)
+            temp = np.where(den == 0.0, 0.0, ndu[r, j - 1] / safe)
+            ndu[r, j] = saved + right[r + 1] * temp
+            saved = left[j - r] * temp
+        ndu[j, j] = saved
+    ders = np.zeros((nder + 1, N, p + 1))
+    for j in range(p + 1):
+        ders[0, :, j] = ndu[j, p]
+    if nder == 0:
+        return ders
+    a = np.zeros((2, p + 1, N))
+    for r in range(p + 1):
+        s1, s2 = 0, 1
+        a[:] = 0.0
+        a[0, 0] = 1.0
+        for k in range(1, nder + 1):
+            d = np.zeros(N)
+            rk = r - k
+            pk = p - k
+            if r >= k:
+                den = ndu[pk + 1, rk]
+                a[s2, 0] = np.where(den == 0.0, 0.0, a[s1, 0] / np.where(den == 0.0, 1.0, den))
+                d = a[s2, 0] * ndu[rk, pk]
+            j1 = 1 if rk >= -1 else -rk
+            j2 = k - 1 if r - 1 <= pk else p - r
+            for j in range(j1, j2 + 1):
+                den = ndu[pk + 1, rk + j]
+                a[s2, j] = np.where(den == 0.0, 0.0, (a[s1, j] - a[s1, j - 1]) / np.where(den == 0.0, 1.0, den))
+                d = d + a[s2, j] * ndu[rk + j, pk]
+            if r <= pk:
+                den = ndu[pk + 1, r]
+                a[s2, k] = np.where(den == 0.0, 0.0, -a[s1, k - 1] / np.where(den == 0.0, 1.0, den))
+                d = d + a[s2, k] * ndu[r, pk]
+            ders[k, :, r] = d
+            s1, s2 = s2, s1
+    fac = float(p)
+    for k in range(1, nder + 1):
+        ders[k] *= fac
+        fac *= p - k
+    return ders
+
+
+def _check_knots(knots: np.ndarray, degree: int, n_poles: int, name: str) -> None:
+    if knots.ndim != 1 or knots.shape[0] != n_poles + degree + 1:
+        raise BadInputError(
+            f"{name}: knot vector has {knots.shape[0]} entries, expected poles + degree + 1 = "
+            f"{n_poles + degree + 1}; pass the full knot vector (each knot repeated by its multiplicity)"
+        )
+    if np.any(np.diff(knots) < 0):
+        raise BadInputError(f"{name}: knot vector is not non-decreasing; sort the knots")
+    if not knots[degree] < knots[-degree - 1]:
+        raise BadInputError(f"{name}: the parameter range [knots[p], knots[-p-1]] is empty")
+
+
+@dataclass(frozen=True)
+class Curve:
+    """A (rational) B-spline curve of plain arrays.
+
+    poles (n, d), weights (n,) or None, knots (n+p+1,) full, degree p.
+    """
+
+    poles: np.ndarray
+    knots: np.ndarray
+    degree: int
+    weights: Optional[np.ndarray] = None
+    periodic: bool = False
+
+    def __post_init__(self):
+        object.__setattr__(self, "poles", _as_f64(self.poles))
+        object.__setattr__(self, "knots", _as_f64(self.knots))
+        if self.weights is not None:
+            object.__setattr__(self, "weights", _as_f64(self.weights))
+        _check_knots(self.knots, self.degree, self.poles.shape[0], "curve")
+
+    @property
+    def domain(self) -> tuple[float, float]:
+        return float(self.knots[self.degree]), float(self.knots[-self.degree - 1])
+
+    @property
+    def rational(self) -> bool:
+        return self.weights is not None
+
+    def evaluate(self, t, nder: int = 0) -> list[np.ndarray]:
+        """Points and derivatives: a list [C, C', C''][: nder+1], each (N, d)."""
+        t = np.atleast_1d(_as_f64(t))
+        p = self.degree
+        n = self.poles.shape[0]
+        spans = find_spans(self.knots, p, n, t)
+        B = basis_derivatives(self.knots, p, spans, t, nder)
+        idx = spans[:, None] - p + np.arange(p + 1)[None, :]
+        if self.weights is None:
+            P = self.poles[idx]
+            return [np.einsum("nr,nrc->nc", B[k], P) for k in range(nder + 1)]
+        W = self.weights[idx]
+        P = self.poles[idx] * W[..., None]
+        A = [np.einsum("nr,nrc->nc", B[k], P) for k in range(nder + 1)]
+        w = [np.einsum("nr,nr->n", B[k], W) for k in range(nder + 1)]
+        return _rational_curve_ders(A, w)
+
+    def __call__(self, t) -> np.ndarray:
+        return self.evaluate(t, 0)[0]
+
+
+def _rational_curve_ders(A, w):
+    out = [A[0] / w[0][:, None]]
+    if len(A) > 1:
+        out.append((A[1] - w[1][:, None] * out[0]) / w[0][:, None])
+    if len(A) > 2:
+        out.append((A[2] - 2.0 * w[1][:, None] * out[1] - w[2][:, None] * out[0]) / w[0][:, None])
+    return out
+
+
+@dataclass(frozen=True)
+class Derivs:
+    """Surface point and derivatives at N parameters, each (N, 3); missing orders are None."""
+
+    P: np.ndarray
+    Su: Optional[np.ndarray] = None
+    Sv: Optional[np.ndarray] = None
+    Suu: Optional[np.ndarray] = None
+    Suv: Optional[np.ndarray] = None
+    Svv: Optional[np.ndarray] = None
+
+    def normals(self) -> np.ndarray:
+        """Unit normals Su x Sv / |Su x Sv| (N, 3); zero where the surface is singular."""
+        n = np.cross(self.Su, self.Sv)
+        ln = np.linalg.norm(n, axis=1)
+        return n / np.where(ln > 0, ln, 1.0)[:, None]
+
+
+@dataclass(frozen=True)
+class Surface:
+    """A tensor-product (rational) B-spline surface of plain arrays.
+
+    poles (nu, nv, 3); weights (nu, nv) or None; knots_u (nu+pu+1,), knots_v
+    (nv+pv+1,) full; degrees; periodic flags (stored unwrapped, see module doc).
+    """
+
+    poles: np.ndarray
+    knots_u: np.ndarray
+    knots_v: np.ndarray
+    degree_u: int
+    degree_v: int
+    weights: Optional[np.ndarray] = None
+    periodic_u: bool = False
+    periodic_v: bool = False
+    _hom: np.ndarray = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self):
+        poles = _as_f64(self.poles)
+        if poles.ndim != 3 or poles.shape[2] != 3:
+            raise BadInputError(f"surface poles must have shape (nu, nv, 3), got {poles.shape}")
+        object.__setattr__(self, "poles", poles)
+        object.__setattr__(self, "knots_u", _as_f64(self.knots_u))
+        object.__setattr__(self, "knots_v", _as_f64(self.knots_v))
+        object.__setattr__(self, "degree_u", int(self.degree_u))
+        object.__setattr__(self, "degree_v", int(self.degree_v))
+        if self.weights is not None:
+            w = _as_f64(self.weights)
+            if w.shape != poles.shape[:2]:
+                raise BadInputError(f"surface weights must have shape {poles.shape[:2]}, got {w.shape}")
+            if np.any(w <= 0):
+                raise BadInputError("surface weights must be positive")
+            if np.all(w == w.flat[0]):
+                w = None
+            object.__setattr__(self, "weights", w)
+        _check_knots(self.knots_u, self.degree_u, poles.shape[0], "surface u")
+        _check_knots(self.knots_v, self.degree_v, poles.shape[1], "surface v")
+        if self.weights is None:
+            hom = np.concatenate([poles, np.ones(poles.shape[:2] + (1,))], axis=2)
+        else:
+            hom = np.concatenate([poles * self.weights[..., None], self.weights[..., None]], axis=2)
+        object.__setattr__(self, "_hom", np.ascontiguousarray(hom))
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def rational(self) -> bool:
+        return self.weights is not None
+
+    @property
+    def domain(self) -> tuple[float, float, float, float]:
+        """(u0, u1, v0, v1)."""
+        pu, pv = self.degree_u, self.degree_v
+        return (float(self.knots_u[pu]), float(self.knots_u[-pu - 1]),
+                float(self.knots_v[pv]), float(self.knots_v[-pv - 1]))
+
+    def transposed(self) -> "Surface":
+        """The same surface with u and v exchanged."""
+        w = None if self.weights is None else self.weights.T
+        return Surface(np.transpose(self.poles, (1, 0, 2)), self.knots_v, self.knots_u,
+                       self.degree_v, self.degree_u, w, self.periodic_v, self.periodic_u)
+
+    def interior_knots(self, direction: str) -> np.ndarray:
+        """Distinct knot values strictly inside the domain in 'u' or 'v'."""
+        if direction == "u":
+            k, p = self.knots_u, self.degree_u
+        else:
+            k, p = self.knots_v, self.degree_v
+        a, b = k[p], k[-p - 1]
+        kk = np.unique(k)
+        return kk[(kk > a) & (kk < b)]
+
+    # ------------------------------------------------------------------ evaluation
+    def evaluate(self, u, v, nder: int = 0) -> Derivs:
+        """Points and partial derivatives up to total order ``nder`` (0, 1 or 2).
+
+        u, v: arrays (N,) (broadcast together).  Returns :class:`Derivs`, each (N, 3).
+        """
+        u, v = np.broadcast_arrays(np.atleast_1d(_as_f64(u)), np.atleast_1d(_as_f64(v)))
+        u = u.ravel()
+        v = v.ravel()
+        N = u.shape[0]
+        if N > _CHUNK:
+            parts = [self.evaluate(u[s:s + _CHUNK], v[s:s + _CHUNK], nder) for s in range(0, N, _CHUNK)]
+            return Derivs(*[None if getattr(parts[0], f) is None else
+                            np.concatenate([getattr(q, f) for q in parts])
+                            for f in ("P", "Su", "Sv", "Suu", "Suv", "Svv")])
+        pu, pv = self.degree_u, self.degree_v
+        nu, nv = self.poles.shape[:2]
+        su = find_spans(self.knots_u, pu, nu, u)
+        sv = find_spans(self.knots_v, pv, nv, v)
+        Bu = basis_derivatives(self.knots_u, pu, su, u, min(nder, pu))
+        Bv = basis_derivatives(self.knots_v, pv, sv, v, min(nder, pv))
+        iu = su[:, None] - pu + np.arange(pu + 1)[None, :]
+        iv = sv[:, None] - pv + np.arange(pv + 1)[None, :]
+        H = self._hom[iu[:, :, None], iv[:, None, :]]  # (N, pu+1, pv+1, 4)
+        # contract v first: T[k] = sum_s Bv[k] H  -> (N, pu+1, 4)
+        Tv = [np.einsum("ns,nrsc->nrc", Bv[k], H) for k in range(Bv.shape[0])]
+
+        def A(k, l):
+            if k >= Bu.shape[0] or l >= Bv.shape[0]:
+                return np.zeros((N, 4))
+            return np.einsum("nr,nrc->nc", Bu[k], Tv[l])
+
+        orders = [(0, 0)]
+        if nder >= 1:
+            orders += [(1, 0), (0, 1)]
+        if nder >= 2:
+            orders += [(2, 0), (1, 1), (0, 2)]
+        Aw = {o: A(*o) for o in orders}
+        w = {o: Aw[o][:, 3] for o in orders}
+        P = Aw[(0, 0)][:, :3] / w[(0, 0)][:, None]
+        if nder == 0:
+            return Derivs(P)
+        w0 = w[(0, 0)][:, None]
+        Su = (Aw[(1, 0)][:, :3] - w[(1, 0)][:, None] * P) / w0
+        Sv = (Aw[(0, 1)][:, :3] - w[(0, 1)][:, None] * P) / w0
+        if nder == 1:
+            return Derivs(P, Su, Sv)
+        Suu = (Aw[(2, 0)][:, :3] - 2.0 * w[(1, 0)][:, None] * Su - w[(2, 0)][:, None] * P) / w0
+        Svv = (Aw[(0, 2)][:, :3] - 2.0 * w[(0, 1)][:, None] * Sv - w[(0, 2)][:, None] * P) / w0
+        Suv = (Aw[(1, 1)][:, :3] - w[(1, 0)][:, None] * Sv - w[(0, 1)][:, None] * Su
+               - w[(1, 1)][:, None] * P) / w0
+        return Derivs(P, Su, Sv, Suu, Suv, Svv)
+
+    def __call__(self, u, v) -> np.ndarray:
+        return self.evaluate(u, v, 0).P
+
+    def normals(self, u, v) -> np.ndarray:
+        """Unit normals (N, 3)."""
+        return self.evaluate(u, v, 1).normals()
+
+    def iso_curve(self, direction: str, value: float) -> Curve:
+        """The exact iso-parametric curve: direction 'u' gives C(u) = S(u, value)."""
+        if direction == "v":
+            return self.transposed().iso_curve("u", value)
+        pv = self.degree_v
+        nv = self.poles.shape[1]
+        sv = find_spans(self.knots_v, pv, nv, np.array([value]))
+        Bv = basis_derivatives(self.knots_v, pv, sv, np.array([value]), 0)[0, 0]
+        H = self._hom[:, sv[0] - pv: sv[0] + 1, :]
+        Hc = np.einsum("s,rsc->rc", Bv, H)
+        w = Hc[:, 3]
+        weights = None if self.weights is None else w
+        return Curve(Hc[:, :3] / w[:, None], self.knots_u, self.degree_u, weights, self.periodic_u)
+
+    # ------------------------------------------------------------------ bounds
+    def derivative_bounds(self) -> dict:
+        """Rigorous per-span bounds of |S_u|, |S_v|, |S_uu|, |S_uv|, |S_vv|.
+
+        Returns a dict with arrays (nu - pu, nv - pv) indexed by span (i - pu,
+        j - pv), plus 'spans_u'/'spans_v', the knot spans' start indices.  The
+        bounds use the convex-hull property of the derivative control nets of
+        the homogeneous surface and, for rational surfaces, the quotient rule
+        with the smallest local weight.
+        """
+        pu, pv = self.degree_u, self.degree_v
+        H = self._hom
+        nets = {}
+        for a in range(3):
+            for b in range(3 - a):
+                D = H
+                ku, kv = self.knots_u, self.knots_v
+                for s in range(a):
+                    D, ku = _deriv_net(D, ku, pu - s, axis=0)
+                for s in range(b):
+                    D, kv = _deriv_net(D, kv, pv - s, axis=1)
+                nets[(a, b)] = D
+        nu, nv = H.shape[:2]
+        win = np.lib.stride_tricks.sliding_window_view
+        loc = win(self.poles, (pu + 1, pv + 1), axis=(0, 1))  # (nu-pu, nv-pv, 3, pu+1, pv+1)
+        lo = loc.min(axis=(3, 4))
+        hi = loc.max(axis=(3, 4))
+        c = 0.5 * (lo + hi)
+        Sm = np.linalg.norm(hi - lo, axis=2) * 0.5
+        if self.weights is None:
+            wmin = np.ones((nu - pu, nv - pv))
+        else:
+            wmin = win(self.weights, (pu + 1, pv + 1), axis=(0, 1)).min(axis=(2, 3))
+        hd, wd = {}, {}
+        for (a, b), D in nets.items():
+            if (a, b) == (0, 0):
+                continue
+            if a > pu or b > pv:
+                hd[(a, b)] = np.zeros_like(wmin)
+                wd[(a, b)] = np.zeros_like(wmin)
+                continue
+            Dl = win(D, (pu - a + 1, pv - b + 1), axis=(0, 1))  # (nu-pu, nv-pv, 4, ., .)
+            d3 = Dl[:, :, :3] - c[:, :, :, None, None] * Dl[:, :, 3:4]
+            hd[(a, b)] = np.sqrt((d3 ** 2).sum(axis=2)).max(axis=(2, 3))
+            wd[(a, b)] = np.abs(Dl[:, :, 3]).max(axis=(2, 3))
+        S1u = (hd[(1, 0)] + wd[(1, 0)] * Sm) / wmin
+        S1v = (hd[(0, 1)] + wd[(0, 1)] * Sm) / wmin
+        Suu = (hd[(2, 0)] + 2 * wd[(1, 0)] * S1u + wd[(2, 0)] * Sm) / wmin
+        Svv = (hd[(0, 2)] + 2 * wd[(0, 1)] * S1v + wd[(0, 2)] * Sm) / wmin
+        Suv = (hd[(1, 1)] + wd[(1, 0)] * S1v + wd[(0, 1)] * S1u + wd[(1, 1)] * Sm) / wmin
+        return {"Su": S1u, "Sv": S1v, "Suu": Suu, "Suv": Suv, "Svv": Svv}
+
+
+def _deriv_net(D: np.ndarray, knots: np.ndarray, p: int, axis: int):
+    """Control net of the first derivative along ``axis`` of a B-spline of degree p."""
+    if p == 0:
+        shape = list(D.shape)
+        shape[axis] -= 1
+        return np.zeros(shape), knots[1:-1]
+    n = D.shape[axis]
+    den = knots[p + 1: p + n] - knots[1:n]
+    fac = np.where(den > 0, p / np.where(den > 0, den, 1.0), 0.0)
+    diff = np.diff(D, axis=axis)
+    shape = [1] * D.ndim
+    shape[axis] = n - 1
+    return diff * fac.reshape(shape), knots[1:-1]
+
+
+def bspline_basis_matrix(knots: np.ndarray, degree: int, x: np.ndarray, nder: int = 0) -> np.ndarray:
+    """Dense collocation matrix (N, n_basis) of the nder-th derivative of the basis at x."""
+    n = knots.shape[0] - degree - 1
+    x = _as_f64(x)
+    spans = find_spans(knots, degree, n, x)
+    B = basis_derivatives(knots, degree, spans, x, nder)[nder]
+    M = np.zeros((x.shape[0], n))
+    rows = np.repeat(np.arange(x.shape[0]), degree + 1)
+    cols = (spans[:, None] - degree + np.arange(degree + 1)[None, :]).ravel()
+    np.add.at(M, (rows, cols), B.ravel())
+    return M
+
+
+def periodic_knots(breaks: np.ndarray, degree: int) -> np.ndarray:
+    """Full unwrapped knot vector of a periodic spline with the given break points.
+
+    breaks: (m+1,) strictly increasing, breaks[-1] - breaks[0] is the period,
+    every interior break a simple knot.  Returns (m + 2p + 1,) knots; the spline
+    has m unique poles, stored as m + p poles with the first p repeated.
+    """
+    T = breaks[-1] - breaks[0]
+    m = breaks.shape[0] - 1
+    core = breaks[:-1]
+    before = core[m - degree:] - T if degree > 0 else np.zeros(0)
+    after = breaks[1: degree + 1] + T
+    # when degree > m the period must repeat several times; not needed here
+    return np.concatenate([before, core, [breaks[-1]], after])
+
+
+def wrap_periodic_poles(unique: np.ndarray, degree: int) -> np.ndarray:
+    """Unique periodic poles (m, ...) -> unwrapped poles (m + p, ...)."""
+    return np.concatenate([unique, unique[:degree]], axis=0)

@@ -1,0 +1,196 @@
+"""OCCT geometry <-> the engine's plain-array containers.
+
+Only this package imports OCP.  A face becomes a :class:`ruled.nurbs.Surface`
+restricted to the face's UV bounds; containers become Geom_BSplineSurface /
+Geom_BSplineCurve handles and faces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeEdge
+from OCP.BRepTools import BRepTools
+from OCP.BRep import BRep_Tool
+from OCP.Geom import Geom_BSplineSurface, Geom_BSplineCurve, Geom_RectangularTrimmedSurface
+from OCP.GeomAbs import GeomAbs_SurfaceType
+from OCP.GeomConvert import GeomConvert
+from OCP.gp import gp_Pnt
+from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array2OfPnt
+from OCP.TColStd import (TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal)
+from OCP.TopoDS import TopoDS_Face
+
+from ..errors import BadInputError
+from ..nurbs import Curve, Surface
+
+SURFACE_TYPE_NAMES = {
+    GeomAbs_SurfaceType.GeomAbs_Plane: "plane",
+    GeomAbs_SurfaceType.GeomAbs_Cylinder: "cylinder",
+    GeomAbs_SurfaceType.GeomAbs_Cone: "cone",
+    GeomAbs_SurfaceType.GeomAbs_Sphere: "sphere",
+    GeomAbs_SurfaceType.GeomAbs_Torus: "torus",
+    GeomAbs_SurfaceType.GeomAbs_BezierSurface: "bezier",
+    GeomAbs_SurfaceType.GeomAbs_BSplineSurface: "bspline",
+    GeomAbs_SurfaceType.GeomAbs_SurfaceOfRevolution: "revolution",
+    GeomAbs_SurfaceType.GeomAbs_SurfaceOfExtrusion: "extrusion",
+    GeomAbs_SurfaceType.GeomAbs_OffsetSurface: "offset",
+    GeomAbs_SurfaceType.GeomAbs_OtherSurface: "other",
+}
+
+
+def _full_knots(knots, mults) -> np.ndarray:
+    return np.repeat(np.asarray(knots, float), np.asarray(mults, int))
+
+
+def _arr1(values, cls=TColStd_Array1OfReal):
+    a = cls(1, len(values))
+    for i, x in enumerate(values):
+        a.SetValue(i + 1, float(x) if cls is TColStd_Array1OfReal else int(x))
+    return a
+
+
+def _compress(full: np.ndarray):
+    k, m = np.unique(np.round(full, 15), return_counts=True)
+    # keep the exact values of the first occurrence
+    vals = []
+    i = 0
+    for c in m:
+        vals.append(full[i])
+        i += c
+    return np.array(vals), m
+
+
+def bspline_surface_to_container(s: Geom_BSplineSurface) -> Surface:
+    """A Geom_BSplineSurface as a container (periodic ones are stored clamped with the flag kept)."""
+    per_u, per_v = s.IsUPeriodic(), s.IsVPeriodic()
+    if per_u or per_v:
+        s = s.Copy()
+        if per_u:
+            s.SetUNotPeriodic()
+        if per_v:
+            s.SetVNotPeriodic()
+    nu, nv = s.NbUPoles(), s.NbVPoles()
+    poles = np.empty((nu, nv, 3))
+    weights = np.empty((nu, nv))
+    for i in range(nu):
+        for j in range(nv):
+            p = s.Pole(i + 1, j + 1)
+            poles[i, j] = (p.X(), p.Y(), p.Z())
+            weights[i, j] = s.Weight(i + 1, j + 1)
+    ku = _full_knots([s.UKnot(i) for i in range(1, s.NbUKnots() + 1)],
+                     [s.UMultiplicity(i) for i in range(1, s.NbUKnots() + 1)])
+    kv = _full_knots([s.VKnot(i) for i in range(1, s.NbVKnots() + 1)],
+                     [s.VMultiplicity(i) for i in range(1, s.NbVKnots() + 1)])
+    rational = s.IsURational() or s.IsVRational()
+    return Surface(poles, ku, kv, s.UDegree(), s.VDegree(), weights if rational else None, per_u, per_v)
+
+
+def face_surface_type(face: TopoDS_Face) -> str:
+    return SURFACE_TYPE_NAMES.get(BRepAdaptor_Surface(face).GetType(), "other")
+
+
+def face_uv_bounds(face: TopoDS_Face) -> tuple[float, float, float, float]:
+    return BRepTools.UVBounds_s(face)
+
+
+def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
+    """The face's surface as a Geom_BSplineSurface restricted to the face's UV bounds."""
+    u0, u1, v0, v1 = face_uv_bounds(face)
+    surf = BRep_Tool.Surface_s(face)
+    ad = BRepAdaptor_Surface(face)
+    if ad.GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
+        bs = ad.BSpline().Copy()
+    else:
+        try:
+            trimmed = Geom_RectangularTrimmedSurface(surf, u0, u1, v0, v1)
+            bs = GeomConvert.SurfaceToBSplineSurface_s(trimmed)
+        except Exception as exc:  # OCCT raises Standard_Failure subclasses
+            raise BadInputError(f"cannot convert this {face_surface_type(face)} face to a B-spline "
+                                f"surface ({exc}); convert it to NURBS in your CAD system first") from None
+        return bs
+    ku0, ku1, kv0, kv1 = bs.Bounds()
+    tol = 1e-9 * max(1.0, abs(ku1 - ku0), abs(kv1 - kv0))
+    if (u0 > ku0 + tol or u1 < ku1 - tol or v0 > kv0 + tol or v1 < kv1 - tol):
+        if bs.IsUPeriodic() and (u1 - u0) < ku1 - ku0 - tol:
+            bs.SetUNotPeriodic()
+        if bs.IsVPeriodic() and (v1 - v0) < kv1 - kv0 - tol:
+            bs.SetVNotPeriodic()
+        bs.Segment(max(u0, ku0) if not bs.IsUPeriodic() else u0,
+                   min(u1, ku1) if not bs.IsUPeriodic() else u1,
+                   max(v0, kv0) if not bs.IsVPeriodic() else v0,
+                   min(v1, kv1) if not bs.IsVPeriodic() else v1)
+    return bs
+
+
+def face_to_container(face: TopoDS_Face) -> Surface:
+    """Convert a face to a :class:`Surface` restricted to its UV bounds."""
+    return bspline_surface_to_container(face_to_bspline(face))
+
+
+def container_to_bspline(s: Surface) -> Geom_BSplineSurface:
+    """Build a Geom_BSplineSurface from a container (periodic ones become OCCT-periodic)."""
+    poles, weights = s.poles, s.weights
+    pu, pv = s.degree_u, s.degree_v
+    ku, mu = _compress(s.knots_u)
+    kv, mv = _compress(s.knots_v)
+    per_u = s.periodic_u and _is_unwrapped_periodic(s.knots_u, pu)
+    per_v = s.periodic_v and _is_unwrapped_periodic(s.knots_v, pv)
+    if per_u:
+        poles, weights, ku, mu = _to_occt_periodic(poles, weights, s.knots_u, pu, axis=0)
+    if per_v:
+        poles, weights, kv, mv = _to_occt_periodic(poles, weights, s.knots_v, pv, axis=1)
+    nu, nv = poles.shape[:2]
+    P = TColgp_Array2OfPnt(1, nu, 1, nv)
+    W = TColStd_Array2OfReal(1, nu, 1, nv)
+    for i in range(nu):
+        for j in range(nv):
+            P.SetValue(i + 1, j + 1, gp_Pnt(*map(float, poles[i, j])))
+            W.SetValue(i + 1, j + 1, 1.0 if weights is None else float(weights[i, j]))
+    return Geom_BSplineSurface(P, W, _arr1(ku), _arr1(kv), _arr1(mu, TColStd_Array1OfInteger),
+                               _arr1(mv, TColStd_Array1OfInteger), pu, pv, per_u, per_v)
+
+
+def _is_unwrapped_periodic(knots: np.ndarray, p: int) -> bool:
+    # clamped containers (read from OCCT) are evaluated as they are
+    return not (np.all(knots[: p + 1] == knots[0]) and np.all(knots[-p - 1:] == knots[-1]))
+
+
+def _to_occt_periodic(poles, weights, knots, p, axis):
+    """Unwrapped periodic storage -> OCCT periodic (unique poles, one period of knots)."""
+    n = poles.shape[axis] - p  # unique poles
+    a, b = knots[p], knots[n + p]
+    inner = knots[p: n + p + 1]
+    kk, mm = _compress(inner)
+    mm = mm.copy()
+    mm[-1] = mm[0]
+    uniq = np.take(poles, np.arange(n), axis=axis)
+    w = None if weights is None else np.take(weights, np.arange(n), axis=axis)
+    # OCCT's pole 1 is our pole 0 for this layout (checked against OCCT in tests)
+    assert abs(kk[0] - a) < 1e-15 * max(1, abs(a)) + 1e-300 and abs(kk[-1] - b) <= 1e-12 * max(1, abs(b))
+    return uniq, w, kk, mm
+
+
+def container_to_face(s: Surface) -> TopoDS_Face:
+    """A face bounded by the container's natural boundary."""
+    bs = container_to_bspline(s)
+    u0, u1, v0, v1 = s.domain
+    mk = BRepBuilderAPI_MakeFace(bs, u0, u1, v0, v1, 1e-7)
+    if not mk.IsDone():
+        raise BadInputError("could not build a face from the result surface")
+    return mk.Face()
+
+
+def curve_to_bspline(c: Curve) -> Geom_BSplineCurve:
+    k, m = _compress(c.knots)
+    n = c.poles.shape[0]
+    P = TColgp_Array1OfPnt(1, n)
+    for i in range(n):
+        P.SetValue(i + 1, gp_Pnt(*map(float, c.poles[i, :3])))
+    if c.weights is None:
+        return Geom_BSplineCurve(P, _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
+    return Geom_BSplineCurve(P, _arr1(c.weights), _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
+
+
+def segment_edge(a, b):
+    """A straight edge between two points (for rulings in STEP output)."""
+    return BRepBuilderAPI_MakeEdge(gp_Pnt(*map(float, a)), gp_Pnt(*map(float, b))).Edge()

@@ -1,0 +1,112 @@
+"""Independent error measure: two-sided Hausdorff distance between two faces by dense
+sampling plus exact point projection with OCCT (no code of the engine is used)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from OCP.BRep import BRep_Tool
+from OCP.BRepTools import BRepTools
+from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+from OCP.ShapeAnalysis import ShapeAnalysis_Surface
+from OCP.gp import gp_Pnt
+
+
+@dataclass(frozen=True)
+class Hausdorff:
+    max: float
+    mean: float
+    max_a_to_b: float
+    max_b_to_a: float
+    samples: int
+
+
+def _grid(face, n: int):
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+    surf = BRep_Tool.Surface_s(face)
+    us = np.linspace(u0, u1, n)
+    vs = np.linspace(v0, v1, n)
+    pts = []
+    for u in us:
+        for v in vs:
+            p = surf.Value(float(u), float(v))
+            pts.append((p.X(), p.Y(), p.Z()))
+    return np.array(pts)
+
+
+class _Projector:
+    def __init__(self, face):
+        self.u0, self.u1, self.v0, self.v1 = BRepTools.UVBounds_s(face)
+        self.surf = BRep_Tool.Surface_s(face)
+        self.proj = GeomAPI_ProjectPointOnSurf()
+        self.proj.Init(self.surf, self.u0, self.u1, self.v0, self.v1)
+        self.sas = ShapeAnalysis_Surface(self.surf)
+        # a coarse cloud for the boundary: closest points may lie on the edges
+        n = 200
+        us = np.linspace(self.u0, self.u1, n)
+        vs = np.linspace(self.v0, self.v1, n)
+        edge_uv = np.concatenate([np.stack([us, np.full(n, self.v0)], 1), np.stack([us, np.full(n, self.v1)], 1),
+                                  np.stack([np.full(n, self.u0), vs], 1), np.stack([np.full(n, self.u1), vs], 1)])
+        self.edge_uv = edge_uv
+        self.edge_pts = np.array([self._value(u, v) for u, v in edge_uv])
+
+    def _value(self, u, v):
+        p = self.surf.Value(float(u), float(v))
+        return (p.X(), p.Y(), p.Z())
+
+    def distance(self, x) -> float:
+        P = gp_Pnt(*map(float, x))
+        best = np.inf
+        self.proj.Perform(P)
+        if self.proj.IsDone() and self.proj.NbPoints() > 0:
+            best = self.proj.LowerDistance()
+        # boundary candidates: nearest edge sample refined along its edge by the analysis tool
+        de = np.linalg.norm(self.edge_pts - x, axis=1)
+        k = int(np.argmin(de))
+        best = min(best, float(de[k]))
+        uv = self.sas.ValueOfUV(P, 1e-10)
+        u = min(max(uv.X(), self.u0), self.u1)
+        v = min(max(uv.Y(), self.v0), self.v1)
+        best = min(best, float(np.linalg.norm(np.array(self._value(u, v)) - x)))
+        # edge-restricted refinement from the nearest edge sample (golden section on the edge)
+        eu, ev = self.edge_uv[k]
+        best = min(best, self._edge_refine(x, eu, ev, k))
+        return best
+
+    def _edge_refine(self, x, eu, ev, k) -> float:
+        n = 200
+        side = k // n
+        i = k % n
+        if side < 2:
+            lo, hi = self.edge_uv[max(i - 1, 0) + side * n][0], self.edge_uv[min(i + 1, n - 1) + side * n][0]
+            f = lambda t: np.linalg.norm(np.array(self._value(t, ev)) - x)
+        else:
+            lo, hi = self.edge_uv[max(i - 1, 0) + side * n][1], self.edge_uv[min(i + 1, n - 1) + side * n][1]
+            f = lambda t: np.linalg.norm(np.array(self._value(eu, t)) - x)
+        g = 0.5 * (np.sqrt(5) - 1)
+        a, b = lo, hi
+        c, d = b - g * (b - a), a + g * (b - a)
+        fc, fd = f(c), f(d)
+        for _ in range(40):
+            if fc < fd:
+                b, d, fd = d, c, fc
+                c = b - g * (b - a)
+                fc = f(c)
+            else:
+                a, c, fc = c, d, fd
+                d = a + g * (b - a)
+                fd = f(d)
+        return float(min(fc, fd))
+
+
+def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
+    """Two-sided Hausdorff distance between two faces (n x n samples of each, projected on the other)."""
+    pa = _grid(face_a, n)
+    pb = _grid(face_b, n)
+    pr_b = _Projector(face_b)
+    pr_a = _Projector(face_a)
+    dab = np.array([pr_b.distance(x) for x in pa])
+    dba = np.array([pr_a.distance(x) for x in pb])
+    alld = np.concatenate([dab, dba])
+    return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size))

@@ -1,0 +1,330 @@
+"""From a DP pairing to a smooth ruled surface (Elber eq. 5, beyond the paper: §5b/§6 of the issue).
+
+Coordinates: a boundary parameter u is written u = u0 + L x with x the
+normalized parameter (L the range, or the period of a closed boundary).  A
+pairing is a monotone path of (a, b) = (x on C0, x on C1).  It is handled in
+rotated coordinates sigma = (a + b) / 2, delta = (b - a) / 2: every DP move
+increases sigma, so the path is a function delta(sigma) with |delta'| <= 1;
+a smooth pairing with |delta'| <= 1 - eps is strictly monotone in both a and b.
+
+1. refine_pairing: for every sigma of a fine grid, a bounded golden-section
+   search of delta within one sample step of the DP path, minimizing the
+   ruling's line–surface distance (so the pairing is no longer limited to
+   the sample grid).
+2. fit_delta: a cubic B-spline delta(sigma) by least squares with the slope
+   bound |delta'| <= 1 - eps on its derivative control points (hence
+   strictly monotone a and b everywhere), fixed ends (open) or periodic.
+3. fit_boundaries: A(s) ~ C0(a(s)) and B(s) ~ C1(b(s)) in one shared spline
+   space (the boundaries' own knots mapped through the pairing, plus knots
+   inserted where the error exceeds the tolerance), so that the ruled
+   surface R(s, t) = (1 - t) A(s) + t B(s) is one compact B-spline face.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+from scipy.optimize import lsq_linear
+
+from .distance import ruling_distances
+from .nurbs import Curve, Surface, bspline_basis_matrix
+
+_GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
+
+
+@dataclass(frozen=True)
+class Pairing:
+    """A smooth strictly monotone pairing a(s), b(s), s in [0, 1] (normalized boundary parameters)."""
+
+    delta: Curve          # delta(sigma) as a 1D cubic B-spline on [sigma0, sigma0 + 1]
+    sigma0: float
+    closed: bool
+
+    def ab(self, s) -> tuple[np.ndarray, np.ndarray]:
+        s = np.asarray(s, float)
+        sig = self.sigma0 + s
+        d = self.delta(sig)[:, 0]
+        return sig - d, sig + d
+
+    def inverse(self, x: np.ndarray, which: str, dense: int = 4001) -> np.ndarray:
+        """s with a(s) = x (which='a') or b(s) = x, for x in the pairing's range (unwrapped)."""
+        sd = np.linspace(0.0, 1.0, dense)
+        a, b = self.ab(sd)
+        f = a if which == "a" else b
+        sign = -1.0 if which == "a" else 1.0
+        s = np.interp(np.asarray(x, float), f, sd)
+        for _ in range(3):  # Newton polish on the smooth spline
+            sig = self.sigma0 + s
+            d0, d1 = self.delta.evaluate(sig, 1)
+            s = np.clip(s - (sig + sign * d0[:, 0] - x) / (1.0 + sign * d1[:, 0]), 0.0, 1.0)
+        return s
+
+
+# ----------------------------------------------------------------------------- refinement
+def refine_pairing(S: Surface, u0: float, L: float, closed: bool, path_ab: np.ndarray, step: float,
+                   grid: int, m: int = 15, iters: int = 4, rounds: int = 22,
+                   progress: Optional[Callable] = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Continuous refinement of a DP path (normalized (a, b) pairs, (K, 2)).
+
+    Returns (sigma (G,), delta (G,), cost (G,)) on a uniform sigma grid.
+    """
+    sig_p = 0.5 * (path_ab[:, 0] + path_ab[:, 1])
+    del_p = 0.5 * (path_ab[:, 1] - path_ab[:, 0])
+    s0 = sig_p[0]
+    if closed:
+        sig = s0 + np.arange(grid) / grid
+    else:
+        sig = np.linspace(0.0, 1.0, grid)
+    d_dp = np.interp(sig, sig_p, del_p)
+    if closed:
+        lo, hi = d_dp - step, d_dp + step
+    else:
+        lim = np.minimum(sig, 1.0 - sig)
+        lo = np.maximum(d_dp - step, -lim)
+        hi = np.minimum(d_dp + step, lim)
+
+    def cost(d):
+        _, c = ruling_distances(S, u0 + L * (sig - d), u0 + L * (sig + d), m, iters, closed)
+        return c
+
+    c_dp = cost(d_dp)
+    x1 = hi - _GOLD * (hi - lo)
+    x2 = lo + _GOLD * (hi - lo)
+    f1, f2 = cost(x1), cost(x2)
+    for r in range(rounds):
+        left = f1 <= f2  # minimum in [lo, x2]
+        hi = np.where(left, x2, hi)
+        lo = np.where(left, lo, x1)
+        nx1 = hi - _GOLD * (hi - lo)
+        nx2 = lo + _GOLD * (hi - lo)
+        # reuse one evaluation per side
+        newx = np.where(left, nx1, nx2)
+        fn = cost(newx)
+        x2, f2, x1, f1 = (np.where(left, x1, nx2), np.where(left, f1, fn),
+                          np.where(left, nx1, x2), np.where(left, fn, f2))
+        if progress is not None:
+            progress(r + 1, rounds)
+    xb = np.where(f1 <= f2, x1, x2)
+    fb = np.minimum(f1, f2)
+    use_dp = c_dp <= fb
+    return sig, np.where(use_dp, d_dp, xb), np.where(use_dp, c_dp, fb)
+
+
+# ----------------------------------------------------------------------------- smooth pairing
+def _clamped_knots(n_coef: int, p: int, a: float, b: float) -> np.ndarray:
+    inner = np.linspace(a, b, n_coef - p + 1)[1:-1]
+    return np.concatenate([np.full(p + 1, a), inner, np.full(p + 1, b)])
+
+
+def fit_delta(sig: np.ndarray, delta: np.ndarray, closed: bool, n_coef: int, eps: float = 0.01,
+              weights: Optional[np.ndarray] = None) -> Pairing:
+    """Least-squares cubic delta(sigma) with |delta'| <= 1 - eps (strictly monotone pairing)."""
+    p = 3
+    s0 = float(sig[0])
+    s1 = s0 + 1.0
+    n = max(n_coef, p + 2)
+    t = _clamped_knots(n, p, s0, s1)
+    g = (t[p + 1: p + n] - t[1:n]) / p  # c_{i+1} - c_i = g_i d_i
+    Nmat = bspline_basis_matrix(t, p, sig)
+    x = sig
+    y = delta
+    if closed:
+        # append the closing sample so both ends are fitted
+        Nmat = np.vstack([Nmat, bspline_basis_matrix(t, p, np.array([s1]))])
+        y = np.concatenate([y, y[:1]])
+    w = np.ones(len(y)) if weights is None else np.concatenate([weights, weights[:1]] if closed else [weights])
+    # c = T x, x = (c0, d_0..d_{n-2})
+    T = np.zeros((n, n))
+    T[:, 0] = 1.0
+    for i in range(1, n):
+        T[i, 1:i + 1] = g[:i]
+    A = (Nmat @ T) * w[:, None]
+    rhs = y * w
+    W = 1e4 * np.sqrt(len(y))
+    rows = [np.concatenate([[0.0], g]) * W]  # sum g d = 0 : c_last = c_0
+    vals = [0.0]
+    if closed:
+        r = np.zeros(n)
+        r[1] = 1.0
+        r[n - 1] = -1.0
+        rows.append(r * W)  # equal end slopes
+        vals.append(0.0)
+        h0 = (t[p + 2] - t[2]) / (p - 1)
+        h1 = (t[n + p - 1] - t[n - 1]) / (p - 1)
+        r2 = np.zeros(n)
+        r2[1], r2[2] = -1.0 / h0, 1.0 / h0
+        r2[n - 2] -= -1.0 / h1
+        r2[n - 1] -= 1.0 / h1
+        rows.append(r2 * W * 1e-2)
+        vals.append(0.0)
+    A = np.vstack([A] + [np.array(rows)])
+    rhs = np.concatenate([rhs, np.array(vals) * W])
+    lim = 1.0 - eps
+    lb = np.full(n, -lim)
+    ub = np.full(n, lim)
+    if closed:
+        lb[0], ub[0] = -1.0, 1.0
+        sol = lsq_linear(A, rhs, bounds=(lb, ub), method="bvls").x
+    else:
+        sol = lsq_linear(A[:, 1:], rhs, bounds=(lb[1:], ub[1:]), method="bvls").x
+        sol = np.concatenate([[0.0], sol])
+    c = T @ sol
+    if closed:
+        c[-1] = c[0]
+    else:
+        c[0] = 0.0
+        c[-1] = 0.0
+    del x
+    return Pairing(Curve(c[:, None], t, p), s0, closed)
+
+
+# ----------------------------------------------------------------------------- boundary curves
+def _kink(C: Curve, u: float) -> bool:
+    """Whether the curve's first derivative jumps at u (a geometric corner in its parametrization)."""
+    lo, hi = C.domain
+    h = 1e-7 * (hi - lo)
+    if u - h <= lo or u + h >= hi:
+        return False
+    d = C.evaluate(np.array([u - h, u + h]), 1)[1]
+    return float(np.linalg.norm(d[0] - d[1])) > 1e-4 * float(np.linalg.norm(d[0]) + np.linalg.norm(d[1]) + 1e-300)
+
+
+def _mapped_knots(C: Curve, u0: float, L: float, pairing: Pairing, which: str) -> tuple[np.ndarray, np.ndarray]:
+    """Interior knots of C mapped into s through the pairing, and whether each is a kink."""
+    lo, hi = C.domain
+    ks = np.unique(C.knots)
+    ks = ks[(ks > lo) & (ks < hi)]
+    if ks.size == 0:
+        return np.zeros(0), np.zeros(0, bool)
+    kink = np.array([_kink(C, k) for k in ks])
+    x = (ks - u0) / L
+    a, b = pairing.ab(np.array([0.0, 1.0]))
+    f0, f1 = (a if which == "a" else b)
+    if pairing.closed:
+        shifts = np.arange(np.floor(f0) - 1, np.ceil(f1) + 1)
+        xx = (x[None, :] + shifts[:, None]).ravel()
+        kk = np.tile(kink, shifts.size)
+        sel = (xx > f0) & (xx < f1)
+        x, kink = xx[sel], kk[sel]
+    s = pairing.inverse(x, which)
+    keep = (s > 1e-9) & (s < 1 - 1e-9)
+    return s[keep], kink[keep]
+
+
+def _space(breaks: np.ndarray, kinks: np.ndarray, p: int, closed: bool):
+    """Knot vector for interior breaks (sorted, in (0,1)); kinks get multiplicity p."""
+    mult = np.where(kinks, p, 1)
+    flat = np.repeat(breaks, mult)
+    if closed:
+        flat = np.concatenate([[0.0], flat])
+        n = flat.size
+        if n < p + 1:
+            # too few spans for a periodic space: add uniform breaks
+            return None
+        knots = np.concatenate([flat[n - p:] - 1.0, flat, flat[: p + 1] + 1.0])
+        return knots, n
+    knots = np.concatenate([np.zeros(p + 1), flat, np.ones(p + 1)])
+    return knots, knots.size - p - 1
+
+
+def _design(knots, p, n_unique, s, closed):
+    M = bspline_basis_matrix(knots, p, s)
+    if closed:
+        F = M[:, :n_unique].copy()
+        F[:, :p] += M[:, n_unique:]
+        return F
+    return M
+
+
+def _merge(breaks, kinks, tol=1e-7):
+    order = np.argsort(breaks)
+    b, k = breaks[order], kinks[order]
+    out_b, out_k = [], []
+    for x, kk in zip(b, k):
+        if out_b and x - out_b[-1] < tol:
+            out_k[-1] = out_k[-1] or kk
+            continue
+        out_b.append(x)
+        out_k.append(kk)
+    return np.array(out_b), np.array(out_k, bool)
+
+
+@dataclass(frozen=True)
+class Boundaries:
+    A: Curve
+    B: Curve
+    fit_error: float  # largest sampled |A(s) - C0(a(s))|, |B(s) - C1(b(s))|
+    kinks: np.ndarray  # s of derivative kinks (multiplicity-p knots)
+
+
+def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, tol: float,
+                   max_poles: int = 160, n_uniform: int = 8) -> Boundaries:
+    """A ~ C0(u0 + L a(s)), B ~ C1(u0 + L b(s)) in one shared spline space (see module doc)."""
+    closed = pairing.closed
+    p = max(3, C0.degree, C1.degree)
+    sa, ka = _mapped_knots(C0, u0, L, pairing, "a")
+    sb, kb = _mapped_knots(C1, u0, L, pairing, "b")
+    br, kk = _merge(np.concatenate([sa, sb]), np.concatenate([ka, kb]))
+    uni = (np.arange(1, n_uniform) / n_uniform)
+    if br.size:
+        dmin = np.min(np.abs(uni[:, None] - br[None, :]), axis=1)
+        uni = uni[dmin > 0.3 / n_uniform]
+    br, kk = _merge(np.concatenate([br, uni]), np.concatenate([kk, np.zeros(uni.size, bool)]))
+    lo0, hi0 = C0.domain
+
+    def target(s):
+        a, b = pairing.ab(s)
+        ua, ub = u0 + L * a, u0 + L * b
+        if closed:
+            ua = lo0 + np.mod(ua - lo0, hi0 - lo0)
+            ub = lo0 + np.mod(ub - lo0, hi0 - lo0)
+        else:
+            ua = np.clip(ua, lo0, hi0)
+            ub = np.clip(ub, lo0, hi0)
+        return C0(ua), C1(ub)
+
+    for _round in range(12):
+        knots, nu = _space(br, kk, p, closed)
+        edges = np.unique(np.concatenate([[0.0], br, [1.0]]))
+        per = 3 * (p + 1)
+        sfit = np.concatenate([np.linspace(e0, e1, per, endpoint=False) for e0, e1 in zip(edges[:-1], edges[1:])]
+                              + ([] if closed else [[1.0]]))
+        M = _design(knots, p, nu, sfit, closed)
+        TA, TB = target(sfit)
+        sol, *_ = np.linalg.lstsq(M, np.hstack([TA, TB]), rcond=None)
+        # error check on a denser, shifted set
+        schk = np.concatenate([np.linspace(e0, e1, 2 * per + 1)[1:-1] for e0, e1 in zip(edges[:-1], edges[1:])])
+        Mc = _design(knots, p, nu, schk, closed)
+        CA, CB = target(schk)
+        R = Mc @ sol
+        err = np.maximum(np.linalg.norm(R[:, :3] - CA, axis=1), np.linalg.norm(R[:, 3:] - CB, axis=1))
+        R0 = M @ sol
+        err_fit = np.maximum(np.linalg.norm(R0[:, :3] - TA, axis=1), np.linalg.norm(R0[:, 3:] - TB, axis=1))
+        emax = max(err.max(), err_fit.max())
+        if emax <= tol or nu >= max_poles:
+            break
+        span = np.searchsorted(edges, schk, side="right") - 1
+        bad = np.unique(span[err > tol])
+        mids = 0.5 * (edges[bad] + edges[bad + 1])
+        br, kk = _merge(np.concatenate([br, mids]), np.concatenate([kk, np.zeros(mids.size, bool)]))
+    poles_A, poles_B = sol[:, :3], sol[:, 3:]
+    if closed:
+        poles_A = np.concatenate([poles_A, poles_A[:p]])
+        poles_B = np.concatenate([poles_B, poles_B[:p]])
+    else:
+        # interpolate the corners exactly: the ends of a clamped spline are its end poles
+        e0A, e0B = target(np.array([0.0, 1.0]))
+        poles_A[0], poles_A[-1] = e0A[0], e0A[1]
+        poles_B[0], poles_B[-1] = e0B[0], e0B[1]
+    A = Curve(poles_A, knots, p, periodic=closed)
+    B = Curve(poles_B, knots, p, periodic=closed)
+    return Boundaries(A, B, float(emax), br[kk])
+
+
+def ruled_surface(bd: Boundaries) -> Surface:
+    """R(s, t) = (1 - t) A(s) + t B(s) as a B-spline surface of degree (p, 1)."""
+    poles = np.stack([bd.A.poles, bd.B.poles], axis=1)
+    return Surface(poles, bd.A.knots, np.array([0.0, 0.0, 1.0, 1.0]), bd.A.degree, 1,
+                   periodic_u=bd.A.periodic)

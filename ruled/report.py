@@ -1,0 +1,84 @@
+"""JSON report and plot of a fit (no CAD host needed)."""
+
+from __future__ import annotations
+
+import json
+from typing import Optional
+
+import numpy as np
+
+from .fit import FitResult
+
+
+def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d",
+                hausdorff: Optional[dict] = None, timings: Optional[dict] = None, version: str = "") -> dict:
+    b = res.best
+    R = b.surface
+    return {
+        "input": input_path,
+        "face": face,
+        "method": method,
+        "direction": b.direction,
+        "closed": b.closed,
+        "samples": res.options.samples,
+        "objective": res.options.objective.value,
+        "max_error": res.options.max_error,
+        "pairs": b.pairs.tolist(),
+        "rulings": b.rulings.tolist(),
+        "ruling_distance": b.ruling_costs.tolist(),
+        "error_bound": b.error_bound,
+        "hausdorff": hausdorff,
+        "result": {
+            "degree": [R.degree_u, R.degree_v],
+            "poles": [int(R.poles.shape[0]), int(R.poles.shape[1])],
+            "periodic_u": R.periodic_u,
+            "boundary_fit_error": b.boundary_fit_error,
+            "max_refined_ruling_distance": float(np.max(b.refined[2])),
+        },
+        "certificate": {"bound": b.certificate.bound, "node_max": b.certificate.node_max,
+                        "remainder": b.certificate.remainder, "grid": list(b.certificate.nodes)},
+        "candidates": {d: (c if isinstance(c, str) else {"error_bound": c.error_bound, "closed": c.closed})
+                       for d, c in res.candidates.items()},
+        "timings": {**{f"{d}.{k}": v for d, c in res.candidates.items() if not isinstance(c, str)
+                       for k, v in c.timings.items()}, **(timings or {})},
+        "version": version,
+    }
+
+
+def write_report(d: dict, path: str) -> None:
+    with open(path, "w") as fh:
+        json.dump(d, fh, indent=1)
+
+
+def plot(res: FitResult, path: str) -> None:
+    """Pairing function (DP path and fitted reparametrization, as Elber's Fig. 5) and error per ruling."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    b = res.best
+    n = res.options.samples
+    h = 1.0 / (n if b.closed else n - 1)
+    ab = b.pairs * h
+    s = np.linspace(0, 1, 400)
+    a, bb = b.pairing.ab(s)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    ax1.plot(ab[:, 0], ab[:, 1], color="0.6", lw=4, label="DP path (samples)")
+    ax1.plot(a, bb, "k-", lw=1.2, label="fitted reparametrization")
+    ax1.plot([0, 1], [0, 1], ":", color="0.3", lw=0.8, label="iso-parametric")
+    ax1.set_xlabel("normalized parameter on first boundary")
+    ax1.set_ylabel("normalized parameter on second boundary")
+    ax1.set_aspect("equal")
+    ax1.set_title(f"pairing ({'closed, ' if b.closed else ''}rulings along {b.direction})")
+    ax1.legend(loc="best", fontsize=8)
+    sig, _, rc = b.refined
+    ax2.plot(np.arange(len(b.ruling_costs)), b.ruling_costs, ".-", color="0.5", label="DP rulings")
+    ax2.plot((sig - sig[0]) * (len(b.ruling_costs) - 1), rc, "k-", lw=1, label="refined rulings")
+    ax2.axhline(b.error_bound, color="r", ls="--", lw=1, label=f"certified bound {b.error_bound:.4g}")
+    ax2.set_xlabel("ruling index along the path")
+    ax2.set_ylabel("line–surface distance")
+    ax2.set_title("error per ruling")
+    ax2.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
