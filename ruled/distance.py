@@ -77,12 +77,15 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
                      closed_u: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Distances of K rulings from S(uP, v0) to S(uQ, v1) to the surface S.
 
-    uP, uQ: (K,) parameters on the v0 and v1 boundaries (unwrapped values are
-    allowed for closed u: the parameter line runs from uP to uQ as given).
+    uP, uQ: (K,) parameters on the v0 and v1 boundaries (any unwrapped values
+    for closed u: the parameter line then takes the shorter way around).
     Returns (upper_bound (K,), distance (K,)): the sampled composition bound
     of eq. (1) and the antipodally refined one-sided distance (<= the bound).
     """
     u0, u1, v0, v1 = S.domain
+    if closed_u:  # the parameter line takes the shorter way around
+        L = u1 - u0
+        uQ = uP + (np.mod(uQ - uP + 0.5 * L, L) - 0.5 * L)
     K = uP.shape[0]
     ub = np.empty(K)
     dist = np.empty(K)
@@ -93,7 +96,8 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
         a = uP[s:e]
         b = uQ[s:e]
         k = e - s
-        ends = S.evaluate(np.concatenate([a, b]), np.concatenate([np.full(k, v0), np.full(k, v1)])).P
+        ends = S.evaluate(wrap_u((u0, u1), np.concatenate([a, b]), closed_u),
+                          np.concatenate([np.full(k, v0), np.full(k, v1)])).P
         P, Q = ends[:k], ends[k:]
         uu = a[:, None] * (1 - t)[None, :] + b[:, None] * t[None, :]
         vv = np.broadcast_to(v0 * (1 - t) + v1 * t, uu.shape)

@@ -184,8 +184,6 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     I, J = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
     uP = up[I.ravel()]
     uQ = up[J.ravel()]
-    if closed:
-        uQ = uP + (np.mod(uQ - uP + 0.5 * L, L) - 0.5 * L)
     K = uP.size
     cost = np.empty(K)
     chunk = max(1, 200000 // opts.points_per_ruling)
@@ -200,7 +198,10 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     res = dp.solve(cost, closed, opts.objective.value, opts.max_error,
                    (lambda d, m: _stage(progress, f"dynamic programming ({direction})", d / m)))
     T["dp"] = time.perf_counter() - t0
-    path = res.path
+    path = res.path.copy()
+    if closed:
+        # unwrap so that the rulings take the shorter way around: |a - b| <= 1/2 on average
+        path[:, 0] -= n * int(np.round(np.mean(path[:, 0] - path[:, 1]) / n))
     h = 1.0 / (n if closed else n - 1)
     ab = path.astype(float) * h
     # continuous refinement
@@ -221,7 +222,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     t0 = time.perf_counter()
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
-    tol = max(1e-7 * diag, 0.02 * float(np.max(rc)))
+    tol = max(2e-6 * diag, 0.02 * float(np.max(rc)))
     bd = fit_boundaries(C0, C1, u0, L, pairing, tol)
     R = ruled_surface(bd)
     T["rebuild"] = time.perf_counter() - t0

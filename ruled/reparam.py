@@ -181,50 +181,63 @@ def fit_delta(sig: np.ndarray, delta: np.ndarray, closed: bool, n_coef: int, eps
 
 
 # ----------------------------------------------------------------------------- boundary curves
-def _kink(C: Curve, u: float) -> bool:
-    """Whether the curve's first derivative jumps at u (a geometric corner in its parametrization)."""
+def _continuity(C: Curve, u: float) -> int:
+    """Order of parametric continuity of C at u, measured: 0 (C' jumps), 1 (C'' jumps) or 2."""
     lo, hi = C.domain
     h = 1e-7 * (hi - lo)
     if u - h <= lo or u + h >= hi:
-        return False
-    d = C.evaluate(np.array([u - h, u + h]), 1)[1]
-    return float(np.linalg.norm(d[0] - d[1])) > 1e-4 * float(np.linalg.norm(d[0]) + np.linalg.norm(d[1]) + 1e-300)
+        return 2
+    d = C.evaluate(np.array([u - h, u + h]), 2)
+    for order in (1, 2):
+        a, b = d[order][0], d[order][1]
+        scale = float(np.linalg.norm(a) + np.linalg.norm(b)) + 1e-300
+        # the change over 2h of a smooth derivative is O(h); a jump is O(1)
+        if float(np.linalg.norm(a - b)) > 1e-4 * scale:
+            return order - 1
+    return 2
 
 
-def _mapped_knots(C: Curve, u0: float, L: float, pairing: Pairing, which: str) -> tuple[np.ndarray, np.ndarray]:
-    """Interior knots of C mapped into s through the pairing, and whether each is a kink."""
+def _mapped_knots(C: Curve, u0: float, L: float, pairing: Pairing, which: str, p: int):
+    """Interior knots of C mapped into s through the pairing, with the multiplicity they need in
+    a degree-p space to keep C's measured continuity there."""
     lo, hi = C.domain
     ks = np.unique(C.knots)
     ks = ks[(ks > lo) & (ks < hi)]
     if ks.size == 0:
-        return np.zeros(0), np.zeros(0, bool)
-    kink = np.array([_kink(C, k) for k in ks])
+        return np.zeros(0), np.zeros(0, int)
+    mult = np.array([p - _continuity(C, k) if p >= 3 else 1 for k in ks])
     x = (ks - u0) / L
     a, b = pairing.ab(np.array([0.0, 1.0]))
     f0, f1 = (a if which == "a" else b)
     if pairing.closed:
         shifts = np.arange(np.floor(f0) - 1, np.ceil(f1) + 1)
         xx = (x[None, :] + shifts[:, None]).ravel()
-        kk = np.tile(kink, shifts.size)
+        mm = np.tile(mult, shifts.size)
         sel = (xx > f0) & (xx < f1)
-        x, kink = xx[sel], kk[sel]
+        x, mult = xx[sel], mm[sel]
     s = pairing.inverse(x, which)
+    if pairing.closed:  # the seam s = 0 = 1 is a break too
+        s = np.where(s > 1 - 1e-9, 0.0, s)
+        s = np.where(s < 1e-9, 0.0, s)
+        return s, mult
     keep = (s > 1e-9) & (s < 1 - 1e-9)
-    return s[keep], kink[keep]
+    return s[keep], mult[keep]
 
 
-def _space(breaks: np.ndarray, kinks: np.ndarray, p: int, closed: bool):
-    """Knot vector for interior breaks (sorted, in (0,1)); kinks get multiplicity p."""
-    mult = np.where(kinks, p, 1)
-    flat = np.repeat(breaks, mult)
+def _space(breaks: np.ndarray, mult: np.ndarray, p: int, closed: bool):
+    """Knot vector for interior breaks (sorted, in (0,1)) with the given multiplicities."""
     if closed:
-        flat = np.concatenate([[0.0], flat])
+        if breaks.size == 0 or breaks[0] > 1e-9:
+            breaks = np.concatenate([[0.0], breaks])
+            mult = np.concatenate([[1], mult])
+        flat = np.repeat(breaks, mult)
         n = flat.size
         if n < p + 1:
             # too few spans for a periodic space: add uniform breaks
             return None
         knots = np.concatenate([flat[n - p:] - 1.0, flat, flat[: p + 1] + 1.0])
         return knots, n
+    flat = np.repeat(breaks, mult)
     knots = np.concatenate([np.zeros(p + 1), flat, np.ones(p + 1)])
     return knots, knots.size - p - 1
 
@@ -238,17 +251,18 @@ def _design(knots, p, n_unique, s, closed):
     return M
 
 
-def _merge(breaks, kinks, tol=1e-7):
+def _merge(breaks, mult, tol=1e-7):
+    """Sorted breaks with near-duplicates merged (keeping the larger multiplicity)."""
     order = np.argsort(breaks)
-    b, k = breaks[order], kinks[order]
+    b, k = breaks[order], mult[order]
     out_b, out_k = [], []
     for x, kk in zip(b, k):
         if out_b and x - out_b[-1] < tol:
-            out_k[-1] = out_k[-1] or kk
+            out_k[-1] = max(out_k[-1], kk)
             continue
         out_b.append(x)
         out_k.append(kk)
-    return np.array(out_b), np.array(out_k, bool)
+    return np.array(out_b), np.array(out_k, int)
 
 
 @dataclass(frozen=True)
@@ -256,7 +270,7 @@ class Boundaries:
     A: Curve
     B: Curve
     fit_error: float  # largest sampled |A(s) - C0(a(s))|, |B(s) - C1(b(s))|
-    kinks: np.ndarray  # s of derivative kinks (multiplicity-p knots)
+    kinks: np.ndarray  # s of knots of multiplicity p, where R_s may jump
 
 
 def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, tol: float,
@@ -264,14 +278,14 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
     """A ~ C0(u0 + L a(s)), B ~ C1(u0 + L b(s)) in one shared spline space (see module doc)."""
     closed = pairing.closed
     p = max(3, C0.degree, C1.degree)
-    sa, ka = _mapped_knots(C0, u0, L, pairing, "a")
-    sb, kb = _mapped_knots(C1, u0, L, pairing, "b")
+    sa, ka = _mapped_knots(C0, u0, L, pairing, "a", p)
+    sb, kb = _mapped_knots(C1, u0, L, pairing, "b", p)
     br, kk = _merge(np.concatenate([sa, sb]), np.concatenate([ka, kb]))
     uni = (np.arange(1, n_uniform) / n_uniform)
     if br.size:
         dmin = np.min(np.abs(uni[:, None] - br[None, :]), axis=1)
         uni = uni[dmin > 0.3 / n_uniform]
-    br, kk = _merge(np.concatenate([br, uni]), np.concatenate([kk, np.zeros(uni.size, bool)]))
+    br, kk = _merge(np.concatenate([br, uni]), np.concatenate([kk, np.ones(uni.size, int)]))
     lo0, hi0 = C0.domain
 
     def target(s):
@@ -308,7 +322,7 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
         span = np.searchsorted(edges, schk, side="right") - 1
         bad = np.unique(span[err > tol])
         mids = 0.5 * (edges[bad] + edges[bad + 1])
-        br, kk = _merge(np.concatenate([br, mids]), np.concatenate([kk, np.zeros(mids.size, bool)]))
+        br, kk = _merge(np.concatenate([br, mids]), np.concatenate([kk, np.ones(mids.size, int)]))
     poles_A, poles_B = sol[:, :3], sol[:, 3:]
     if closed:
         poles_A = np.concatenate([poles_A, poles_A[:p]])
@@ -320,7 +334,7 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
         poles_B[0], poles_B[-1] = e0B[0], e0B[1]
     A = Curve(poles_A, knots, p, periodic=closed)
     B = Curve(poles_B, knots, p, periodic=closed)
-    return Boundaries(A, B, float(emax), br[kk])
+    return Boundaries(A, B, float(emax), br[kk >= p])
 
 
 def ruled_surface(bd: Boundaries) -> Surface:

@@ -165,7 +165,10 @@ def _to_occt_periodic(poles, weights, knots, p, axis):
     mm[-1] = mm[0]
     uniq = np.take(poles, np.arange(n), axis=axis)
     w = None if weights is None else np.take(weights, np.arange(n), axis=axis)
-    # OCCT's pole 1 is our pole 0 for this layout (checked against OCCT in tests)
+    # OCCT's pole 1 is our pole (m0 - 1), m0 the multiplicity of the first knot (checked in tests)
+    uniq = np.roll(uniq, -(int(mm[0]) - 1), axis=axis)
+    if w is not None:
+        w = np.roll(w, -(int(mm[0]) - 1), axis=axis)
     assert abs(kk[0] - a) < 1e-15 * max(1, abs(a)) + 1e-300 and abs(kk[-1] - b) <= 1e-12 * max(1, abs(b))
     return uniq, w, kk, mm
 
