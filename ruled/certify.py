@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import kernels
 from .nurbs import Curve, Surface, _deriv_net, find_spans
 from .reparam import Boundaries, Pairing
 
@@ -104,6 +105,12 @@ class _SpanMax:
 
 def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool, iters: int = 6):
     """Closest point of the ruled surface to X over the rulings, Gauss–Newton in s from s0."""
+    if kernels.enabled() and A.knots.shape == B.knots.shape and np.array_equal(A.knots, B.knots):
+        so = np.empty(s.shape[0])
+        to = np.empty(s.shape[0])
+        kernels.segment_feet(A._hom, B._hom, A.knots, A._tab, A.degree, np.ascontiguousarray(X), np.ascontiguousarray(s),
+                             bool(closed), int(iters), so, to)
+        return so, to
     best_s = s.copy()
     best_t = np.zeros_like(s)
     best_d = np.full(s.shape, np.inf)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import kernels
 from .nurbs import Surface
 
 _POINTS_PER_CHUNK = 120000
@@ -89,6 +90,11 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
     K = uP.shape[0]
     ub = np.empty(K)
     dist = np.empty(K)
+    if kernels.enabled():
+        kernels.ruling_distances(S._hom, S.knots_u, S.knots_v, S._tabs[0], S._tabs[1], S.degree_u, S.degree_v,
+                                 np.array(S.domain, float), bool(closed_u), np.ascontiguousarray(uP, float),
+                                 np.ascontiguousarray(uQ, float), int(m), int(iters), ub, dist)
+        return ub, dist
     t = (np.arange(m) + 0.5) / m
     step = max(1, _POINTS_PER_CHUNK // m)
     for s in range(0, K, step):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import Enum
 from typing import Callable, Optional
 
@@ -15,7 +15,11 @@ from .certify import Certificate, certify
 from .distance import ruling_distances
 from .errors import BadInputError, DegenerateFaceError, RuledError, TooBigError
 from .nurbs import Surface
-from .reparam import Pairing, fit_boundaries, fit_delta, refine_pairing, ruled_surface
+from .reparam import Boundaries, Pairing, fit_boundaries, fit_delta, refine_pairing, ruled_surface
+
+# certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
+GRID_FINE = (240, 80)
+GRID_COARSE = (80, 24)
 
 Progress = Optional[Callable[[str, float], None]]
 
@@ -68,6 +72,8 @@ class DirectionFit:
     boundary_fit_error: float
     certificate: Certificate
     timings: dict
+    boundaries: Boundaries = None
+    oriented: Surface = None      # the input surface oriented so that rulings run along v
 
     @property
     def error_bound(self) -> float:
@@ -164,7 +170,8 @@ def _stage(progress: Progress, name: str, frac: float) -> None:
         progress(name, frac)
 
 
-def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None) -> DirectionFit:
+def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None,
+                  grid: tuple = GRID_FINE) -> DirectionFit:
     """Fit along one direction ('v': boundaries v-min/v-max; 'u': the surface is transposed first)."""
     So = S if direction == "v" else S.transposed()
     closed, why = check_direction(So)
@@ -228,7 +235,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)
     t0 = time.perf_counter()
-    cert = certify(So, u0, L, pairing, bd, R)
+    cert = certify(So, u0, L, pairing, bd, R, *grid)
     T["certify"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 1.0)
     pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
@@ -238,7 +245,18 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     rulings = np.stack([ends[: len(pp)], ends[len(pp):]], axis=1)
     pc = cost[path[:, 0] % n, path[:, 1] % n]
     return DirectionFit(direction, closed, R, path, rulings, pp, pc, res.score, (sig, dlt, rc), pairing,
-                        bd.fit_error, cert, T)
+                        bd.fit_error, cert, T, bd, So)
+
+
+def recertify(fit: DirectionFit, grid: tuple = GRID_FINE) -> DirectionFit:
+    """The same fit with its bound computed on another grid."""
+    So = fit.oriented
+    u0, u1 = So.domain[:2]
+    t0 = time.perf_counter()
+    cert = certify(So, u0, u1 - u0, fit.pairing, fit.boundaries, fit.surface, *grid)
+    timings = dict(fit.timings)
+    timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
+    return replace(fit, certificate=cert, timings=timings)
 
 
 def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None) -> FitResult:
@@ -253,9 +271,10 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
     dirs = ["v", "u"] if opts.direction == Direction.AUTO else [opts.direction.value]
     cands: dict = {}
     errors = []
+    grid = GRID_FINE if len(dirs) == 1 else GRID_COARSE
     for d in dirs:
         try:
-            cands[d] = fit_direction(S, d, opts, progress)
+            cands[d] = fit_direction(S, d, opts, progress, grid)
         except (DegenerateFaceError,) as exc:
             if len(dirs) == 1:
                 raise
@@ -267,6 +286,11 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
     if not ok:
         raise DegenerateFaceError("degenerate face: " + "; ".join(str(e) for e in errors))
     best = min(ok.values(), key=lambda c: c.error_bound)
+    if grid is not GRID_FINE:
+        _stage(progress, f"certify ({best.direction})", 0.0)
+        best = recertify(best, GRID_FINE)
+        cands[best.direction] = best
+        _stage(progress, f"certify ({best.direction})", 1.0)
     return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
 
 

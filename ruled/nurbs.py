@@ -20,6 +20,7 @@ from typing import Optional
 
 import numpy as np
 
+from . import kernels
 from .errors import BadInputError
 
 _CHUNK = 40000
@@ -100,6 +101,29 @@ def basis_derivatives(knots: np.ndarray, degree: int, spans: np.ndarray, x: np.n
     return ders
 
 
+def taylor_table(knots: np.ndarray, degree: int) -> np.ndarray:
+    """Per-span power-basis coefficients of the basis functions and their first two derivatives.
+
+    Returns tab (3, n, p+1, p+1): tab[k, i, r, j] is the coefficient of (x - knots[i])^j in the
+    k-th derivative of N_{i-p+r} on span i (spans p..n-1; other rows are zero).  Used by the
+    numba kernels (Horner evaluation, no divisions).
+    """
+    p = degree
+    n = knots.shape[0] - p - 1
+    tab = np.zeros((3, n, p + 1, p + 1))
+    spans = np.arange(p, n)
+    spans = spans[knots[spans + 1] > knots[spans]]
+    if spans.size == 0:
+        return tab
+    D = basis_derivatives(knots, p, spans, knots[spans], p)  # (p+1, S, p+1)
+    fact = np.cumprod(np.concatenate([[1.0], np.arange(1, p + 1, dtype=float)]))
+    c = np.transpose(D, (1, 2, 0)) / fact[None, None, :]  # (S, r, j): Taylor coefficients
+    for k in range(3):
+        for j in range(p + 1 - k):
+            tab[k, spans, :, j] = c[:, :, j + k] * fact[j + k] / fact[j]
+    return tab
+
+
 def _check_knots(knots: np.ndarray, degree: int, n_poles: int, name: str) -> None:
     if knots.ndim != 1 or knots.shape[0] != n_poles + degree + 1:
         raise BadInputError(
@@ -124,13 +148,22 @@ class Curve:
     degree: int
     weights: Optional[np.ndarray] = None
     periodic: bool = False
+    _hom: np.ndarray = field(default=None, repr=False, compare=False)
+    _tab: np.ndarray = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
-        object.__setattr__(self, "poles", _as_f64(self.poles))
+        P = _as_f64(self.poles)
+        if P.ndim == 1:
+            P = P[:, None]
+        object.__setattr__(self, "poles", P)
         object.__setattr__(self, "knots", _as_f64(self.knots))
+        object.__setattr__(self, "degree", int(self.degree))
         if self.weights is not None:
             object.__setattr__(self, "weights", _as_f64(self.weights))
         _check_knots(self.knots, self.degree, self.poles.shape[0], "curve")
+        w = np.ones(P.shape[0]) if self.weights is None else self.weights
+        object.__setattr__(self, "_hom", np.ascontiguousarray(np.concatenate([P * w[:, None], w[:, None]], axis=1)))
+        object.__setattr__(self, "_tab", taylor_table(self.knots, self.degree) if kernels.AVAILABLE else None)
 
     @property
     def domain(self) -> tuple[float, float]:
@@ -142,9 +175,13 @@ class Curve:
 
     def evaluate(self, t, nder: int = 0) -> list[np.ndarray]:
         """Points and derivatives: a list [C, C', C''][: nder+1], each (N, d)."""
-        t = np.atleast_1d(_as_f64(t))
+        t = np.atleast_1d(_as_f64(t)).ravel()
         p = self.degree
         n = self.poles.shape[0]
+        if kernels.enabled() and nder <= 2:
+            out = np.empty((t.shape[0], nder + 1, self.poles.shape[1]))
+            kernels.curve_eval(self._hom, self.knots, self._tab, p, t, nder, out)
+            return [out[:, k] for k in range(nder + 1)]
         spans = find_spans(self.knots, p, n, t)
         B = basis_derivatives(self.knots, p, spans, t, nder)
         idx = spans[:, None] - p + np.arange(p + 1)[None, :]
@@ -205,6 +242,7 @@ class Surface:
     periodic_u: bool = False
     periodic_v: bool = False
     _hom: np.ndarray = field(default=None, repr=False, compare=False)
+    _tabs: tuple = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         poles = _as_f64(self.poles)
@@ -231,6 +269,9 @@ class Surface:
         else:
             hom = np.concatenate([poles * self.weights[..., None], self.weights[..., None]], axis=2)
         object.__setattr__(self, "_hom", np.ascontiguousarray(hom))
+        if kernels.AVAILABLE:
+            object.__setattr__(self, "_tabs", (taylor_table(self.knots_u, self.degree_u),
+                                               taylor_table(self.knots_v, self.degree_v)))
 
     # ------------------------------------------------------------------ properties
     @property
@@ -267,9 +308,18 @@ class Surface:
         u, v: arrays (N,) (broadcast together).  Returns :class:`Derivs`, each (N, 3).
         """
         u, v = np.broadcast_arrays(np.atleast_1d(_as_f64(u)), np.atleast_1d(_as_f64(v)))
-        u = u.ravel()
-        v = v.ravel()
+        u = np.ascontiguousarray(u.ravel())
+        v = np.ascontiguousarray(v.ravel())
         N = u.shape[0]
+        if kernels.enabled() and nder <= 2:
+            out = np.empty((N, 6, 3))
+            kernels.surface_eval(self._hom, self.knots_u, self.knots_v, self._tabs[0], self._tabs[1],
+                                 self.degree_u, self.degree_v, u, v, nder, out)
+            if nder == 0:
+                return Derivs(out[:, 0])
+            if nder == 1:
+                return Derivs(out[:, 0], out[:, 1], out[:, 2])
+            return Derivs(out[:, 0], out[:, 1], out[:, 2], out[:, 3], out[:, 4], out[:, 5])
         if N > _CHUNK:
             parts = [self.evaluate(u[s:s + _CHUNK], v[s:s + _CHUNK], nder) for s in range(0, N, _CHUNK)]
             return Derivs(*[None if getattr(parts[0], f) is None else
