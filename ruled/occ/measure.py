@@ -10,7 +10,7 @@ from OCP.BRep import BRep_Tool
 from OCP.BRepTools import BRepTools
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.ShapeAnalysis import ShapeAnalysis_Surface
-from OCP.gp import gp_Pnt
+from OCP.gp import gp_Pnt, gp_Vec
 
 
 @dataclass(frozen=True)
@@ -22,8 +22,20 @@ class Hausdorff:
     samples: int
 
 
-def _grid(face, n: int):
+def face_bounds(face):
+    """The face's UV bounds, clipped to its surface's own range (faces may overhang it by round-off)."""
     u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+    surf = BRep_Tool.Surface_s(face)
+    a0, a1, b0, b1 = surf.Bounds()
+    if not surf.IsUPeriodic():
+        u0, u1 = max(u0, a0), min(u1, a1)
+    if not surf.IsVPeriodic():
+        v0, v1 = max(v0, b0), min(v1, b1)
+    return u0, u1, v0, v1
+
+
+def _grid(face, n: int):
+    u0, u1, v0, v1 = face_bounds(face)
     surf = BRep_Tool.Surface_s(face)
     us = np.linspace(u0, u1, n)
     vs = np.linspace(v0, v1, n)
@@ -37,7 +49,7 @@ def _grid(face, n: int):
 
 class _Projector:
     def __init__(self, face):
-        self.u0, self.u1, self.v0, self.v1 = BRepTools.UVBounds_s(face)
+        self.u0, self.u1, self.v0, self.v1 = face_bounds(face)
         self.surf = BRep_Tool.Surface_s(face)
         self.proj = GeomAPI_ProjectPointOnSurf()
         self.proj.Init(self.surf, self.u0, self.u1, self.v0, self.v1)
@@ -55,12 +67,37 @@ class _Projector:
         p = self.surf.Value(float(u), float(v))
         return (p.X(), p.Y(), p.Z())
 
+    def _polish(self, x, u, v, iters: int = 6) -> float:
+        """Newton steps on |S(u, v) - x|^2 with OCCT's D2, clamped to the bounds; the best distance seen."""
+        best = np.inf
+        for _ in range(iters):
+            p, du, dv, duu, dvv, duv = gp_Pnt(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec()
+            self.surf.D2(float(u), float(v), p, du, dv, duu, dvv, duv)
+            r = np.array(p.Coord()) - x
+            best = min(best, float(np.linalg.norm(r)))
+            Su, Sv = np.array(du.Coord()), np.array(dv.Coord())
+            Suu, Svv, Suv = np.array(duu.Coord()), np.array(dvv.Coord()), np.array(duv.Coord())
+            g = np.array([Su @ r, Sv @ r])
+            H = np.array([[Su @ Su + Suu @ r, Su @ Sv + Suv @ r], [Su @ Sv + Suv @ r, Sv @ Sv + Svv @ r]])
+            try:
+                step = np.linalg.solve(H, -g)
+            except np.linalg.LinAlgError:
+                break
+            if not np.all(np.isfinite(step)):
+                break
+            u = min(max(u + step[0], self.u0), self.u1)
+            v = min(max(v + step[1], self.v0), self.v1)
+        p = self.surf.Value(float(u), float(v))
+        return min(best, float(np.linalg.norm(np.array(p.Coord()) - x)))
+
     def distance(self, x) -> float:
         P = gp_Pnt(*map(float, x))
         best = np.inf
         self.proj.Perform(P)
         if self.proj.IsDone() and self.proj.NbPoints() > 0:
             best = self.proj.LowerDistance()
+            u, v = self.proj.LowerDistanceParameters()
+            best = min(best, self._polish(x, u, v))
         # boundary candidates: nearest edge sample refined along its edge by the analysis tool
         de = np.linalg.norm(self.edge_pts - x, axis=1)
         k = int(np.argmin(de))
@@ -68,7 +105,7 @@ class _Projector:
         uv = self.sas.ValueOfUV(P, 1e-10)
         u = min(max(uv.X(), self.u0), self.u1)
         v = min(max(uv.Y(), self.v0), self.v1)
-        best = min(best, float(np.linalg.norm(np.array(self._value(u, v)) - x)))
+        best = min(best, float(np.linalg.norm(np.array(self._value(u, v)) - x)), self._polish(x, u, v))
         # edge-restricted refinement from the nearest edge sample (golden section on the edge)
         eu, ev = self.edge_uv[k]
         best = min(best, self._edge_refine(x, eu, ev, k))

@@ -1,0 +1,65 @@
+"""CadQuery entry points.
+
+    import cadquery as cq
+    from ruled.cq import fit_face
+
+    face = cq.importers.importStep("part.step").faces().vals()[3]
+    fit = fit_face(face, samples=40)
+    print(fit.error_bound, fit.hausdorff.max)
+    cq.exporters.export(cq.Workplane().add(fit.face), "ruled.step")
+
+The face may be a ``cadquery.Face``, an OCP ``TopoDS_Face`` or a
+:class:`ruled.Surface` container.  OCP is reached only through ``ruled.occ``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Optional
+
+import numpy as np
+
+from .fit import FitOptions, FitResult, Progress, fit_surface
+from .nurbs import Surface
+
+
+@dataclass(frozen=True)
+class RuledFit:
+    """A ruled fit and its errors: the result face, the rulings, the certified bound and the measure."""
+
+    face: Any                 # cadquery.Face when CadQuery is installed, else TopoDS_Face
+    surface: Surface          # the result as plain arrays
+    rulings: np.ndarray       # (K, 2, 3) end points of the DP rulings on the input face
+    error_bound: float        # certified upper bound of the Hausdorff distance
+    hausdorff: Optional[Any]  # ruled.occ.Hausdorff measured with OCCT, or None when not asked
+    result: FitResult         # everything else (pairing, candidates, timings)
+
+
+def _topods(face):
+    wrapped = getattr(face, "wrapped", None)
+    return wrapped if wrapped is not None else face
+
+
+def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optional[float] = None,
+             direction: str = "auto", refine: bool = True, measure: bool = True, measure_samples: int = 40,
+             progress: Progress = None) -> RuledFit:
+    """Fit the best ruled surface to a face (2D-DP over boundary samples, refined, certified)."""
+    from .occ.convert import container_to_face, face_to_container
+    from .occ.measure import hausdorff
+
+    if isinstance(face, Surface):
+        S = face
+        src = container_to_face(S)
+    else:
+        src = _topods(face)
+        S = face_to_container(src)
+    res = fit_surface(S, FitOptions(samples=samples, objective=objective, max_error=max_error,
+                                    direction=direction, refine=refine), progress)
+    out = container_to_face(res.surface)
+    h = hausdorff(src, out, measure_samples) if measure else None
+    try:
+        import cadquery as cq
+        out_face = cq.Face(out)
+    except ImportError:  # plain OCP
+        out_face = out
+    return RuledFit(out_face, res.surface, res.best.rulings, res.error_bound, h, res)

@@ -1,0 +1,72 @@
+"""DP against brute-force enumeration of all monotone paths on small tables."""
+import itertools
+
+import numpy as np
+import pytest
+
+from ruled import dp
+from ruled.errors import InfeasibleError
+
+
+def _all_paths(ni, nj):
+    """Every path from (0,0) to (ni-1,nj-1) with moves (1,0), (0,1), (1,1)."""
+    def rec(i, j):
+        if (i, j) == (ni - 1, nj - 1):
+            yield [(i, j)]
+            return
+        for di, dj in ((1, 1), (1, 0), (0, 1)):
+            a, b = i + di, j + dj
+            if a < ni and b < nj:
+                for rest in rec(a, b):
+                    yield [(i, j)] + rest
+    yield from rec(0, 0)
+
+
+def _score(C, path, objective):
+    c = np.array([C[i, j] for i, j in path])
+    return c.sum() if objective == "sum" else c.max()
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+def test_open_dp_is_globally_optimal(objective, rng):
+    for n in (3, 4, 5, 6):
+        for _ in range(5):
+            C = rng.uniform(0, 1, (n, n))
+            res = dp.solve(C, False, objective)
+            best = min(_score(C, p, objective) for p in _all_paths(n, n))
+            assert abs(res.score - best) < 1e-12
+            assert abs(_score(C, [tuple(x) for x in res.path], objective) - best) < 1e-12
+            assert tuple(res.path[0]) == (0, 0) and tuple(res.path[-1]) == (n - 1, n - 1)
+            steps = np.diff(res.path, axis=0)
+            assert ((steps >= 0) & (steps <= 1)).all() and (steps.sum(axis=1) >= 1).all()
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+def test_closed_dp_is_optimal_over_all_shifts(objective, rng):
+    for n in (3, 4, 5):
+        for _ in range(4):
+            C = rng.uniform(0, 1, (n, n))
+            res = dp.solve(C, True, objective)
+            best = np.inf
+            for s in range(n):
+                Cs = C[(s + np.arange(n + 1))[:, None] % n, np.arange(n + 1)[None, :] % n]
+                best = min(best, min(_score(Cs, p, objective) for p in _all_paths(n + 1, n + 1)))
+            assert abs(res.score - best) < 1e-12
+            first, last = res.path[0], res.path[-1]
+            # first and last ruling are the same line: one full turn on both boundaries
+            assert last[0] - first[0] == n and last[1] - first[1] == n
+
+
+def test_max_error_constraint_and_infeasibility_message(rng):
+    n = 6
+    C = rng.uniform(0.5, 1.0, (n, n))
+    C[np.arange(n), np.arange(n)] = 0.1
+    res = dp.solve(C, False, "sum", max_error=0.2)
+    assert np.all(C[res.path[:, 0], res.path[:, 1]] <= 0.2)
+    minimax = min(_score(C, p, "max") for p in _all_paths(n, n))
+    C[2, 2] = 0.9
+    minimax = min(_score(C, p, "max") for p in _all_paths(n, n))
+    with pytest.raises(InfeasibleError) as exc:
+        dp.solve(C, False, "sum", max_error=0.2)
+    msg = str(exc.value)
+    assert f"{minimax:.6g}" in msg and "\n" not in msg
