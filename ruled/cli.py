@@ -61,7 +61,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict."""
     from .fit import FitOptions, fit_surface
-    from .occ.convert import container_to_face, face_to_container
+    from .occ.convert import container_to_face, conversion_slack, face_to_container
     from .occ.io import get_face, write_step
     from .occ.measure import hausdorff
     from .progress import Bar
@@ -78,8 +78,9 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
     S = face_to_container(face)
+    slack = conversion_slack(face, S)
     t_read = time.perf_counter() - t0
-    bar = Bar(enabled=not quiet)
+    bar = Bar(enabled=not quiet and sys.stderr.isatty())
     try:
         res = fit_surface(S, opts, bar)
     finally:
@@ -89,7 +90,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     write_step(out_face, output)
     t_write = time.perf_counter() - t1
     t2 = time.perf_counter()
-    if not quiet:
+    if not quiet and sys.stderr.isatty():
         print(f"  measuring the Hausdorff distance with OCCT ({measure_samples}x{measure_samples} samples per face)",
               file=sys.stderr)
     h = hausdorff(face, out_face, measure_samples)
@@ -98,7 +99,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
                       hausdorff={"max": h.max, "mean": h.mean, "input_to_result": h.max_a_to_b,
                                  "result_to_input": h.max_b_to_a, "samples": h.samples},
                       timings={"read": t_read, "fit": res.timings["total"], "build_and_write": t_write,
-                               "measure": t_meas}, version=__version__)
+                               "measure": t_meas}, version=__version__, conversion_slack=slack)
     if report:
         write_report(rep, report)
     if plot:

@@ -30,7 +30,7 @@ class RuledFit:
     face: Any                 # cadquery.Face when CadQuery is installed, else TopoDS_Face
     surface: Surface          # the result as plain arrays
     rulings: np.ndarray       # (K, 2, 3) end points of the DP rulings on the input face
-    error_bound: float        # certified upper bound of the Hausdorff distance
+    error_bound: float        # certified upper bound of the Hausdorff distance to the input face
     hausdorff: Optional[Any]  # ruled.occ.Hausdorff measured with OCCT, or None when not asked
     result: FitResult         # everything else (pairing, candidates, timings)
 
@@ -44,15 +44,17 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
              direction: str = "auto", refine: bool = True, measure: bool = True, measure_samples: int = 40,
              progress: Progress = None) -> RuledFit:
     """Fit the best ruled surface to a face (2D-DP over boundary samples, refined, certified)."""
-    from .occ.convert import container_to_face, face_to_container
+    from .occ.convert import container_to_face, conversion_slack, face_to_container
     from .occ.measure import hausdorff
 
+    slack = 0.0
     if isinstance(face, Surface):
         S = face
         src = container_to_face(S)
     else:
         src = _topods(face)
         S = face_to_container(src)
+        slack = conversion_slack(src, S)
     res = fit_surface(S, FitOptions(samples=samples, objective=objective, max_error=max_error,
                                     direction=direction, refine=refine), progress)
     out = container_to_face(res.surface)
@@ -62,4 +64,4 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
         out_face = cq.Face(out)
     except ImportError:  # plain OCP
         out_face = out
-    return RuledFit(out_face, res.surface, res.best.rulings, res.error_bound, h, res)
+    return RuledFit(out_face, res.surface, res.best.rulings, res.error_bound + slack, h, res)

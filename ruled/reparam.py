@@ -205,7 +205,7 @@ def _mapped_knots(C: Curve, u0: float, L: float, pairing: Pairing, which: str, p
     ks = ks[(ks > lo) & (ks < hi)]
     if ks.size == 0:
         return np.zeros(0), np.zeros(0, int)
-    mult = np.array([p - _continuity(C, k) if p >= 3 else 1 for k in ks])
+    mult = np.array([max(1, p - _continuity(C, k)) for k in ks])
     x = (ks - u0) / L
     a, b = pairing.ab(np.array([0.0, 1.0]))
     f0, f1 = (a if which == "a" else b)
@@ -277,7 +277,8 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
                    max_poles: int = 160, n_uniform: int = 8) -> Boundaries:
     """A ~ C0(u0 + L a(s)), B ~ C1(u0 + L b(s)) in one shared spline space (see module doc)."""
     closed = pairing.closed
-    p = max(3, C0.degree, C1.degree)
+    # polyline boundaries stay polylines (piecewise-bilinear result); otherwise at least cubic
+    p = 1 if (C0.degree == 1 and C1.degree == 1) else max(3, C0.degree, C1.degree)
     sa, ka = _mapped_knots(C0, u0, L, pairing, "a", p)
     sb, kb = _mapped_knots(C1, u0, L, pairing, "b", p)
     br, kk = _merge(np.concatenate([sa, sb]), np.concatenate([ka, kb]))

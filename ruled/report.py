@@ -11,7 +11,9 @@ from .fit import FitResult
 
 
 def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d",
-                hausdorff: Optional[dict] = None, timings: Optional[dict] = None, version: str = "") -> dict:
+                hausdorff: Optional[dict] = None, timings: Optional[dict] = None, version: str = "",
+                conversion_slack: float = 0.0) -> dict:
+    """The JSON report; error_bound includes the face-to-surface conversion slack."""
     b = res.best
     R = b.surface
     return {
@@ -26,7 +28,7 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
         "pairs": b.pairs.tolist(),
         "rulings": b.rulings.tolist(),
         "ruling_distance": b.ruling_costs.tolist(),
-        "error_bound": b.error_bound,
+        "error_bound": b.error_bound + conversion_slack,
         "hausdorff": hausdorff,
         "result": {
             "degree": [R.degree_u, R.degree_v],
@@ -35,7 +37,7 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
             "boundary_fit_error": b.boundary_fit_error,
             "max_refined_ruling_distance": float(np.max(b.refined[2])),
         },
-        "certificate": {"bound": b.certificate.bound, "node_max": b.certificate.node_max,
+        "certificate": {"bound": b.certificate.bound, "conversion_slack": conversion_slack, "node_max": b.certificate.node_max,
                         "remainder": b.certificate.remainder, "grid": list(b.certificate.nodes)},
         "candidates": {d: (c if isinstance(c, str) else {"error_bound": c.error_bound, "closed": c.closed})
                        for d, c in res.candidates.items()},

@@ -9,7 +9,8 @@ from ruled import FitOptions, fit_surface
 from ruled.examples import elber_ex1, elber_ex2
 
 OCP = pytest.importorskip("OCP")
-from ruled.occ.convert import container_to_face, face_to_container  # noqa: E402
+from ruled.cq import fit_face  # noqa: E402
+from ruled.occ.convert import container_to_face  # noqa: E402
 from ruled.occ.io import faces_of, read_shape  # noqa: E402
 from ruled.occ.measure import hausdorff  # noqa: E402
 
@@ -39,11 +40,9 @@ def test_refinement_improves_on_the_dp_pairing():
 
 def test_wing_faces_are_exact():
     for i, face in enumerate(faces_of(read_shape(data_file("occt_wing.brep")))):
-        S = face_to_container(face)
-        res = fit_surface(S, FitOptions(samples=40))
-        h = hausdorff(face, container_to_face(res.surface), 30)
-        assert h.max <= 1e-6 * diag_of(S), (i, h.max)
-        assert res.error_bound >= h.max
+        fit = fit_face(face, samples=40, measure_samples=30)
+        assert fit.hausdorff.max <= 1e-6 * diag_of(fit.result.best.oriented), (i, fit.hausdorff.max)
+        assert fit.error_bound >= fit.hausdorff.max
 
 
 def test_impeller_bilinear_patches_are_exact():
@@ -57,11 +56,9 @@ def test_impeller_bilinear_patches_are_exact():
         bs = ad.BSpline()
         if (bs.UDegree(), bs.VDegree(), bs.NbUPoles(), bs.NbVPoles()) != (3, 1, 10, 2):
             continue
-        S = face_to_container(face)
-        res = fit_surface(S, FitOptions(samples=40))
-        h = hausdorff(face, container_to_face(res.surface), 25)
-        assert h.max <= 1e-6 * diag_of(S)
-        assert res.error_bound >= h.max
+        fit = fit_face(face, samples=40, measure_samples=25)
+        assert fit.hausdorff.max <= 1e-6 * diag_of(fit.result.best.oriented)
+        assert fit.error_bound >= fit.hausdorff.max
         done += 1
         if done == 6:  # the rest run in the slow batch test
             break
@@ -109,9 +106,7 @@ def test_every_bspline_face_of_the_impeller():
     for i, face in enumerate(faces):
         if BRepAdaptor_Surface(face).GetType().name != "GeomAbs_BSplineSurface":
             continue
-        S = face_to_container(face)
-        res = fit_surface(S, FitOptions(samples=40))
-        h = hausdorff(face, container_to_face(res.surface), 25)
-        assert res.error_bound >= h.max, (i, res.error_bound, h.max)
+        fit = fit_face(face, samples=40, measure_samples=25)
+        assert fit.error_bound >= fit.hausdorff.max, (i, fit.error_bound, fit.hausdorff.max)
         n += 1
     assert n == 48

@@ -127,6 +127,24 @@ def face_to_container(face: TopoDS_Face) -> Surface:
     return bspline_surface_to_container(face_to_bspline(face))
 
 
+def conversion_slack(face: TopoDS_Face, S: Surface) -> float:
+    """Upper bound of the distance from the container to the face, where the face's UV bounds lie
+    inside the container's domain by less than the segmentation tolerance (a round-off strip):
+    the strip width times the largest |S_u| or |S_v| there."""
+    fu0, fu1, fv0, fv1 = face_uv_bounds(face)
+    u0, u1, v0, v1 = S.domain
+    if S.periodic_u:
+        fu0, fu1 = u0, u1
+    if S.periodic_v:
+        fv0, fv1 = v0, v1
+    du = max(0.0, fu0 - u0) + max(0.0, u1 - fu1)
+    dv = max(0.0, fv0 - v0) + max(0.0, v1 - fv1)
+    if du == 0.0 and dv == 0.0:
+        return 0.0
+    b = S.derivative_bounds()
+    return float(du * b["Su"].max() + dv * b["Sv"].max())
+
+
 def container_to_bspline(s: Surface) -> Geom_BSplineSurface:
     """Build a Geom_BSplineSurface from a container (periodic ones become OCCT-periodic)."""
     poles, weights = s.poles, s.weights

@@ -1,0 +1,128 @@
+"""The `ruled` command line: listing, fitting, demo, and one-line errors with exit code 2."""
+import glob
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, SHARED_DATA, data_file
+
+pytest.importorskip("OCP")
+
+
+def ruled(*args, cwd=None, timeout=900):
+    return subprocess.run([sys.executable, "-m", "ruled.cli", *args], cwd=cwd or ROOT, capture_output=True,
+                          text=True, timeout=timeout, env={**os.environ, "PYTHONPATH": ROOT})
+
+
+def _one_line_error(out):
+    assert out.returncode == 2, (out.returncode, out.stdout, out.stderr)
+    lines = [ln for ln in out.stderr.strip().splitlines() if ln.strip()]
+    assert len(lines) == 1, out.stderr
+    assert "Traceback" not in out.stderr
+    assert lines[0].startswith("ruled: error:")
+    return lines[0]
+
+
+def test_faces_on_every_shared_file():
+    files = sorted(f for f in glob.glob(os.path.join(SHARED_DATA, "*")) if not f.endswith(".md"))
+    if not files:
+        pytest.skip("../shared/data is absent")
+    for f in files:
+        out = ruled("faces", f)
+        assert out.returncode == 0, (f, out.stderr)
+        lines = out.stdout.strip().splitlines()
+        assert len(lines) >= 1
+        for i, line in enumerate(lines):
+            assert line.split()[0] == str(i)
+            assert "area" in line
+
+
+def test_fit_writes_step_report_and_plot(tmp_path):
+    src = data_file("occt_wing.brep")
+    out = ruled("fit", src, "--face", "1", "--samples", "30", "-o", str(tmp_path / "r.step"),
+                "--report", str(tmp_path / "r.json"), "--plot", str(tmp_path / "r.png"), "--quiet")
+    assert out.returncode == 0, out.stderr
+    rep = json.loads((tmp_path / "r.json").read_text())
+    for key in ("input", "face", "method", "direction", "samples", "objective", "pairs", "rulings",
+                "error_bound", "hausdorff", "timings", "version"):
+        assert key in rep
+    assert rep["hausdorff"]["max"] <= rep["error_bound"]
+    assert len(rep["pairs"]) == len(rep["rulings"])
+    assert np.array(rep["rulings"]).shape[1:] == (2, 3)
+    assert (tmp_path / "r.png").stat().st_size > 10000
+    # the STEP holds one face that reads back
+    from ruled.occ.io import faces_of, read_shape
+    assert len(faces_of(read_shape(str(tmp_path / "r.step")))) == 1
+
+
+def test_demo_prints_where_files_went(tmp_path):
+    out = ruled("demo", "--quiet", cwd=str(tmp_path))
+    assert out.returncode == 0, out.stderr
+    for name in ("result.step", "report.json", "plot.png"):
+        p = tmp_path / "ruled-demo" / name
+        assert p.exists()
+        assert str(p) in out.stdout
+
+
+def _degenerate_files(tmp_path):
+    from ruled.nurbs import Surface
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import write_step
+    P = np.zeros((4, 3, 3))
+    for i in range(4):
+        for j in range(3):
+            P[i, j] = (i, j * (1 + 0.3 * i), 0.2 * i * j)
+    # v-max boundary collapsed to a point
+    Pc = P.copy()
+    Pc[:, 2] = (1.0, 3.0, 1.0)
+    collapsed = Surface(Pc, [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 1, 1, 1], 3, 2)
+    write_step(container_to_face(collapsed), str(tmp_path / "collapsed.step"))
+    # zero area: every pole on one line
+    Pz = np.zeros((4, 3, 3))
+    for i in range(4):
+        for j in range(3):
+            Pz[i, j] = (i + j, 0, 0)
+    flat = Surface(Pz, [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 1, 1, 1], 3, 2)
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from ruled.occ.convert import container_to_bspline
+    mk = BRepBuilderAPI_MakeFace(container_to_bspline(flat), 0, 1, 0, 1, 1e-7)
+    write_step(mk.Face(), str(tmp_path / "flat.step"))
+
+
+def test_bad_inputs_give_one_line_and_exit_2(tmp_path):
+    wing = data_file("occt_wing.brep")
+    o = str(tmp_path / "o.step")
+    msg = _one_line_error(ruled("fit", str(tmp_path / "missing.step"), "--face", "0", "-o", o))
+    assert "no such file" in msg
+    junk = tmp_path / "junk.step"
+    junk.write_text("hello, not a model\n")
+    assert "not a STEP file" in _one_line_error(ruled("fit", str(junk), "--face", "0", "-o", o))
+    txt = tmp_path / "notes.txt"
+    txt.write_text("hello")
+    assert "not a CAD file" in _one_line_error(ruled("faces", str(txt)))
+    msg = _one_line_error(ruled("fit", wing, "--face", "99", "-o", o))
+    assert "out of range" in msg and "4 faces" in msg
+    assert "at least 3" in _one_line_error(ruled("fit", wing, "--face", "0", "--samples", "2", "-o", o))
+    msg = _one_line_error(ruled("fit", wing, "--face", "0", "--samples", "200000", "-o", o))
+    assert "GiB" in msg and "--samples" in msg
+    msg = _one_line_error(ruled("fit", wing, "--face", "0", "--samples", "20", "--max-error", "1e-30",
+                                "--direction", "u", "-o", o))
+    assert "best achievable" in msg
+    _degenerate_files(tmp_path)
+    msg = _one_line_error(ruled("fit", str(tmp_path / "collapsed.step"), "--face", "0", "--direction", "v",
+                                "-o", o))
+    assert "collapses" in msg
+    msg = _one_line_error(ruled("fit", str(tmp_path / "flat.step"), "--face", "0", "-o", o))
+    assert "zero area" in msg
+    msg = _one_line_error(ruled("fit", wing, "--face", "0", "-o", str(tmp_path / "no" / "dir" / "o.step")))
+    assert "does not exist" in msg
+
+
+def test_argument_errors_exit_2():
+    out = ruled("fit", "x.step")
+    assert out.returncode == 2
+    assert "Traceback" not in out.stderr

@@ -1,0 +1,68 @@
+"""The engine runs unchanged in FreeCAD 0.20's Python (numpy 1.24, scipy 1.10, no numba, no OCP)
+and gives the same numbers as in the venv."""
+import json
+import os
+import shutil
+import subprocess
+import textwrap
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+
+pytestmark = pytest.mark.freecad
+
+SCRIPT = textwrap.dedent("""
+    import sys, os, json
+    sys.path.insert(0, {root!r})
+    code = 1
+    try:
+        import numpy as np, scipy
+        from ruled import fit_surface, FitOptions, kernels
+        from ruled.examples import elber_ex1, elber_ex2
+        S = elber_ex2()
+        rng = np.random.default_rng(7)
+        u = rng.uniform(0, 1, 50); v = rng.uniform(0, 1, 50)
+        D = S.evaluate(u, v, 2)
+        r = fit_surface(elber_ex1(), FitOptions(samples=16))
+        out = {{"np": np.__version__, "scipy": scipy.__version__, "numba": kernels.AVAILABLE,
+               "P": D.P.tolist(), "Suu": D.Suu.tolist(), "pairs": r.best.pairs.tolist(),
+               "bound": r.error_bound, "direction": r.direction}}
+        with open({out!r}, "w") as fh:
+            json.dump(out, fh)
+        code = 0
+    except Exception:
+        import traceback; traceback.print_exc()
+    sys.stdout.flush(); sys.stderr.flush()
+    os._exit(code)
+""")
+
+
+def test_same_numbers_in_freecad_python(tmp_path):
+    exe = shutil.which("freecadcmd")
+    if exe is None:
+        pytest.skip("freecadcmd is not installed (apt-get install -y freecad)")
+    out = tmp_path / "fc.json"
+    script = tmp_path / "probe.py"
+    script.write_text(SCRIPT.format(root=ROOT, out=str(out)))
+    # the script must come first on a freecadcmd command line
+    run = subprocess.run([exe, str(script)], capture_output=True, text=True, timeout=600,
+                         env={**os.environ, "HOME": str(tmp_path)})
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    fc = json.loads(out.read_text())
+    assert fc["np"].startswith("1.")
+    assert fc["numba"] is False
+    from ruled import FitOptions, fit_surface
+    from ruled.examples import elber_ex1, elber_ex2
+    S = elber_ex2()
+    rng = np.random.default_rng(7)
+    u = rng.uniform(0, 1, 50)
+    v = rng.uniform(0, 1, 50)
+    D = S.evaluate(u, v, 2)
+    assert np.abs(np.array(fc["P"]) - D.P).max() < 1e-13
+    assert np.abs(np.array(fc["Suu"]) - D.Suu).max() < 1e-11
+    r = fit_surface(elber_ex1(), FitOptions(samples=16))
+    assert fc["direction"] == r.direction
+    assert fc["pairs"] == r.best.pairs.tolist()
+    assert abs(fc["bound"] - r.error_bound) <= 1e-6 * r.error_bound
