@@ -139,10 +139,15 @@ def certify(S: Surface, u0: float, L: float, pairing: Pairing, bd: Boundaries, R
     """Certified bound of H(S, R) for a fit oriented along v (see the module doc)."""
     closed = pairing.closed
     du0, du1, v0, v1 = S.domain
-    # nodes where the pairing maps the ruling grid, so that cells stay small where a or b crawls
-    sg = np.linspace(0.0, 1.0, target_u + 1)
+    # nodes where the pairing maps the ruling grid, where a or b crawls (fans of rulings): there
+    # a small step in u spans many rulings, and the cells must stay small in s
+    sg = np.linspace(0.0, 1.0, 4 * target_u + 1)
     ag, bg = pairing.ab(sg)
-    xg = np.concatenate([ag, bg])
+    slow_a = np.diff(ag) < 0.25 / (4 * target_u)
+    slow_b = np.diff(bg) < 0.25 / (4 * target_u)
+    keep_a = np.concatenate([slow_a, [False]]) | np.concatenate([[False], slow_a])
+    keep_b = np.concatenate([slow_b, [False]]) | np.concatenate([[False], slow_b])
+    xg = np.concatenate([ag[keep_a][::4], bg[keep_b][::4]])
     if closed:
         xg = np.mod(xg, 1.0)
     us, span_u = _knot_grid(S, "u", target_u, u0 + L * xg)
@@ -208,11 +213,16 @@ def certify(S: Surface, u0: float, L: float, pairing: Pairing, bd: Boundaries, R
     ct = np.stack([t00, t10, t01, t11])
     tlo, thi = ct.min(axis=0), ct.max(axis=0)
     spans = _SpanMax(bd.A.knots, bd.A.degree)
-    diff = Curve(bd.B.poles - bd.A.poles, bd.A.knots, bd.A.degree)
-    A2 = spans.lookup(_local_net_max(bd.A, 2), slo, shi)
-    B2 = spans.lookup(_local_net_max(bd.B, 2), slo, shi)
-    Rst = spans.lookup(_local_net_max(diff, 1), slo, shi)
-    Rss = (1.0 - tlo) * A2 + thi * B2
+    if R.rational:  # quotient-rule bounds of the rational ruled surface, per span in s
+        rb = R.derivative_bounds()
+        Rss = spans.lookup(rb["Suu"][:, 0], slo, shi)
+        Rst = spans.lookup(rb["Suv"][:, 0], slo, shi)
+    else:
+        diff = Curve(bd.B.poles - bd.A.poles, bd.A.knots, bd.A.degree)
+        A2 = spans.lookup(_local_net_max(bd.A, 2), slo, shi)
+        B2 = spans.lookup(_local_net_max(bd.B, 2), slo, shi)
+        Rst = spans.lookup(_local_net_max(diff, 1), slo, shi)
+        Rss = (1.0 - tlo) * A2 + thi * B2
     rem = (Suu * hu ** 2 + Rss * dsu ** 2 + 2 * Rst * dsu * dtu
            + Svv * hv ** 2 + Rss * dsv ** 2 + 2 * Rst * dsv * dtv) / 8.0
     if bd.kinks.size:

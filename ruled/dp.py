@@ -14,6 +14,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from . import kernels
 from .errors import InfeasibleError
 
 # move codes stored in the back-pointer table
@@ -35,6 +36,11 @@ def _fill(C: np.ndarray, objective: str, progress: Optional[Callable] = None):
     prim = np.full((B, ni, nj), np.inf)
     sec = np.full((B, ni, nj), np.inf)
     back = np.zeros((B, ni, nj), dtype=np.int8)
+    if kernels.enabled():
+        kernels.dp_fill(np.ascontiguousarray(C, dtype=np.float64), objective != "sum", _TIE, prim, sec, back)
+        if progress is not None:
+            progress(1, 1)
+        return prim, sec, back
     prim[:, 0, 0] = C[:, 0, 0]
     sec[:, 0, 0] = C[:, 0, 0]
     ndiag = ni + nj - 1

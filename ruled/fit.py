@@ -15,7 +15,8 @@ from .certify import Certificate, certify
 from .distance import ruling_distances
 from .errors import BadInputError, DegenerateFaceError, RuledError, TooBigError
 from .nurbs import Surface
-from .reparam import Boundaries, Pairing, fit_boundaries, fit_delta, refine_pairing, ruled_surface
+from .reparam import (Boundaries, Pairing, exact_boundaries, fit_boundaries, fit_delta, refine_pairing,
+                      ruled_surface)
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
 GRID_FINE = (240, 80)
@@ -230,7 +231,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
     tol = max(2e-6 * diag, 0.02 * float(np.max(rc)))
-    bd = fit_boundaries(C0, C1, u0, L, pairing, tol)
+    bd = exact_boundaries(C0, C1, u0, L, pairing) or fit_boundaries(C0, C1, u0, L, pairing, tol)
     R = ruled_surface(bd)
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)

@@ -449,8 +449,79 @@ if AVAILABLE:
     def curve_eval(hom, knots, tab, p, t, nder, out):
         """out (N, nder+1, d) for homogeneous poles hom (n, d+1)."""
         _run_chunks(lambda a, b: _curve_eval_range(hom, knots, tab, p, t, nder, out, a, b), t.shape[0])
+
+    @njit(cache=True, nogil=True)
+    def _dp_fill_range(C, use_max, tie, prim, sec, back, b0, b1):
+        ni, nj = C.shape[1], C.shape[2]
+        for b in range(b0, b1):
+            prim[b, 0, 0] = C[b, 0, 0]
+            sec[b, 0, 0] = C[b, 0, 0]
+            for d in range(1, ni + nj - 1):
+                for i in range(max(0, d - nj + 1), min(ni - 1, d) + 1):
+                    j = d - i
+                    c = C[b, i, j]
+                    bp = np.inf
+                    bs = np.inf
+                    bk = 0
+                    # the same order and tie rule as the NumPy twin (dp._fill)
+                    P0 = np.inf
+                    P1 = np.inf
+                    P2 = np.inf
+                    S0 = np.inf
+                    S1 = np.inf
+                    S2 = np.inf
+                    if i >= 1 and j >= 1:
+                        P0 = prim[b, i - 1, j - 1]
+                        S0 = sec[b, i - 1, j - 1]
+                    if i >= 1:
+                        P1 = prim[b, i - 1, j]
+                        S1 = sec[b, i - 1, j]
+                    if j >= 1:
+                        P2 = prim[b, i, j - 1]
+                        S2 = sec[b, i, j - 1]
+                    if use_max:
+                        P0 = max(P0, c)
+                        P1 = max(P1, c)
+                        P2 = max(P2, c)
+                        S0 = S0 + c
+                        S1 = S1 + c
+                        S2 = S2 + c
+                    else:
+                        P0 = P0 + c
+                        P1 = P1 + c
+                        P2 = P2 + c
+                        S0 = P0
+                        S1 = P1
+                        S2 = P2
+                    best = min(P0, min(P1, P2))
+                    lim = best + tie * max(1.0, abs(best))
+                    bk = -1
+                    if P0 <= lim:
+                        bk = 0
+                        bs = S0
+                        bp = P0
+                    if P1 <= lim and (bk < 0 or S1 < bs):
+                        bk = 1
+                        bs = S1
+                        bp = P1
+                    if P2 <= lim and (bk < 0 or S2 < bs):
+                        bk = 2
+                        bs = S2
+                        bp = P2
+                    if bk < 0:
+                        bk = 0
+                        bp = P0
+                        bs = S0
+                    prim[b, i, j] = bp
+                    sec[b, i, j] = bs
+                    back[b, i, j] = bk
+
+    def dp_fill(C, use_max, tie, prim, sec, back):
+        """Twin of dp._fill: the whole table, threads over the batch of shifted tables."""
+        _run_chunks(lambda a, b: _dp_fill_range(C, use_max, tie, prim, sec, back, a, b), C.shape[0], 1)
 else:  # pragma: no cover - exercised in FreeCAD's Python
     surface_eval = None
     curve_eval = None
     ruling_distances = None
     segment_feet = None
+    dp_fill = None

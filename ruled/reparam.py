@@ -29,7 +29,7 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from .distance import ruling_distances
-from .nurbs import Curve, Surface, bspline_basis_matrix
+from .nurbs import Curve, Surface, bspline_basis_matrix, clamp_segment, insert_knot, knot_multiplicity
 
 _GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
 
@@ -64,7 +64,7 @@ class Pairing:
 
 # ----------------------------------------------------------------------------- refinement
 def refine_pairing(S: Surface, u0: float, L: float, closed: bool, path_ab: np.ndarray, step: float,
-                   grid: int, m: int = 15, iters: int = 4, rounds: int = 22,
+                   grid: int, m: int = 11, iters: int = 3, rounds: int = 18,
                    progress: Optional[Callable] = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Continuous refinement of a DP path (normalized (a, b) pairs, (K, 2)).
 
@@ -339,7 +339,88 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
 
 
 def ruled_surface(bd: Boundaries) -> Surface:
-    """R(s, t) = (1 - t) A(s) + t B(s) as a B-spline surface of degree (p, 1)."""
+    """R(s, t) = (1 - t) A(s) + t B(s) as a B-spline surface of degree (p, 1).
+
+    A and B share knots (and weights, when rational), so R is linear along every ruling."""
     poles = np.stack([bd.A.poles, bd.B.poles], axis=1)
-    return Surface(poles, bd.A.knots, np.array([0.0, 0.0, 1.0, 1.0]), bd.A.degree, 1,
+    w = None if bd.A.weights is None else np.stack([bd.A.weights, bd.A.weights], axis=1)
+    return Surface(poles, bd.A.knots, np.array([0.0, 0.0, 1.0, 1.0]), bd.A.degree, 1, w,
                    periodic_u=bd.A.periodic)
+
+
+# ----------------------------------------------------------------------------- exact shifts
+def _rotated(C: Curve, u0: float, L: float, a0: float, closed: bool) -> Curve:
+    """C(u0 + L (a0 + s)), s in [0, 1], exactly (same degree and weights), as a clamped curve."""
+    lo, hi = C.domain
+    if not closed:
+        return Curve(C.poles, (C.knots - u0) / L, C.degree, C.weights)
+    us = lo + (hi - lo) * (a0 - np.floor(a0))
+    kn = C.knots[np.abs(C.knots - us) <= 1e-12 * (hi - lo)]
+    if kn.size:  # snap to a knot: no sliver spans
+        us = float(kn[0])
+    C = clamp_segment(C, lo, hi)  # clamped representation of the whole period
+    if us - lo <= 1e-14 * (hi - lo) or hi - us <= 1e-14 * (hi - lo):
+        return Curve(C.poles, (C.knots - lo) / L, C.degree, C.weights, True)
+    p = C.degree
+    c1 = clamp_segment(C, us, hi)
+    c2 = clamp_segment(C, lo, us)
+    h1 = c1._hom
+    h2 = c2._hom * (h1[-1, -1] / c2._hom[0, -1])  # same weight at the junction
+    hom = np.concatenate([h1, h2[1:]])
+    knots = np.concatenate([(c1.knots[:-1] - us) / L, (c2.knots[p + 1:] - lo + (hi - us)) / L])
+    w = hom[:, -1]
+    return Curve(hom[:, :-1] / w[:, None], knots, p, None if C.weights is None else w, True)
+
+
+def _merge_knots(A: Curve, B: Curve, tol: float = 1e-12):
+    """Insert into each curve the knots of the other (snapping values closer than tol)."""
+    ka = np.unique(A.knots)
+    kb = np.unique(B.knots)
+    for x in kb:
+        near = ka[np.abs(ka - x) <= tol]
+        y = near[0] if near.size else x
+        need = knot_multiplicity(B.knots, x) - knot_multiplicity(A.knots, y)
+        if need > 0:
+            A = insert_knot(A, y, need)
+    ka = np.unique(A.knots)
+    for x in ka:
+        near = np.unique(B.knots)[np.abs(np.unique(B.knots) - x) <= tol]
+        y = near[0] if near.size else x
+        need = knot_multiplicity(A.knots, x) - knot_multiplicity(B.knots, y)
+        if need > 0:
+            B = insert_knot(B, y, need)
+    if A.knots.shape != B.knots.shape or np.abs(A.knots - B.knots).max() > tol:
+        return None
+    return A, Curve(B.poles, A.knots, B.degree, B.weights, A.periodic)
+
+
+def exact_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing) -> Optional[Boundaries]:
+    """When the pairing is a pure shift (iso-parametric rulings, or a constant offset around a
+    closed face), the composed boundaries are the input curves re-knotted: rebuild them exactly."""
+    s = np.linspace(0.0, 1.0, 257)
+    a, b = pairing.ab(s)
+    d = 0.5 * (b - a)
+    if np.abs(d - d[0]).max() > 1e-12 or C0.degree != C1.degree:
+        return None
+    if not pairing.closed and abs(d[0]) > 1e-12:
+        return None
+    A = _rotated(C0, u0, L, float(a[0]), pairing.closed)
+    B = _rotated(C1, u0, L, float(b[0]), pairing.closed)
+    merged = _merge_knots(A, B)
+    if merged is None:
+        return None
+    A, B = merged
+    if (A.weights is None) != (B.weights is None):
+        return None
+    if A.weights is not None:
+        ratio = B.weights / A.weights
+        if np.abs(ratio / ratio[0] - 1.0).max() > 1e-12:
+            return None
+        B = Curve(B.poles, B.knots, B.degree, A.weights, A.periodic)
+    lo0, hi0 = C0.domain
+    ua = lo0 + np.mod(u0 + L * a - lo0, hi0 - lo0) if pairing.closed else np.clip(u0 + L * a, lo0, hi0)
+    ub = lo0 + np.mod(u0 + L * b - lo0, hi0 - lo0) if pairing.closed else np.clip(u0 + L * b, lo0, hi0)
+    err = max(np.linalg.norm(A(s) - C0(ua), axis=1).max(), np.linalg.norm(B(s) - C1(ub), axis=1).max())
+    ks, counts = np.unique(A.knots, return_counts=True)
+    kinks = ks[(counts >= A.degree) & (ks > 0) & (ks < 1)]
+    return Boundaries(A, B, float(err), kinks)

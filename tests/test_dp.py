@@ -70,3 +70,18 @@ def test_max_error_constraint_and_infeasibility_message(rng):
         dp.solve(C, False, "sum", max_error=0.2)
     msg = str(exc.value)
     assert f"{minimax:.6g}" in msg and "\n" not in msg
+
+
+def test_numba_and_numpy_dp_agree(rng, monkeypatch):
+    from ruled import kernels
+    if not kernels.AVAILABLE:
+        pytest.skip("numba is not installed")
+    for closed in (False, True):
+        for objective in ("sum", "max"):
+            C = np.round(rng.uniform(0, 1, (23, 23)), 2)  # many ties
+            a = dp.solve(C, closed, objective)
+            monkeypatch.setattr(kernels, "AVAILABLE", False)
+            b = dp.solve(C, closed, objective)
+            monkeypatch.setattr(kernels, "AVAILABLE", True)
+            assert np.array_equal(a.path, b.path)
+            assert a.score == b.score

@@ -99,14 +99,34 @@ def test_max_objective_and_constraint(tmp_path):
 
 
 @pytest.mark.slow
-def test_every_bspline_face_of_the_impeller():
+def test_ruled_fit_on_every_bspline_face_of_the_impeller(tmp_path):
+    """The `ruled fit` job (ruled.cli.run_fit, in process) on all 48 B-spline faces."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
-    faces = faces_of(read_shape(data_file("kj66_impeller.step")))
+    from ruled.cli import run_fit
+    path = data_file("kj66_impeller.step")
+    faces = faces_of(read_shape(path))
     n = 0
     for i, face in enumerate(faces):
         if BRepAdaptor_Surface(face).GetType().name != "GeomAbs_BSplineSurface":
             continue
-        fit = fit_face(face, samples=40, measure_samples=25)
-        assert fit.error_bound >= fit.hausdorff.max, (i, fit.error_bound, fit.hausdorff.max)
+        rep = run_fit(path, i, str(tmp_path / f"f{i}.step"), samples=40, measure_samples=25, quiet=True)
+        assert rep["error_bound"] >= rep["hausdorff"]["max"], (i, rep["error_bound"], rep["hausdorff"])
+        assert (tmp_path / f"f{i}.step").stat().st_size > 0
         n += 1
     assert n == 48
+
+
+def test_cadquery_faces_and_analytic_surfaces():
+    """A CadQuery cylinder's side (an analytic, periodic face converted to NURBS) is exactly ruled."""
+    cq = pytest.importorskip("cadquery")
+    solid = cq.Workplane("XY").cylinder(30.0, 10.0)
+    side = [f for f in solid.faces().vals() if f.geomType() == "CYLINDER"][0]
+    fit = fit_face(side, samples=24, measure_samples=20)
+    assert isinstance(fit.face, cq.Face)
+    assert fit.result.best.closed
+    assert fit.hausdorff.max <= 1e-6 * 40
+    assert fit.error_bound >= fit.hausdorff.max
+    # a plane is ruled too
+    top = [f for f in solid.faces().vals() if f.geomType() == "PLANE"][0]
+    fit = fit_face(top, samples=16, measure_samples=15)
+    assert fit.error_bound >= fit.hausdorff.max
