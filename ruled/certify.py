@@ -143,11 +143,11 @@ def certify(S: Surface, u0: float, L: float, pairing: Pairing, bd: Boundaries, R
     # a small step in u spans many rulings, and the cells must stay small in s
     sg = np.linspace(0.0, 1.0, 4 * target_u + 1)
     ag, bg = pairing.ab(sg)
-    slow_a = np.diff(ag) < 0.25 / (4 * target_u)
-    slow_b = np.diff(bg) < 0.25 / (4 * target_u)
+    slow_a = np.diff(ag) < 0.5 / (4 * target_u)
+    slow_b = np.diff(bg) < 0.5 / (4 * target_u)
     keep_a = np.concatenate([slow_a, [False]]) | np.concatenate([[False], slow_a])
     keep_b = np.concatenate([slow_b, [False]]) | np.concatenate([[False], slow_b])
-    xg = np.concatenate([ag[keep_a][::4], bg[keep_b][::4]])
+    xg = np.concatenate([ag[keep_a][::2], bg[keep_b][::2]])
     if closed:
         xg = np.mod(xg, 1.0)
     us, span_u = _knot_grid(S, "u", target_u, u0 + L * xg)
@@ -169,9 +169,37 @@ def certify(S: Surface, u0: float, L: float, pairing: Pairing, bd: Boundaries, R
         if closed:
             xx = f[0] + np.mod(x - f[0], 1.0)
         s_init[:, j] = np.interp(xx, f, sd)
-    s, t = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s_init.ravel(), closed)
-    s = s.reshape(nu, nv)
-    t = t.reshape(nu, nv)
+    s_feet, t_feet = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s_init.ravel(), closed)
+    jump = np.abs(s_feet - s_init.ravel())
+    if closed:
+        jump = np.minimum(jump, 1.0 - jump)
+    b = S.derivative_bounds()
+    best = None
+    prev = None
+    # Several maps, both valid: closest points (tight where the fit is good), and closest points kept
+    # near the pairing's own correspondence (a foot that jumps, to the other sheet of a thin part
+    # say, folds psi and inflates the remainder).  The smaller bound is kept.
+    for k, limit in enumerate((np.inf, 0.5 / target_u)):
+        s, t = s_feet.copy(), t_feet.copy()
+        far = jump > limit
+        if k > 0 and np.array_equal(far, prev):
+            continue  # the same map again
+        prev = far
+        if far.any():
+            s0, t0 = _segment_feet(bd.A, bd.B, X.reshape(-1, 3)[far], s_init.ravel()[far], closed, iters=0)
+            s[far], t[far] = s0, t0
+        s = s.reshape(nu, nv)
+        t = t.reshape(nu, nv)
+        cert = _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R)
+        if best is None or cert.bound < best.bound:
+            best = cert
+    return best
+
+
+def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R) -> Certificate:
+    """The bound of the module doc for one map psi = (s, t) on the grid (us, vs)."""
+    closed = pairing.closed
+    nu, nv = us.size, vs.size
     # boundary rows and columns fixed so that psi maps sides to sides
     xa = x if not closed else pairing.ab(np.array([0.0]))[0][0] + np.mod(x - pairing.ab(np.array([0.0]))[0][0], 1.0)
     xb = x if not closed else pairing.ab(np.array([0.0]))[1][0] + np.mod(x - pairing.ab(np.array([0.0]))[1][0], 1.0)
@@ -189,7 +217,6 @@ def certify(S: Surface, u0: float, L: float, pairing: Pairing, bd: Boundaries, R
     Rp = R(sw.ravel(), t.ravel()).reshape(nu, nv, 3)
     f = np.linalg.norm(X - Rp, axis=2)
     # per-cell remainder
-    b = S.derivative_bounds()
     Suu = b["Suu"][span_u[:, None], span_v[None, :]]
     Svv = b["Svv"][span_u[:, None], span_v[None, :]]
     hu = np.diff(us)[:, None]

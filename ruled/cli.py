@@ -79,6 +79,15 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     face = get_face(input_path, face_index)
     S = face_to_container(face)
     slack = conversion_slack(face, S)
+    warnings = []
+    from .fit import surface_area
+    from .occ.io import face_area
+    a_face, a_rect = face_area(face), surface_area(S)
+    if a_rect > 0 and abs(a_face - a_rect) > 0.01 * a_rect:
+        warnings.append(f"face {face_index} is trimmed (its area is {100 * a_face / a_rect:.1f}% of its surface's "
+                        f"UV rectangle); the fit and the measure cover the whole rectangle")
+    for w in warnings:
+        print(f"ruled: warning: {w}", file=sys.stderr)
     t_read = time.perf_counter() - t0
     bar = Bar(enabled=not quiet and sys.stderr.isatty())
     try:
@@ -100,6 +109,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
                                  "result_to_input": h.max_b_to_a, "samples": h.samples},
                       timings={"read": t_read, "fit": res.timings["total"], "build_and_write": t_write,
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
+    rep["warnings"] = warnings
     if report:
         write_report(rep, report)
     if plot:

@@ -199,7 +199,8 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
         e = min(K, s + chunk)
         cost[s:e] = ruling_distances(So, uP[s:e], uQ[s:e], opts.points_per_ruling, 3, closed)[1]
         _stage(progress, f"cost table ({direction})", e / K)
-    cost = cost.reshape(n, n)
+    # distances at round-off level are all "exact": equal, so that ties keep the straight pairing
+    cost = np.where(cost <= 1e-10 * diag, 0.0, cost).reshape(n, n)
     T["cost_table"] = time.perf_counter() - t0
     # dynamic programming
     t0 = time.perf_counter()

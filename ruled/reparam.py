@@ -108,7 +108,10 @@ def refine_pairing(S: Surface, u0: float, L: float, closed: bool, path_ab: np.nd
             progress(r + 1, rounds)
     xb = np.where(f1 <= f2, x1, x2)
     fb = np.minimum(f1, f2)
-    use_dp = c_dp <= fb
+    # keep the DP pairing unless the search really improves it (flat costs, e.g. on a plane)
+    P = S.poles.reshape(-1, 3)
+    noise = 1e-12 * float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+    use_dp = c_dp <= fb + noise
     return sig, np.where(use_dp, d_dp, xb), np.where(use_dp, c_dp, fb)
 
 
