@@ -113,7 +113,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     if report:
         write_report(rep, report)
     if plot:
-        make_plot(res, plot)
+        make_plot(res, plot, h.max)
     return rep
 
 
