@@ -61,13 +61,6 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None):
     return pts, span
 
 
-def _curve_net_max(C: Curve, order: int) -> float:
-    D, k = C.poles, C.knots
-    for r in range(order):
-        D, k = _deriv_net(D, k, C.degree - r, axis=0)
-    return float(np.linalg.norm(D, axis=1).max()) if D.size else 0.0
-
-
 def _local_net_max(C: Curve, order: int) -> np.ndarray:
     """Per knot span (index i - p) bound of |C^(order)| from the local derivative control points."""
     D, k = C.poles, C.knots
@@ -108,8 +101,8 @@ def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool
     if kernels.enabled() and A.knots.shape == B.knots.shape and np.array_equal(A.knots, B.knots):
         so = np.empty(s.shape[0])
         to = np.empty(s.shape[0])
-        kernels.segment_feet(A._hom, B._hom, A.knots, A._tab, A.degree, np.ascontiguousarray(X), np.ascontiguousarray(s),
-                             bool(closed), int(iters), so, to)
+        kernels.segment_feet(A._hom, B._hom, A.knots, A._tab, A.degree, np.ascontiguousarray(X),
+                             np.ascontiguousarray(s), bool(closed), int(iters), so, to)
         return so, to
     best_s = s.copy()
     best_t = np.zeros_like(s)

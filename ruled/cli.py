@@ -19,11 +19,18 @@ from . import __version__
 from .errors import RuledError
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit code 2)."""
+
+    def error(self, message):
+        self.exit(2, f"ruled: error: {message}; see '{self.prog} --help'\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="ruled", description="Optimal ruled-surface fitting for CAD faces "
+    p = _Parser(prog="ruled", description="Optimal ruled-surface fitting for CAD faces "
                                 "(wire EDM, flank milling, hot-wire cutting).")
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
-    sub = p.add_subparsers(dest="cmd", required=True)
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser, metavar="{faces,fit,demo}")
     f = sub.add_parser("faces", help="list the faces of a STEP/BREP file")
     f.add_argument("input")
     g = sub.add_parser("fit", help="fit the best ruled surface to one face")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import dataclass, field, replace
 from enum import Enum
@@ -189,9 +188,9 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     up = u0 + L * x
     # cost table
     t0 = time.perf_counter()
-    I, J = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    uP = up[I.ravel()]
-    uQ = up[J.ravel()]
+    ii, jj = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    uP = up[ii.ravel()]
+    uQ = up[jj.ravel()]
     K = uP.size
     cost = np.empty(K)
     chunk = max(1, 200000 // opts.points_per_ruling)
@@ -295,6 +294,3 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
         _stage(progress, f"certify ({best.direction})", 1.0)
     return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
 
-
-def cpu_count() -> int:
-    return os.cpu_count() or 1

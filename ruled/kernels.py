@@ -1,8 +1,10 @@
 """Optional numba kernels for B-spline evaluation, with the NumPy code in nurbs.py as their twin.
 
-The kernels compute, point by point, exactly what the vectorized NumPy path
-computes (Piegl & Tiller A2.1/A2.3, homogeneous tensor contraction, rational
-quotient rule); results agree to round-off (tests compare them).  numba is
+The kernels compute, point by point, what the vectorized NumPy path computes:
+the same B-spline basis (here from per-span power-basis tables evaluated by
+Horner's rule, nurbs.taylor_table), the homogeneous tensor contraction and the
+rational quotient rule; results agree to round-off, and the DP twins bit for bit
+(tests compare them).  numba is
 optional: when it is missing (FreeCAD's Python) or RULED_NO_NUMBA=1 is set,
 ``AVAILABLE`` is False and nurbs.py uses NumPy alone.
 """
@@ -75,59 +77,6 @@ if AVAILABLE:
                 for j in range(p - k, -1, -1):
                     acc = acc * h + tab[k, span, r, j]
                 ders[k, r] = acc
-
-    @njit(cache=True, nogil=True, inline="always")
-    def _basis_ders(knots, p, span, x, nder, ndu, left, right, a, ders):
-        ndu[0, 0] = 1.0
-        for j in range(1, p + 1):
-            left[j] = x - knots[span + 1 - j]
-            right[j] = knots[span + j] - x
-            saved = 0.0
-            for r in range(j):
-                ndu[j, r] = right[r + 1] + left[j - r]
-                den = ndu[j, r]
-                temp = 0.0 if den == 0.0 else ndu[r, j - 1] / den
-                ndu[r, j] = saved + right[r + 1] * temp
-                saved = left[j - r] * temp
-            ndu[j, j] = saved
-        for j in range(p + 1):
-            ders[0, j] = ndu[j, p]
-        for k in range(1, nder + 1):
-            for j in range(p + 1):
-                ders[k, j] = 0.0
-        if nder == 0:
-            return
-        for r in range(p + 1):
-            s1, s2 = 0, 1
-            for q in range(2):
-                for c in range(p + 1):
-                    a[q, c] = 0.0
-            a[0, 0] = 1.0
-            for k in range(1, nder + 1):
-                d = 0.0
-                rk = r - k
-                pk = p - k
-                if r >= k:
-                    den = ndu[pk + 1, rk]
-                    a[s2, 0] = 0.0 if den == 0.0 else a[s1, 0] / den
-                    d = a[s2, 0] * ndu[rk, pk]
-                j1 = 1 if rk >= -1 else -rk
-                j2 = k - 1 if r - 1 <= pk else p - r
-                for j in range(j1, j2 + 1):
-                    den = ndu[pk + 1, rk + j]
-                    a[s2, j] = 0.0 if den == 0.0 else (a[s1, j] - a[s1, j - 1]) / den
-                    d += a[s2, j] * ndu[rk + j, pk]
-                if r <= pk:
-                    den = ndu[pk + 1, r]
-                    a[s2, k] = 0.0 if den == 0.0 else -a[s1, k - 1] / den
-                    d += a[s2, k] * ndu[r, pk]
-                ders[k, r] = d
-                s1, s2 = s2, s1
-        fac = float(p)
-        for k in range(1, nder + 1):
-            for j in range(p + 1):
-                ders[k, j] *= fac
-            fac *= p - k
 
     @njit(cache=True, nogil=True)
     def _workspace(pu, pv, nder):
@@ -329,21 +278,20 @@ if AVAILABLE:
 
     def ruling_distances(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist):
         """Fused twin of distance.ruling_distances (one ruling at a time, threads over rulings)."""
-        _run_chunks(lambda a, b: _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, a, b),
-                    uP.shape[0], 64)
+        def run(a, b):
+            _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, a, b)
+        _run_chunks(run, uP.shape[0], 64)
 
     def surface_eval(hom, ku, kv, tu, tv, pu, pv, u, v, nder, out):
         """out (N, 6, 3): P, Su, Sv, Suu, Suv, Svv (orders above nder left untouched)."""
-        _run_chunks(lambda a, b: _surface_eval_range(hom, ku, kv, tu, tv, pu, pv, u, v, nder, out, a, b), u.shape[0])
+        def run(a, b):
+            _surface_eval_range(hom, ku, kv, tu, tv, pu, pv, u, v, nder, out, a, b)
+        _run_chunks(run, u.shape[0])
 
     @njit(cache=True, nogil=True)
     def _curve_eval_range(hom, knots, tab, p, t, nder, out, start, stop):
         n = hom.shape[0]
         d = hom.shape[1] - 1
-        ndu = np.zeros((p + 1, p + 1))
-        lf = np.zeros(p + 1)
-        rt = np.zeros(p + 1)
-        a = np.zeros((2, p + 1))
         B = np.zeros((nder + 1, p + 1))
         A = np.zeros((3, d + 1))
         dd = min(nder, p)
@@ -369,10 +317,6 @@ if AVAILABLE:
 
     @njit(cache=True, nogil=True)
     def _feet_range(Ah, Bh, knots, tab, p, X, s0, closed, iters, s_out, t_out, start, stop):
-        ndu = np.zeros((p + 1, p + 1))
-        lf = np.zeros(p + 1)
-        rt = np.zeros(p + 1)
-        aa = np.zeros((2, p + 1))
         Bm = np.zeros((3, p + 1))
         n = Ah.shape[0]
         a0 = np.zeros(3)
@@ -444,7 +388,9 @@ if AVAILABLE:
 
     def segment_feet(Ah, Bh, knots, tab, p, X, s0, closed, iters, s_out, t_out):
         """Fused twin of certify._segment_feet (closest ruling point by Gauss-Newton in s)."""
-        _run_chunks(lambda a, b: _feet_range(Ah, Bh, knots, tab, p, X, s0, closed, iters, s_out, t_out, a, b), X.shape[0])
+        def run(a, b):
+            _feet_range(Ah, Bh, knots, tab, p, X, s0, closed, iters, s_out, t_out, a, b)
+        _run_chunks(run, X.shape[0])
 
     def curve_eval(hom, knots, tab, p, t, nder, out):
         """out (N, nder+1, d) for homogeneous poles hom (n, d+1)."""

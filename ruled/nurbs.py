@@ -337,10 +337,10 @@ class Surface:
         # contract v first: T[k] = sum_s Bv[k] H  -> (N, pu+1, 4)
         Tv = [np.einsum("ns,nrsc->nrc", Bv[k], H) for k in range(Bv.shape[0])]
 
-        def A(k, l):
-            if k >= Bu.shape[0] or l >= Bv.shape[0]:
+        def A(k, m):
+            if k >= Bu.shape[0] or m >= Bv.shape[0]:
                 return np.zeros((N, 4))
-            return np.einsum("nr,nrc->nc", Bu[k], Tv[l])
+            return np.einsum("nr,nrc->nc", Bu[k], Tv[m])
 
         orders = [(0, 0)]
         if nder >= 1:

@@ -131,7 +131,6 @@ def fit_delta(sig: np.ndarray, delta: np.ndarray, closed: bool, n_coef: int, eps
     t = _clamped_knots(n, p, s0, s1)
     g = (t[p + 1: p + n] - t[1:n]) / p  # c_{i+1} - c_i = g_i d_i
     Nmat = bspline_basis_matrix(t, p, sig)
-    x = sig
     y = delta
     if closed:
         # append the closing sample so both ends are fitted
@@ -179,7 +178,6 @@ def fit_delta(sig: np.ndarray, delta: np.ndarray, closed: bool, n_coef: int, eps
     else:
         c[0] = 0.0
         c[-1] = 0.0
-    del x
     return Pairing(Curve(c[:, None], t, p), s0, closed)
 
 

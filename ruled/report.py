@@ -37,8 +37,9 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
             "boundary_fit_error": b.boundary_fit_error,
             "max_refined_ruling_distance": float(np.max(b.refined[2])),
         },
-        "certificate": {"bound": b.certificate.bound, "conversion_slack": conversion_slack, "node_max": b.certificate.node_max,
-                        "remainder": b.certificate.remainder, "grid": list(b.certificate.nodes)},
+        "certificate": {"bound": b.certificate.bound, "conversion_slack": conversion_slack,
+                        "node_max": b.certificate.node_max, "remainder": b.certificate.remainder,
+                        "grid": list(b.certificate.nodes)},
         "candidates": {d: (c if isinstance(c, str) else {"error_bound": c.error_bound, "closed": c.closed})
                        for d, c in res.candidates.items()},
         "timings": {**{f"{d}.{k}": v for d, c in res.candidates.items() if not isinstance(c, str)

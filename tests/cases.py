@@ -95,3 +95,17 @@ def random_surface(rng, pu=3, pv=2, nu=7, nv=5, rational=True, periodic_u=False)
         P = rng.normal(size=(nu, nv, 3))
         W = rng.uniform(0.5, 2.0, (nu, nv)) if rational else None
     return Surface(P, ku, kv, pu, pv, W, periodic_u=periodic_u)
+
+
+def nearly_closed_strip(gap: float = 1e-3, width: float = 0.02) -> Surface:
+    """A narrow strip S(u, v) = C(v) + u w(v) along a curve C that almost closes on itself.
+
+    The v-min and v-max boundaries are short and nearly coincident: rulings joining them lie
+    on the surface (one-sided cost about zero) but leave the whole strip uncovered.  Along u the
+    strip is exactly ruled.  Degree (1, 3), exact."""
+    th = np.linspace(0.0, 2 * np.pi - gap, 12)
+    C = np.stack([np.cos(th), np.sin(th), 0.2 * np.sin(2 * th)], axis=1)
+    W = np.stack([np.zeros_like(th), np.zeros_like(th), np.full_like(th, width)], axis=1)
+    P = np.stack([C, C + W], axis=0)  # (2, 12, 3): u is the width, v runs along the loop
+    kv = np.concatenate([[0, 0, 0, 0], np.linspace(0, 1, 10)[1:-1], [1, 1, 1, 1]])
+    return Surface(P, [0, 0, 1, 1], kv, 1, 3)

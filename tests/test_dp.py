@@ -1,6 +1,4 @@
 """DP against brute-force enumeration of all monotone paths on small tables."""
-import itertools
-
 import numpy as np
 import pytest
 

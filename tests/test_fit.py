@@ -130,3 +130,23 @@ def test_cadquery_faces_and_analytic_surfaces():
     top = [f for f in solid.faces().vals() if f.geomType() == "PLANE"][0]
     fit = fit_face(top, samples=16, measure_samples=15)
     assert fit.error_bound >= fit.hausdorff.max
+
+
+def test_direction_is_chosen_by_the_two_sided_bound_not_the_ruling_costs():
+    """Short, nearly coincident v-boundaries: their rulings hug the surface (tiny one-sided
+    costs) yet cover nothing of it; the certified bound sends the fit the other way."""
+    from cases import nearly_closed_strip
+    S = nearly_closed_strip()
+    res, h = _fit_and_measure(S, samples=30)
+    trap = res.candidates["v"]
+    # the trap is real: the exact one-sided distance of those rulings (brute force) is tiny
+    gu, gv = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 4000), indexing="ij")
+    G = S(gu.ravel(), gv.ravel())
+    pts = (trap.rulings[:, :1, :] * (1 - np.linspace(0, 1, 7))[None, :, None]
+           + trap.rulings[:, 1:, :] * np.linspace(0, 1, 7)[None, :, None]).reshape(-1, 3)
+    one_sided = max(np.linalg.norm(G - x, axis=1).min() for x in pts)
+    assert one_sided < 0.005 * diag_of(S)
+    assert res.direction == "u"
+    assert h.max <= 1e-6 * diag_of(S)
+    assert res.error_bound >= h.max
+    assert trap.error_bound > 100 * res.error_bound

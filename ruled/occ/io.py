@@ -14,16 +14,15 @@ from OCP.STEPControl import STEPControl_Reader, STEPControl_Writer, STEPControl_
 from OCP.Interface import Interface_Static
 from OCP.TopAbs import TopAbs_ShapeEnum
 from OCP.TopExp import TopExp_Explorer
+from OCP.Message import Message, Message_Gravity
 from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 
-from OCP.Message import Message, Message_Gravity
-
 from ..errors import BadInputError
+from .convert import face_surface_type, face_to_bspline
 
 # keep OCCT's transfer statistics off the user's terminal
 for _printer in Message.DefaultMessenger_s().Printers():
     _printer.SetTraceLevel(Message_Gravity.Message_Fail)
-from .convert import face_surface_type, face_to_bspline
 
 
 def read_shape(path: str) -> TopoDS_Shape:
@@ -38,7 +37,8 @@ def read_shape(path: str) -> TopoDS_Shape:
     text = head.decode("latin-1", "replace")
     if "ISO-10303-21" in text or ext in (".step", ".stp"):
         if "ISO-10303-21" not in text:
-            raise BadInputError(f"{path}: not a STEP file (no ISO-10303-21 header); export STEP AP203/AP214 from your CAD system")
+            raise BadInputError(f"{path}: not a STEP file (no ISO-10303-21 header); "
+                                "export STEP AP203/AP214 from your CAD system")
         reader = STEPControl_Reader()
         status = reader.ReadFile(path)
         if status != IFSelect_ReturnStatus.IFSelect_RetDone:
@@ -141,10 +141,6 @@ def write_step(shapes, path: str) -> None:
         raise BadInputError(f"cannot write {path}: folder {d} does not exist")
     if w.Write(path) != IFSelect_ReturnStatus.IFSelect_RetDone:
         raise BadInputError(f"cannot write {path}; check that the folder is writable")
-
-
-def read_step_faces(path: str) -> list:
-    return faces_of(read_shape(path))
 
 
 __all__ = ["read_shape", "faces_of", "get_face", "face_area", "list_faces", "write_step", "FaceInfo",

@@ -115,12 +115,13 @@ class _Projector:
         n = 200
         side = k // n
         i = k % n
-        if side < 2:
-            lo, hi = self.edge_uv[max(i - 1, 0) + side * n][0], self.edge_uv[min(i + 1, n - 1) + side * n][0]
-            f = lambda t: np.linalg.norm(np.array(self._value(t, ev)) - x)
-        else:
-            lo, hi = self.edge_uv[max(i - 1, 0) + side * n][1], self.edge_uv[min(i + 1, n - 1) + side * n][1]
-            f = lambda t: np.linalg.norm(np.array(self._value(eu, t)) - x)
+        along_u = side < 2
+        col = 0 if along_u else 1
+        lo, hi = self.edge_uv[max(i - 1, 0) + side * n][col], self.edge_uv[min(i + 1, n - 1) + side * n][col]
+
+        def f(t):
+            uv = (t, ev) if along_u else (eu, t)
+            return np.linalg.norm(np.array(self._value(*uv)) - x)
         g = 0.5 * (np.sqrt(5) - 1)
         a, b = lo, hi
         c, d = b - g * (b - a), a + g * (b - a)
