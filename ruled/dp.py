@@ -106,30 +106,40 @@ def solve_open(cost: np.ndarray, objective: str = "sum", progress=None) -> DPRes
     return DPResult(path, float(score), float(cost[path[:, 0], path[:, 1]].max()))
 
 
-def solve_closed(cost: np.ndarray, objective: str = "sum", progress=None) -> DPResult:
+def solve_closed(cost: np.ndarray, objective: str = "sum", progress=None,
+                 batch_bytes: int = 512 << 20) -> DPResult:
     """Closed boundaries (Elber §3): every start shift i0, first and last ruling the same line.
 
     cost: (n, n) over the n distinct samples of each closed boundary.  For
     shift i0 the path runs from (i0, 0) to (i0 + n, n) in unwrapped indices;
-    the returned path is in unwrapped indices.
+    the returned path is in unwrapped indices.  The n shifted tables are
+    filled in batches of at most ``batch_bytes``.
     """
     n = cost.shape[0]
     a = np.arange(n + 1)
-    B = n
-    # C_b[a, b] = cost[(b0 + a) % n, b % n]
-    C = cost[(np.arange(B)[:, None, None] + a[None, :, None]) % n, a[None, None, :] % n]
-    prim, sec, back = _fill(C, objective, progress)
-    end_p = prim[:, n, n]
-    end_s = sec[:, n, n]
-    best = end_p.min()
-    if not np.isfinite(best):
+    per_table = (n + 1) ** 2 * (8 * 3 + 1)
+    B = max(1, min(n, batch_bytes // per_table))
+    best = (np.inf, np.inf, None, 0)
+    for start in range(0, n, B):
+        shifts = np.arange(start, min(n, start + B))
+        # C_b[a, b] = cost[(i0 + a) % n, b % n]
+        C = cost[(shifts[:, None, None] + a[None, :, None]) % n, a[None, None, :] % n]
+        prim, sec, back = _fill(C, objective, None)
+        end_p = prim[:, n, n]
+        end_s = sec[:, n, n]
+        for k in range(shifts.size):
+            p, s = end_p[k], end_s[k]
+            lim = best[0] + _TIE * max(1.0, abs(best[0])) if np.isfinite(best[0]) else np.inf
+            if p < best[0] - _TIE * max(1.0, abs(p)) or (p <= lim and s < best[1]):
+                best = (p, s, back[k].copy(), int(shifts[k]))
+        if progress is not None:
+            progress(min(n, start + B), n)
+    if not np.isfinite(best[0]):
         return DPResult(np.zeros((0, 2), np.int64), np.inf, np.inf)
-    tied = end_p <= best + _TIE * max(1.0, abs(best))
-    b0 = int(np.argmin(np.where(tied, end_s, np.inf)))
-    path = _trace(back[b0], (n, n))
-    path[:, 0] += b0
+    path = _trace(best[2], (n, n))
+    path[:, 0] += best[3]
     costs = cost[path[:, 0] % n, path[:, 1] % n]
-    return DPResult(path, float(end_p[b0]), float(costs.max()), b0)
+    return DPResult(path, float(best[0]), float(costs.max()), best[3])
 
 
 def solve(cost: np.ndarray, closed: bool, objective: str = "sum", max_error: Optional[float] = None,
@@ -153,7 +163,10 @@ def solve(cost: np.ndarray, closed: bool, objective: str = "sum", max_error: Opt
 
 
 def table_bytes(n: int, closed: bool) -> int:
-    """Memory the DP tables need for n samples (bytes)."""
-    cells = n * (n + 1) ** 2 if closed else n * n
-    # cost gathered per shift + primary + secondary + back pointers + temporaries
-    return int(cells * (8 + 8 + 8 + 1) * 1.5 + n * n * 8 * 4)
+    """Memory a fit with n samples needs at its peak (bytes): the cost table and its row-block
+    work arrays, and the DP tables (for closed boundaries one batch of shifted tables, at least
+    one table, at most 512 MiB plus one table)."""
+    cost = n * n * 8 * 3
+    one = (n + 1) ** 2 * (8 * 3 + 1)
+    tables = max(one, min(n * one, (512 << 20) + one)) if closed else n * n * (8 * 3 + 1)
+    return int(cost + tables * 1.2)

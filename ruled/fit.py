@@ -188,18 +188,16 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     up = u0 + L * x
     # cost table
     t0 = time.perf_counter()
-    ii, jj = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    uP = up[ii.ravel()]
-    uQ = up[jj.ravel()]
-    K = uP.size
-    cost = np.empty(K)
-    chunk = max(1, 200000 // opts.points_per_ruling)
-    for s in range(0, K, chunk):
-        e = min(K, s + chunk)
-        cost[s:e] = ruling_distances(So, uP[s:e], uQ[s:e], opts.points_per_ruling, 3, closed)[1]
-        _stage(progress, f"cost table ({direction})", e / K)
+    cost = np.empty((n, n))
+    rows = max(1, 200000 // (opts.points_per_ruling * n))
+    for i0 in range(0, n, rows):
+        i1 = min(n, i0 + rows)
+        uP = np.repeat(up[i0:i1], n)
+        uQ = np.tile(up, i1 - i0)
+        cost[i0:i1] = ruling_distances(So, uP, uQ, opts.points_per_ruling, 3, closed)[1].reshape(i1 - i0, n)
+        _stage(progress, f"cost table ({direction})", i1 / n)
     # distances at round-off level are all "exact": equal, so that ties keep the straight pairing
-    cost = np.where(cost <= 1e-10 * diag, 0.0, cost).reshape(n, n)
+    cost[cost <= 1e-10 * diag] = 0.0
     T["cost_table"] = time.perf_counter() - t0
     # dynamic programming
     t0 = time.perf_counter()

@@ -83,3 +83,11 @@ def test_numba_and_numpy_dp_agree(rng, monkeypatch):
             monkeypatch.setattr(kernels, "AVAILABLE", True)
             assert np.array_equal(a.path, b.path)
             assert a.score == b.score
+
+
+def test_closed_dp_in_batches_equals_one_batch(rng):
+    C = np.round(rng.uniform(0, 1, (17, 17)), 2)
+    for objective in ("sum", "max"):
+        one = dp.solve_closed(C, objective)
+        many = dp.solve_closed(C, objective, batch_bytes=1)  # one shifted table at a time
+        assert np.array_equal(one.path, many.path) and one.score == many.score
