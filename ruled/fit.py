@@ -100,11 +100,6 @@ class FitResult:
         return self.best.direction
 
 
-def _diag(S: Surface) -> float:
-    P = S.poles.reshape(-1, 3)
-    return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
-
-
 def surface_area(S: Surface, n: int = 48) -> float:
     u0, u1, v0, v1 = S.domain
     g, w = np.polynomial.legendre.leggauss(n)
@@ -123,7 +118,7 @@ def _polyline_length(P: np.ndarray) -> float:
 def check_direction(S: Surface) -> tuple[bool, Optional[str]]:
     """For the surface oriented along v: (closed boundaries?, reason it cannot be fitted or None)."""
     u0, u1, v0, v1 = S.domain
-    diag = _diag(S)
+    diag = S.diagonal()
     tol = 1e-7 * max(diag, 1e-300)
     us = np.linspace(u0, u1, 65)
     vs = np.linspace(v0, v1, 17)
@@ -183,7 +178,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     T = {}
     u0, u1, v0, v1 = So.domain
     L = u1 - u0
-    diag = _diag(So)
+    diag = So.diagonal()
     x = np.arange(n) / (n if closed else n - 1)
     up = u0 + L * x
     # cost table
@@ -262,7 +257,7 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
     """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified."""
     opts = options.checked()
     t0 = time.perf_counter()
-    diag = _diag(S)
+    diag = S.diagonal()
     if not np.isfinite(S.poles).all():
         raise BadInputError("the surface has non-finite poles; repair the face")
     if surface_area(S) <= 1e-12 * max(diag, 1e-300) ** 2 or diag == 0:

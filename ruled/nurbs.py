@@ -285,6 +285,11 @@ class Surface:
         return (float(self.knots_u[pu]), float(self.knots_u[-pu - 1]),
                 float(self.knots_v[pv]), float(self.knots_v[-pv - 1]))
 
+    def diagonal(self) -> float:
+        """Diagonal of the bounding box of the poles (the scale of the surface)."""
+        P = self.poles.reshape(-1, 3)
+        return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+
     def transposed(self) -> "Surface":
         """The same surface with u and v exchanged."""
         w = None if self.weights is None else self.weights.T
@@ -485,46 +490,3 @@ def wrap_periodic_poles(unique: np.ndarray, degree: int) -> np.ndarray:
     """Unique periodic poles (m, ...) -> unwrapped poles (m + p, ...)."""
     return np.concatenate([unique, unique[:degree]], axis=0)
 
-
-def insert_knot(C: Curve, u: float, times: int = 1) -> Curve:
-    """Boehm knot insertion (in homogeneous coordinates): the same curve with u inserted ``times``."""
-    P = C._hom.copy()
-    k = C.knots.copy()
-    p = C.degree
-    for _ in range(times):
-        n = P.shape[0]
-        i = int(find_spans(k, p, n, np.array([u]))[0])
-        Q = np.empty((n + 1, P.shape[1]))
-        Q[: i - p + 1] = P[: i - p + 1]
-        Q[i + 1:] = P[i:]
-        for j in range(i - p + 1, i + 1):
-            den = k[j + p] - k[j]
-            a = 0.0 if den == 0 else (u - k[j]) / den
-            Q[j] = a * P[j] + (1 - a) * P[j - 1]
-        P = Q
-        k = np.insert(k, i + 1, u)
-    w = P[:, -1]
-    weights = None if C.weights is None else w
-    return Curve(P[:, :-1] / w[:, None], k, p, weights, C.periodic)
-
-
-def knot_multiplicity(knots: np.ndarray, u: float, tol: float = 0.0) -> int:
-    return int(np.sum(np.abs(knots - u) <= tol))
-
-
-def clamp_segment(C: Curve, a: float, b: float) -> Curve:
-    """The piece of C on [a, b] (inside its domain) as a clamped curve, by knot insertion."""
-    p = C.degree
-    for x in (a, b):
-        m = knot_multiplicity(C.knots, x)
-        if m < p:
-            C = insert_knot(C, x, p - m)
-    k = C.knots
-    inner = k[(k > a) & (k < b)]
-    knots = np.concatenate([np.full(p + 1, a), inner, np.full(p + 1, b)])
-    last_a = int(np.searchsorted(k, a, side="right")) - 1  # last occurrence of a
-    first = last_a - p  # C(a) is this pole when a has multiplicity >= p
-    n = knots.size - p - 1
-    P = C.poles[first: first + n]
-    W = None if C.weights is None else C.weights[first: first + n]
-    return Curve(P, knots, p, W)

@@ -29,7 +29,8 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from .distance import ruling_distances
-from .nurbs import Curve, Surface, bspline_basis_matrix, clamp_segment, insert_knot, knot_multiplicity
+from .knots import clamp_segment, insert_knot, knot_multiplicity
+from .nurbs import Curve, Surface, bspline_basis_matrix
 
 _GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
 
@@ -109,8 +110,7 @@ def refine_pairing(S: Surface, u0: float, L: float, closed: bool, path_ab: np.nd
     xb = np.where(f1 <= f2, x1, x2)
     fb = np.minimum(f1, f2)
     # keep the DP pairing unless the search really improves it (flat costs, e.g. on a plane)
-    P = S.poles.reshape(-1, 3)
-    noise = 1e-12 * float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+    noise = 1e-12 * S.diagonal()
     use_dp = c_dp <= fb + noise
     return sig, np.where(use_dp, d_dp, xb), np.where(use_dp, c_dp, fb)
 
