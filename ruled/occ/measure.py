@@ -91,24 +91,25 @@ class _Projector:
         return min(best, float(np.linalg.norm(np.array(p.Coord()) - x)))
 
     def distance(self, x) -> float:
+        """Distance from x to the face: the best of OCCT's orthogonal projection, its analysis
+        projection (which also finds boundary points), both polished by Newton steps, and the
+        nearest boundary point (dense edge samples refined along their edge)."""
         P = gp_Pnt(*map(float, x))
-        best = np.inf
+        cands = []
         self.proj.Perform(P)
         if self.proj.IsDone() and self.proj.NbPoints() > 0:
-            best = self.proj.LowerDistance()
-            u, v = self.proj.LowerDistanceParameters()
-            best = min(best, self._polish(x, u, v))
-        # boundary candidates: nearest edge sample refined along its edge by the analysis tool
-        de = np.linalg.norm(self.edge_pts - x, axis=1)
-        k = int(np.argmin(de))
-        best = min(best, float(de[k]))
+            cands.append((self.proj.LowerDistance(), *self.proj.LowerDistanceParameters()))
         uv = self.sas.ValueOfUV(P, 1e-10)
         u = min(max(uv.X(), self.u0), self.u1)
         v = min(max(uv.Y(), self.v0), self.v1)
-        best = min(best, float(np.linalg.norm(np.array(self._value(u, v)) - x)), self._polish(x, u, v))
-        # edge-restricted refinement from the nearest edge sample (golden section on the edge)
-        eu, ev = self.edge_uv[k]
-        best = min(best, self._edge_refine(x, eu, ev, k))
+        cands.append((float(np.linalg.norm(np.array(self._value(u, v)) - x)), u, v))
+        d0, u, v = min(cands)
+        best = min(d0, self._polish(x, u, v, 4))
+        de = np.linalg.norm(self.edge_pts - x, axis=1)
+        k = int(np.argmin(de))
+        if de[k] < 1.5 * best + 1e-12:  # the boundary may hold the closest point
+            eu, ev = self.edge_uv[k]
+            best = min(best, float(de[k]), self._edge_refine(x, eu, ev, k))
         return best
 
     def _edge_refine(self, x, eu, ev, k) -> float:
