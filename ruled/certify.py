@@ -10,16 +10,22 @@ point of R there is a (u, v) with both S(u, v) and R(psi(u, v)) and hence
 
     H(S, R) <= sup |f(u, v)|,   f = S - R o psi.
 
-On each grid cell f is C^2 (S is polynomial inside a knot span, R is C^2
-away from its kink parameters), and bilinear interpolation gives
+On each grid cell f has bounded second derivatives (S is polynomial or rational
+inside a knot span; R has a continuous first derivative away from its kink
+parameters, the knots of full multiplicity), and bilinear interpolation gives
 
     sup_cell |f| <= max_corners |f| + (h_u^2 sup|f_uu| + h_v^2 sup|f_vv|) / 8
                    (+ |jump of R_s| (|ds_u| + |ds_v|) / 4 per kink crossed),
 
 with f_uu bounded by the per-span control-net bounds of S_uu and by
-R_ss ds^2 + 2 R_st ds dt (psi is linear along each cell edge direction).
-Interior nodes use the closest point of R (Gauss–Newton over the rulings);
-any choice keeps the bound valid, closer choices make it tighter.
+R_ss ds^2 + 2 R_st ds dt (psi is linear along each cell edge direction; R_tt
+is zero), R's bounds again from control nets (quotient rule when rational).
+The derivative jump at a kink is measured from one-sided derivatives.
+Interior nodes use the closest point of R (Gauss–Newton over the rulings), or
+stay near the pairing's own correspondence; both maps are tried and the
+smaller bound kept.  Any choice keeps the bound valid, closer ones make it
+tighter.  Rows next to the boundaries are graded and extra columns follow
+the pairing where it crawls (fans of rulings), so the cells stay small there.
 """
 
 from __future__ import annotations
