@@ -133,11 +133,13 @@ def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool
     return best_s, best_t
 
 
-def certify(S: Surface, u0: float, L: float, pairing: Pairing, bd: Boundaries, R: Surface,
+def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
             target_u: int = 240, target_v: int = 80) -> Certificate:
-    """Certified bound of H(S, R) for a fit oriented along v (see the module doc)."""
+    """Certified bound of H(S, R) for a fit oriented along v (see the module doc); the pairing's
+    normalized parameters run over S's u-domain."""
     closed = pairing.closed
-    du0, du1, v0, v1 = S.domain
+    u0, u1, v0, v1 = S.domain
+    L = u1 - u0
     # nodes where the pairing maps the ruling grid, where a or b crawls (fans of rulings): there
     # a small step in u spans many rulings, and the cells must stay small in s
     sg = np.linspace(0.0, 1.0, 4 * target_u + 1)
@@ -175,7 +177,7 @@ def certify(S: Surface, u0: float, L: float, pairing: Pairing, bd: Boundaries, R
     b = S.derivative_bounds()
     best = None
     prev = None
-    # Several maps, both valid: closest points (tight where the fit is good), and closest points kept
+    # Two maps, both valid: closest points (tight where the fit is good), and closest points kept
     # near the pairing's own correspondence (a foot that jumps, to the other sheet of a thin part
     # say, folds psi and inflates the remainder).  The smaller bound is kept.
     for k, limit in enumerate((np.inf, 0.5 / target_u)):

@@ -67,9 +67,9 @@ def cmd_faces(args) -> int:
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict."""
-    from .fit import FitOptions, fit_surface
+    from .fit import FitOptions, fit_surface, surface_area
     from .occ.convert import container_to_face, conversion_slack, face_to_container
-    from .occ.io import get_face, write_step
+    from .occ.io import face_area, get_face, write_step
     from .occ.measure import hausdorff
     from .progress import Bar
     from .report import plot as make_plot
@@ -87,8 +87,6 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     S = face_to_container(face)
     slack = conversion_slack(face, S)
     warnings = []
-    from .fit import surface_area
-    from .occ.io import face_area
     a_face, a_rect = face_area(face), surface_area(S)
     if a_rect > 0 and abs(a_face - a_rect) > 0.01 * a_rect:
         warnings.append(f"face {face_index} is trimmed (its area is {100 * a_face / a_rect:.1f}% of its surface's "

@@ -12,7 +12,7 @@ import numpy as np
 from . import dp
 from .certify import Certificate, certify
 from .distance import ruling_distances
-from .errors import BadInputError, DegenerateFaceError, RuledError, TooBigError
+from .errors import BadInputError, DegenerateFaceError, TooBigError
 from .nurbs import Surface
 from .reparam import (Boundaries, Pairing, exact_boundaries, fit_boundaries, fit_delta, refine_pairing,
                       ruled_surface)
@@ -229,7 +229,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)
     t0 = time.perf_counter()
-    cert = certify(So, u0, L, pairing, bd, R, *grid)
+    cert = certify(So, pairing, bd, R, *grid)
     T["certify"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 1.0)
     pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
@@ -244,10 +244,8 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
 
 def recertify(fit: DirectionFit, grid: tuple = GRID_FINE) -> DirectionFit:
     """The same fit with its bound computed on another grid."""
-    So = fit.oriented
-    u0, u1 = So.domain[:2]
     t0 = time.perf_counter()
-    cert = certify(So, u0, u1 - u0, fit.pairing, fit.boundaries, fit.surface, *grid)
+    cert = certify(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid)
     timings = dict(fit.timings)
     timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
     return replace(fit, certificate=cert, timings=timings)
@@ -269,13 +267,11 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
     for d in dirs:
         try:
             cands[d] = fit_direction(S, d, opts, progress, grid)
-        except (DegenerateFaceError,) as exc:
+        except DegenerateFaceError as exc:
             if len(dirs) == 1:
                 raise
             cands[d] = str(exc)
             errors.append(exc)
-        except RuledError:
-            raise
     ok = {d: c for d, c in cands.items() if not isinstance(c, str)}
     if not ok:
         raise DegenerateFaceError("degenerate face: " + "; ".join(str(e) for e in errors))

@@ -79,7 +79,7 @@ if AVAILABLE:
                 ders[k, r] = acc
 
     @njit(cache=True, nogil=True)
-    def _workspace(pu, pv, nder):
+    def _workspace(pu, pv):
         return np.zeros((3, pu + 1)), np.zeros((3, pv + 1))
 
     @njit(cache=True, nogil=True, inline="always")
@@ -193,7 +193,7 @@ if AVAILABLE:
 
     @njit(cache=True, nogil=True)
     def _surface_eval_range(hom, ku, kv, tu, tv, pu, pv, u, v, nder, out, start, stop):
-        Bu, Bv = _workspace(pu, pv, nder)
+        Bu, Bv = _workspace(pu, pv)
         for n in range(start, stop):
             _eval_point(hom, ku, kv, tu, tv, pu, pv, u[n], v[n], nder, Bu, Bv, out, n)
 
@@ -206,7 +206,7 @@ if AVAILABLE:
 
     @njit(cache=True, nogil=True)
     def _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, start, stop):
-        Bu, Bv = _workspace(pu, pv, 1)
+        Bu, Bv = _workspace(pu, pv)
         res_ = np.zeros((1, 6, 3))
         res = res_[0]
         u0, u1, v0, v1 = dom[0], dom[1], dom[2], dom[3]

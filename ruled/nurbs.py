@@ -489,4 +489,3 @@ def periodic_knots(breaks: np.ndarray, degree: int) -> np.ndarray:
 def wrap_periodic_poles(unique: np.ndarray, degree: int) -> np.ndarray:
     """Unique periodic poles (m, ...) -> unwrapped poles (m + p, ...)."""
     return np.concatenate([unique, unique[:degree]], axis=0)
-

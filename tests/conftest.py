@@ -20,11 +20,6 @@ def data_file(name: str) -> str:
     pytest.skip(f"{name} is not available (needs ../shared/data beside the repository)")
 
 
-def diag_of(S) -> float:
-    P = S.poles.reshape(-1, 3)
-    return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
-
-
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

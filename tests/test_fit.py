@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from cases import hyperboloid, reparametrized_ruled
-from conftest import data_file, diag_of
+from conftest import data_file
 from ruled import FitOptions, fit_surface
 from ruled.examples import elber_ex1, elber_ex2
 
@@ -41,7 +41,7 @@ def test_refinement_improves_on_the_dp_pairing():
 def test_wing_faces_are_exact():
     for i, face in enumerate(faces_of(read_shape(data_file("occt_wing.brep")))):
         fit = fit_face(face, samples=40, measure_samples=30)
-        assert fit.hausdorff.max <= 1e-6 * diag_of(fit.result.best.oriented), (i, fit.hausdorff.max)
+        assert fit.hausdorff.max <= 1e-6 * fit.result.best.oriented.diagonal(), (i, fit.hausdorff.max)
         assert fit.error_bound >= fit.hausdorff.max
 
 
@@ -57,7 +57,7 @@ def test_impeller_bilinear_patches_are_exact():
         if (bs.UDegree(), bs.VDegree(), bs.NbUPoles(), bs.NbVPoles()) != (3, 1, 10, 2):
             continue
         fit = fit_face(face, samples=40, measure_samples=25)
-        assert fit.hausdorff.max <= 1e-6 * diag_of(fit.result.best.oriented)
+        assert fit.hausdorff.max <= 1e-6 * fit.result.best.oriented.diagonal()
         assert fit.error_bound >= fit.hausdorff.max
         done += 1
     assert done == 18
@@ -68,7 +68,7 @@ def test_hyperboloid_closed_non_isoparametric():
     res, h = _fit_and_measure(S, samples=40)
     b = res.best
     assert b.closed and res.surface.periodic_u
-    assert h.max <= 1e-4 * diag_of(S)
+    assert h.max <= 1e-4 * S.diagonal()
     assert res.error_bound >= h.max
     # the DP took a shifted start: the rulings climb a quarter turn
     shift = (b.pairs[:, 0] - b.pairs[:, 1]) % 40
@@ -82,7 +82,7 @@ def test_hyperboloid_closed_non_isoparametric():
 def test_reparametrized_ruled_surface_is_recovered():
     S = reparametrized_ruled()
     res, h = _fit_and_measure(S, samples=40)
-    assert h.max <= 1e-4 * diag_of(S)
+    assert h.max <= 1e-4 * S.diagonal()
     assert res.error_bound >= h.max
     assert res.direction == "v"
 
@@ -143,8 +143,8 @@ def test_direction_is_chosen_by_the_two_sided_bound_not_the_ruling_costs():
     pts = (trap.rulings[:, :1, :] * (1 - np.linspace(0, 1, 7))[None, :, None]
            + trap.rulings[:, 1:, :] * np.linspace(0, 1, 7)[None, :, None]).reshape(-1, 3)
     one_sided = max(np.linalg.norm(G - x, axis=1).min() for x in pts)
-    assert one_sided < 0.005 * diag_of(S)
+    assert one_sided < 0.005 * S.diagonal()
     assert res.direction == "u"
-    assert h.max <= 1e-6 * diag_of(S)
+    assert h.max <= 1e-6 * S.diagonal()
     assert res.error_bound >= h.max
     assert trap.error_bound > 100 * res.error_bound
