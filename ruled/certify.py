@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import kernels
-from .nurbs import Curve, Surface, _deriv_net, find_spans
+from .nurbs import Curve, SpanRangeMax, Surface, _deriv_net, find_spans
 from .reparam import Boundaries, Pairing
 
 
@@ -81,25 +81,8 @@ def _local_net_max(C: Curve, order: int) -> np.ndarray:
     return win.max(axis=1)  # (n - p,)
 
 
-class _SpanMax:
-    """Max of per-span values over the spans that meet a parameter interval [lo, hi]."""
-
-    def __init__(self, knots: np.ndarray, p: int):
-        self.knots, self.p = knots, p
-        self.n = knots.shape[0] - p - 1
-
-    def lookup(self, vals: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        a, b = self.knots[self.p], self.knots[self.n]
-        out_of_range = (lo < a) | (hi > b)
-        i0 = find_spans(self.knots, self.p, self.n, np.clip(lo, a, b)) - self.p
-        i1 = find_spans(self.knots, self.p, self.n, np.clip(hi, a, b)) - self.p
-        m = vals.shape[0]
-        table = np.empty((m, m))
-        for i in range(m):
-            table[i, i:] = np.maximum.accumulate(vals[i:])
-            table[i, :i] = 0.0
-        res = table[i0, np.maximum(i1, i0)]
-        return np.where(out_of_range, vals.max(), res)
+def _spanmax(C: Curve, vals: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    return SpanRangeMax(C.knots, C.degree, vals)(lo, hi)
 
 
 def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool, iters: int = 6):
@@ -133,10 +116,58 @@ def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool
     return best_s, best_t
 
 
+def _pairing_s(pairing: Pairing, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """s of the pairing's own correspondence at normalized (x, tau): (1 - tau) a(s) + tau b(s) = x.
+    Shape (x.size, tau.size)."""
+    sd = np.linspace(0.0, 1.0, 4001)
+    ad, bd_ = pairing.ab(sd)
+    out = np.empty((x.size, tau.size))
+    for j in range(tau.size):
+        f = (1 - tau[j]) * ad + tau[j] * bd_
+        xx = f[0] + np.mod(x - f[0], 1.0) if pairing.closed else x
+        out[:, j] = np.interp(xx, f, sd)
+    return out
+
+
+def sampled_distance(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, nu: int = 121,
+                     nv: int = 41) -> float:
+    """The engine's own measure of H(S, R): closest points both ways from dense grids (a sampled
+    estimate, not a bound; the independent measure is ruled.occ.measure)."""
+    from .distance import project_points
+    closed = pairing.closed
+    u0, u1, v0, v1 = S.domain
+    L = u1 - u0
+    x = np.linspace(0.0, 1.0, nu, endpoint=not closed)
+    tau = np.linspace(0.0, 1.0, nv)
+    UU, VV = np.meshgrid(u0 + L * x, v0 + (v1 - v0) * tau, indexing="ij")
+    X = S(UU.ravel(), VV.ravel())
+    s0 = _pairing_s(pairing, x, tau).ravel()
+    d1 = np.full(X.shape[0], np.inf)
+    best = np.zeros((X.shape[0], 2))
+    for shift in (0.0, -0.05, 0.05, -0.15, 0.15):  # several seeds: the closest ruling is not always the nearest one
+        s, t = _segment_feet(bd.A, bd.B, X, s0 + shift if closed else np.clip(s0 + shift, 0.0, 1.0), closed, iters=8)
+        d = np.linalg.norm(X - R(np.mod(s, 1.0) if closed else s, t), axis=1)
+        better = d < d1
+        d1 = np.where(better, d, d1)
+        best[better] = np.stack([s, t], axis=1)[better]
+    # polish on R as a surface (both parameters at once)
+    _, dp = project_points(R, X, best, 6, closed)
+    d1 = np.minimum(d1, dp)
+    SS, TT = np.meshgrid(x, tau, indexing="ij")
+    Y = R(SS.ravel(), TT.ravel())
+    a, b = pairing.ab(SS.ravel())
+    xs = (1 - TT.ravel()) * a + TT.ravel() * b
+    seeds = np.stack([u0 + L * (np.mod(xs, 1.0) if closed else np.clip(xs, 0.0, 1.0)),
+                      v0 + (v1 - v0) * TT.ravel()], axis=1)
+    _, d2 = project_points(S, Y, seeds, 8, closed)
+    return float(max(d1.max(), d2.max()))
+
+
 def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
-            target_u: int = 240, target_v: int = 80) -> Certificate:
+            target_u: int = 240, target_v: int = 80, rounds: int = 3) -> Certificate:
     """Certified bound of H(S, R) for a fit oriented along v (see the module doc); the pairing's
-    normalized parameters run over S's u-domain."""
+    normalized parameters run over S's u-domain.  Cells whose remainder dominates their bound are
+    split (up to ``rounds`` times), where psi is steep (fans of rulings, twisted or lifted results)."""
     closed = pairing.closed
     u0, u1, v0, v1 = S.domain
     L = u1 - u0
@@ -151,35 +182,59 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
     xg = np.concatenate([ag[keep_a][::2], bg[keep_b][::2]])
     if closed:
         xg = np.mod(xg, 1.0)
-    us, span_u = _knot_grid(S, "u", target_u, u0 + L * xg)
+    extra_u = u0 + L * xg
     # graded rows next to both boundaries, where a fan of rulings makes psi steep
     grade = (v1 - v0) / target_v * 0.5 ** np.arange(1, 11)
-    vs, span_v = _knot_grid(S, "v", target_v, np.concatenate([v0 + grade, v1 - grade]))
+    extra_v = np.concatenate([v0 + grade, v1 - grade])
+    b = S.derivative_bounds()
+    best = None
+    for rnd in range(rounds + 1):
+        us, span_u = _knot_grid(S, "u", target_u, extra_u)
+        vs, span_v = _knot_grid(S, "v", target_v, extra_v)
+        cert, cell, fc, rem = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u)
+        if best is None or cert.bound < best.bound:
+            best = cert
+        split = _cells_to_split(cert, cell, rem)
+        if rnd == rounds or split is None:
+            break
+        iu, iv = split
+        extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
+        extra_v = np.concatenate([extra_v, 0.5 * (vs[iv] + vs[iv + 1])])
+    return best
+
+
+def _cells_to_split(cert: Certificate, cell: np.ndarray, rem: np.ndarray):
+    """Cells (iu, iv) to split in the next round: near the worst and dominated by their
+    remainder; None when the bound is tight or most cells qualify (the grid is coarse everywhere:
+    local refinement would not pay)."""
+    cut = cert.node_max + 0.5 * (cert.bound - cert.node_max)
+    bad = (cell > cut) & (rem > 0.25 * cell)
+    if not bad.any() or cert.bound <= 1.02 * cert.node_max or bad.mean() > 0.05:
+        return None
+    return np.nonzero(bad)
+
+
+def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u):
+    """Best bound over the candidate maps psi on one grid; also the chosen map's per-cell bound,
+    corner maximum and remainder."""
+    closed = pairing.closed
+    u0, u1, v0, v1 = S.domain
+    L = u1 - u0
     nu, nv = us.size, vs.size
     UU, VV = np.meshgrid(us, vs, indexing="ij")
     X = S(UU.ravel(), VV.ravel()).reshape(nu, nv, 3)
     x = (us - u0) / L
     tau = (vs - v0) / (v1 - v0)
-    # initial s from the pairing: (1 - tau) a(s) + tau b(s) = x
-    sd = np.linspace(0.0, 1.0, 4001)
-    ad, bd_ = pairing.ab(sd)
-    s_init = np.empty((nu, nv))
-    for j in range(nv):
-        f = (1 - tau[j]) * ad + tau[j] * bd_
-        xx = x
-        if closed:
-            xx = f[0] + np.mod(x - f[0], 1.0)
-        s_init[:, j] = np.interp(xx, f, sd)
+    s_init = _pairing_s(pairing, x, tau)
     s_feet, t_feet = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s_init.ravel(), closed)
     jump = np.abs(s_feet - s_init.ravel())
     if closed:
         jump = np.minimum(jump, 1.0 - jump)
-    b = S.derivative_bounds()
-    best = None
-    prev = None
+    maps = []
     # Two maps, both valid: closest points (tight where the fit is good), and closest points kept
     # near the pairing's own correspondence (a foot that jumps, to the other sheet of a thin part
-    # say, folds psi and inflates the remainder).  The smaller bound is kept.
+    # say, folds psi and inflates the remainder).
+    prev = None
     for k, limit in enumerate((np.inf, 0.5 / target_u)):
         s, t = s_feet.copy(), t_feet.copy()
         far = jump > limit
@@ -189,23 +244,50 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
         if far.any():
             s0, t0 = _segment_feet(bd.A, bd.B, X.reshape(-1, 3)[far], s_init.ravel()[far], closed, iters=0)
             s[far], t[far] = s0, t0
-        s = s.reshape(nu, nv)
-        t = t.reshape(nu, nv)
-        cert = _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R)
-        if best is None or cert.bound < best.bound:
-            best = cert
+        maps.append((s, t))
+    # Smoothed closest points: where the closest ruling jumps (a twisted or lifted result), a
+    # smoothed field of s keeps psi continuous at the price of slightly larger node distances.
+    ds = (s_feet - s_init.ravel()).reshape(nu, nv)
+    if closed:
+        ds = ds - np.round(ds)
+    for sweeps in (4, 16, 64):
+        s = (s_init + _smooth(ds, sweeps)).ravel()
+        _, t = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s, closed, iters=0)
+        maps.append((s, t))
+    best = None
+    for s, t in maps:
+        out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(), t.reshape(nu, nv).copy(),
+                         pairing, bd, R)
+        if best is None or out[0].bound < best[0].bound:
+            best = out
     return best
 
 
-def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R) -> Certificate:
+def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
+    """Repeated 5-point averaging (edges replicated)."""
+    g = f.copy()
+    for _ in range(sweeps):
+        p = np.pad(g, 1, mode="edge")
+        g = (4.0 * g + p[:-2, 1:-1] + p[2:, 1:-1] + p[1:-1, :-2] + p[1:-1, 2:]) / 8.0
+    return g
+
+
+def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R):
     """The bound of the module doc for one map psi = (s, t) on the grid (us, vs)."""
     closed = pairing.closed
     nu, nv = us.size, vs.size
     # boundary rows and columns fixed so that psi maps sides to sides
     xa = x if not closed else pairing.ab(np.array([0.0]))[0][0] + np.mod(x - pairing.ab(np.array([0.0]))[0][0], 1.0)
     xb = x if not closed else pairing.ab(np.array([0.0]))[1][0] + np.mod(x - pairing.ab(np.array([0.0]))[1][0], 1.0)
-    s[:, 0], t[:, 0] = pairing.inverse(xa, "a"), 0.0
-    s[:, -1], t[:, -1] = pairing.inverse(xb, "b"), 1.0
+    # the boundary rows go to the boundary curves of R at their closest points (seeded by the
+    # pairing): any continuous side-to-side map keeps psi onto, and lifted boundaries (4D) are not
+    # where the pairing puts them
+    for col, xx, C, which in ((0, xa, bd.A, "a"), (-1, xb, bd.B, "b")):
+        s0 = pairing.inverse(xx, which)
+        sc, _ = _segment_feet(C, C, np.ascontiguousarray(X[:, col]), s0, closed)
+        if closed:
+            sc = s0 + (np.mod(sc - s0 + 0.5, 1.0) - 0.5)
+        s[:, col], t[:, col] = sc, (0.0 if col == 0 else 1.0)
     if not closed:
         for col, sv in ((0, 0.0), (-1, 1.0)):
             a0 = bd.A(np.array([sv]))[0]
@@ -240,16 +322,15 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R) -> Cert
     slo, shi = cs.min(axis=0), cs.max(axis=0)
     ct = np.stack([t00, t10, t01, t11])
     tlo, thi = ct.min(axis=0), ct.max(axis=0)
-    spans = _SpanMax(bd.A.knots, bd.A.degree)
     if R.rational:  # quotient-rule bounds of the rational ruled surface, per span in s
         rb = R.derivative_bounds()
-        Rss = spans.lookup(rb["Suu"][:, 0], slo, shi)
-        Rst = spans.lookup(rb["Suv"][:, 0], slo, shi)
+        Rss = _spanmax(bd.A, rb["Suu"][:, 0], slo, shi)
+        Rst = _spanmax(bd.A, rb["Suv"][:, 0], slo, shi)
     else:
         diff = Curve(bd.B.poles - bd.A.poles, bd.A.knots, bd.A.degree)
-        A2 = spans.lookup(_local_net_max(bd.A, 2), slo, shi)
-        B2 = spans.lookup(_local_net_max(bd.B, 2), slo, shi)
-        Rst = spans.lookup(_local_net_max(diff, 1), slo, shi)
+        A2 = _spanmax(bd.A, _local_net_max(bd.A, 2), slo, shi)
+        B2 = _spanmax(bd.A, _local_net_max(bd.B, 2), slo, shi)
+        Rst = _spanmax(bd.A, _local_net_max(diff, 1), slo, shi)
         Rss = (1.0 - tlo) * A2 + thi * B2
     rem = (Suu * hu ** 2 + Rss * dsu ** 2 + 2 * Rst * dsu * dtu
            + Svv * hv ** 2 + Rss * dsv ** 2 + 2 * Rst * dsv * dtv) / 8.0
@@ -266,4 +347,115 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R) -> Cert
             rem = rem + np.where(hit, J * (dsu + dsv) / 4.0, 0.0)
     fc = np.maximum(np.maximum(f[:-1, :-1], f[1:, :-1]), np.maximum(f[:-1, 1:], f[1:, 1:]))
     cell = fc + rem
-    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv))
+    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, fc, rem
+
+
+def _curve_feet(S: Surface, Y: np.ndarray, u: np.ndarray, v: float, closed: bool, iters: int = 8) -> np.ndarray:
+    """Closest parameters u on the iso-curve S(., v) to the points Y (N, 3), Newton from u."""
+    u0, u1 = S.domain[:2]
+    best_u, best_d = u.copy(), np.full(u.shape, np.inf)
+    for _ in range(iters + 1):
+        uw = u0 + np.mod(u - u0, u1 - u0) if closed else np.clip(u, u0, u1)
+        D = S.evaluate(uw, np.full(u.shape, v), 2)
+        r = D.P - Y
+        d = np.linalg.norm(r, axis=1)
+        better = d < best_d
+        best_d = np.where(better, d, best_d)
+        best_u = np.where(better, u if closed else uw, best_u)
+        den = np.einsum("ij,ij->i", D.Su, D.Su) + np.einsum("ij,ij->i", r, D.Suu)
+        den = np.where(den > 1e-300, den, np.einsum("ij,ij->i", D.Su, D.Su) + 1e-300)
+        u = (u if closed else uw) - np.einsum("ij,ij->i", r, D.Su) / den
+    return best_u
+
+
+def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 240, target_t: int = 40,
+                    rounds: int = 3) -> Certificate:
+    """Certified bound of H(S, R) from the other side: phi maps R's domain (s, t) into S's
+    (closest points on S, seeded by the pairing's correspondence), sides to sides, so
+
+        H(S, R) <= sup |f|,  f = R - S o phi,
+
+    and on each grid cell (aligned with R's knot spans, so R is smooth inside; phi bilinear)
+
+        sup_cell |f| <= max_corners |f| + (h_s^2 |R_ss| + q(du_s, dv_s) + q(du_t, dv_t)) / 8,
+
+    q(du, dv) = Muu du^2 + 2 Muv |du dv| + Mvv dv^2 with S's second-derivative bounds over the
+    cell's u-range and du, dv the largest parameter change of phi along the cell's edges (R_tt = 0).
+    The closest-point map onto the smooth input is continuous where R folds (fans, lifted ends),
+    which is where the forward map of ``certify`` loses its tightness."""
+    from .distance import project_points
+    closed = pairing.closed
+    u0, u1, v0, v1 = S.domain
+    L, V = u1 - u0, v1 - v0
+    bS = S.derivative_bounds()
+    M = {k: SpanRangeMax(S.knots_u, S.degree_u, bS[k].max(axis=1)) for k in ("Suu", "Suv", "Svv")}
+    Rss_span = R.derivative_bounds()["Suu"][:, 0]
+    extra_s = np.zeros(0)
+    tt = np.linspace(0.0, 1.0, target_t + 1)
+    best = None
+    for rnd in range(rounds + 1):
+        ss, span_s = _knot_grid(R, "u", target_s, extra_s)
+        ns, nt = ss.size, tt.size
+        SS, TT = np.meshgrid(ss, tt, indexing="ij")
+        Y = R(SS.ravel(), TT.ravel()).reshape(ns, nt, 3)
+        a, b = pairing.ab(ss)
+        xs = (1 - TT) * a[:, None] + TT * b[:, None]
+        useed = u0 + L * (xs if closed else np.clip(xs, 0.0, 1.0))
+        vseed = v0 + V * TT
+        uv, _ = project_points(S, Y.reshape(-1, 3), np.stack([useed.ravel(), vseed.ravel()], axis=1), 8, closed)
+        U = uv[:, 0].reshape(ns, nt)
+        W = uv[:, 1].reshape(ns, nt)
+        if closed:  # continuous (unwrapped) u
+            U = useed + (np.mod(U - useed + 0.5 * L, L) - 0.5 * L)
+        # sides to sides
+        U[:, 0] = _curve_feet(S, Y[:, 0], useed[:, 0], v0, closed)
+        U[:, -1] = _curve_feet(S, Y[:, -1], useed[:, -1], v1, closed)
+        W[:, 0], W[:, -1] = v0, v1
+        if closed:
+            for col in (0, -1):
+                U[:, col] = useed[:, col] + (np.mod(U[:, col] - useed[:, col] + 0.5 * L, L) - 0.5 * L)
+        else:
+            St = S.transposed()
+            for row, uu in ((0, u0), (-1, u1)):
+                W[row, 1:-1] = _curve_feet(St, Y[row, 1:-1], W[row, 1:-1], uu, False)
+                U[row, :] = uu
+            W[:, 0], W[:, -1] = v0, v1
+        F = S((u0 + np.mod(U - u0, L) if closed else U).ravel(), W.ravel()).reshape(ns, nt, 3)
+        f = np.linalg.norm(Y - F, axis=2)
+        hs = np.diff(ss)[:, None]
+        du_s = np.maximum(np.abs(np.diff(U, axis=0)[:, :-1]), np.abs(np.diff(U, axis=0)[:, 1:]))
+        dv_s = np.maximum(np.abs(np.diff(W, axis=0)[:, :-1]), np.abs(np.diff(W, axis=0)[:, 1:]))
+        du_t = np.maximum(np.abs(np.diff(U, axis=1)[:-1]), np.abs(np.diff(U, axis=1)[1:]))
+        dv_t = np.maximum(np.abs(np.diff(W, axis=1)[:-1]), np.abs(np.diff(W, axis=1)[1:]))
+        cu = np.stack([U[:-1, :-1], U[1:, :-1], U[:-1, 1:], U[1:, 1:]])
+        lo, hi = cu.min(axis=0), cu.max(axis=0)
+        if closed:
+            sh = L * np.floor((lo - u0) / L)
+            lo, hi = lo - sh, hi - sh
+        Muu, Muv, Mvv = M["Suu"](lo, hi), M["Suv"](lo, hi), M["Svv"](lo, hi)
+        rem = (hs ** 2 * Rss_span[span_s][:, None]
+               + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s + Mvv * dv_s ** 2
+               + Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
+        fc = np.maximum(np.maximum(f[:-1, :-1], f[1:, :-1]), np.maximum(f[:-1, 1:], f[1:, 1:]))
+        cell = fc + rem
+        cert = Certificate(float(cell.max()), float(f.max()), float(rem.max()), (ns, nt))
+        if best is None or cert.bound < best.bound:
+            best = cert
+        split = _cells_to_split(cert, cell, rem)
+        if rnd == rounds or split is None:
+            break
+        iu, iv = split
+        extra_s = np.concatenate([extra_s, 0.5 * (ss[iu] + ss[iu + 1])])
+        if np.unique(iv).size > 0 and nt < 8 * target_t:
+            tt = np.unique(np.concatenate([tt, 0.5 * (tt[iv] + tt[iv + 1])]))
+    return best
+
+
+def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, target_u: int = 240,
+                    target_v: int = 80) -> Certificate:
+    """The smaller of the two certified bounds (both valid): from R's side (certify_reverse) and
+    from S's side (certify, with fewer refinement rounds when the first is already tight)."""
+    rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
+    tight = rev.bound <= 1.02 * rev.node_max
+    fwd = certify(S, pairing, bd, R, target_u, target_v, rounds=0 if tight else 3)
+    return fwd if fwd.bound < rev.bound else rev

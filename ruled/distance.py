@@ -75,13 +75,15 @@ def project_points(S: Surface, X: np.ndarray, uv: np.ndarray, iters: int = 3, cl
 
 
 def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, iters: int = 3,
-                     closed_u: bool = False) -> tuple[np.ndarray, np.ndarray]:
+                     closed_u: bool = False, feet: bool = False):
     """Distances of K rulings from S(uP, v0) to S(uQ, v1) to the surface S.
 
     uP, uQ: (K,) parameters on the v0 and v1 boundaries (any unwrapped values
     for closed u: the parameter line then takes the shorter way around).
     Returns (upper_bound (K,), distance (K,)): the sampled composition bound
     of eq. (1) and the antipodally refined one-sided distance (<= the bound).
+    With feet=True also (tau (K, m), foot (K, m, 2)): each sample's parameter
+    on the segment and the (u, v) of the surface point its distance was measured to.
     """
     u0, u1, v0, v1 = S.domain
     if closed_u:  # the parameter line takes the shorter way around
@@ -90,11 +92,13 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
     K = uP.shape[0]
     ub = np.empty(K)
     dist = np.empty(K)
+    tau_all = np.empty((K, m)) if feet else None
+    foot_all = np.empty((K, m, 2)) if feet else None
     if kernels.enabled():
         kernels.ruling_distances(S._hom, S.knots_u, S.knots_v, S._tabs[0], S._tabs[1], S.degree_u, S.degree_v,
                                  np.array(S.domain, float), bool(closed_u), np.ascontiguousarray(uP, float),
-                                 np.ascontiguousarray(uQ, float), int(m), int(iters), ub, dist)
-        return ub, dist
+                                 np.ascontiguousarray(uQ, float), int(m), int(iters), ub, dist, tau_all, foot_all)
+        return (ub, dist, tau_all, foot_all) if feet else (ub, dist)
     t = (np.arange(m) + 0.5) / m
     step = max(1, _POINTS_PER_CHUNK // m)
     for s in range(0, K, step):
@@ -116,8 +120,12 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
         X = P[:, None, :] + tau[..., None] * d[:, None, :]
         r0 = np.linalg.norm(C - X, axis=2)
         uv0 = np.stack([uu_w.ravel(), vv.ravel()], axis=1)
-        _, dproj = project_points(S, X.reshape(-1, 3), uv0, iters, closed_u)
-        dref = np.minimum(r0, dproj.reshape(k, m))
+        uvb, dproj = project_points(S, X.reshape(-1, 3), uv0, iters, closed_u)
+        dproj = dproj.reshape(k, m)
+        dref = np.minimum(r0, dproj)
         ub[s:e] = r0.max(axis=1)
         dist[s:e] = dref.max(axis=1)
-    return ub, dist
+        if feet:
+            tau_all[s:e] = tau
+            foot_all[s:e] = np.where((dproj < r0)[..., None], uvb.reshape(k, m, 2), uv0.reshape(k, m, 2))
+    return (ub, dist, tau_all, foot_all) if feet else (ub, dist)

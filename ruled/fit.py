@@ -10,7 +10,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from . import dp
-from .certify import Certificate, certify
+from .certify import Certificate, certified_bound
 from .distance import ruling_distances
 from .errors import BadInputError, DegenerateFaceError, TooBigError
 from .nurbs import Surface
@@ -29,6 +29,16 @@ class Objective(str, Enum):
     MAX = "max"
 
 
+class Method(str, Enum):
+    D2 = "2d"   # rulings between boundary samples (Elber)
+    D4 = "4d"   # ruling ends lifted along the surface normal too (Wang & Elber)
+
+
+class Metric(str, Enum):
+    SSHB = "sshb"   # surface–bilinear Hausdorff bound of each patch (certified)
+    LSAD = "lsad"   # one-sided line–surface distance of each ruling (cheaper)
+
+
 class Direction(str, Enum):
     AUTO = "auto"
     U = "u"   # rulings run along u, joining the u-min and u-max boundaries
@@ -37,7 +47,12 @@ class Direction(str, Enum):
 
 @dataclass(frozen=True)
 class FitOptions:
-    """Options of a 2D fit; defaults live here and nowhere else."""
+    """Options of a fit; defaults live here and nowhere else.
+
+    4D only: ``elevations`` m (levels -m..m, default 10, i.e. 21 levels), ``step``
+    tau (model units; default: the 2D result's measured distance spread over the
+    m levels), ``metric``, and ``memory_cap`` (bytes; default 80 % of the free
+    memory) beyond which a table is refused."""
 
     samples: int = 40
     objective: Objective = Objective.SUM
@@ -45,14 +60,33 @@ class FitOptions:
     direction: Direction = Direction.AUTO
     refine: bool = True
     points_per_ruling: int = 9
+    method: Method = Method.D2
+    elevations: Optional[int] = None
+    step: Optional[float] = None
+    metric: Metric = Metric.LSAD
+    memory_cap: Optional[float] = None
 
     def checked(self) -> "FitOptions":
         if not isinstance(self.samples, (int, np.integer)) or self.samples < 3:
             raise BadInputError(f"--samples {self.samples} is too small; use at least 3 (40 is a good start)")
         if self.max_error is not None and not (self.max_error > 0):
             raise BadInputError(f"--max-error {self.max_error} must be a positive distance in model units")
-        return FitOptions(int(self.samples), Objective(self.objective), self.max_error,
-                          Direction(self.direction), self.refine, self.points_per_ruling)
+        if self.elevations is not None and (not isinstance(self.elevations, (int, np.integer))
+                                            or not 0 <= self.elevations <= 200):
+            raise BadInputError(f"--elevations {self.elevations} must be a whole number of levels from 0 to 200 "
+                                f"(10 gives 21 levels)")
+        if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
+            raise BadInputError(f"--step {self.step} must be a positive distance in model units")
+        if self.memory_cap is not None and not (self.memory_cap > 0):
+            raise BadInputError(f"--memory-cap {self.memory_cap} must be a positive size")
+        try:
+            method, metric = Method(self.method), Metric(self.metric)
+            objective, direction = Objective(self.objective), Direction(self.direction)
+        except ValueError as exc:
+            raise BadInputError(f"{exc}; see 'ruled fit --help'") from None
+        return FitOptions(int(self.samples), objective, self.max_error, direction, self.refine,
+                          self.points_per_ruling, method, None if self.elevations is None else int(self.elevations),
+                          self.step, metric, self.memory_cap)
 
 
 @dataclass(frozen=True)
@@ -74,6 +108,10 @@ class DirectionFit:
     timings: dict
     boundaries: Boundaries = None
     oriented: Surface = None      # the input surface oriented so that rulings run along v
+    method: str = "2d"
+    elevations: Optional[np.ndarray] = None   # (K, 2) 4D: elevation of each DP ruling's ends (model units)
+    lift: Optional[dict] = None               # 4D: levels, step, metric, ns
+    measured: Optional[float] = None          # sampled two-sided distance to the input (engine's own measure)
 
     @property
     def error_bound(self) -> float:
@@ -86,6 +124,8 @@ class FitResult:
     candidates: dict              # direction -> DirectionFit (or error message)
     options: FitOptions
     timings: dict = field(default_factory=dict)
+    notes: tuple = ()             # what the fit decided on its own (e.g. 4D fell back to 2D)
+    other: Optional[DirectionFit] = None   # 4D: the fit it was compared with (2D, or the 4D attempt if 2D won)
 
     @property
     def surface(self) -> Surface:
@@ -144,20 +184,26 @@ def available_memory() -> int:
     return 8 << 30
 
 
-def check_memory(n: int, closed: bool) -> None:
-    need = dp.table_bytes(n, closed) + 200 * (1 << 20)
-    have = int(available_memory() * 0.8)
+def memory_budget(cap: Optional[float] = None) -> int:
+    """Bytes a fit may use: the cap when given, else 80 % of the free memory."""
+    return int(cap) if cap is not None else int(available_memory() * 0.8)
+
+
+def check_memory(n: int, closed: bool, cap: Optional[float] = None) -> None:
+    extra = 200 * (1 << 20) if cap is None else 0  # the rest of the process, when the budget is the free memory
+    need = dp.table_bytes(n, closed) + extra
+    have = memory_budget(cap)
     if need > have:
         # largest n that fits
         lo, hi = 3, n
         while lo < hi:
             mid = (lo + hi + 1) // 2
-            if dp.table_bytes(mid, closed) + 200 * (1 << 20) <= have:
+            if dp.table_bytes(mid, closed) + extra <= have:
                 lo = mid
             else:
                 hi = mid - 1
         raise TooBigError(f"--samples {n} needs about {need / 2**30:.1f} GiB for the DP tables but only "
-                          f"{have / 2**30:.1f} GiB is available; use --samples {lo} or fewer")
+                          f"{have / 2**30:.1f} GiB is allowed; use --samples {lo} or fewer")
 
 
 def _stage(progress: Progress, name: str, frac: float) -> None:
@@ -174,7 +220,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
         raise DegenerateFaceError(f"cannot fit rulings along {direction}: {why}; "
                                   f"use --direction {'u' if direction == 'v' else 'v'} or repair the face")
     n = opts.samples
-    check_memory(n, closed)
+    check_memory(n, closed, opts.memory_cap)
     T = {}
     u0, u1, v0, v1 = So.domain
     L = u1 - u0
@@ -229,7 +275,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)
     t0 = time.perf_counter()
-    cert = certify(So, pairing, bd, R, *grid)
+    cert = certified_bound(So, pairing, bd, R, *grid)
     T["certify"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 1.0)
     pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
@@ -245,15 +291,19 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
 def recertify(fit: DirectionFit, grid: tuple = GRID_FINE) -> DirectionFit:
     """The same fit with its bound computed on another grid."""
     t0 = time.perf_counter()
-    cert = certify(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid)
+    cert = certified_bound(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid)
     timings = dict(fit.timings)
     timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
     return replace(fit, certificate=cert, timings=timings)
 
 
 def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None) -> FitResult:
-    """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified."""
+    """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified;
+    with method 4d, the ruling ends also lifted along the normal (see fit4d)."""
     opts = options.checked()
+    if opts.method == Method.D4:
+        from .fit4d import fit_surface_4d
+        return fit_surface_4d(S, opts, progress)
     t0 = time.perf_counter()
     diag = S.diagonal()
     if not np.isfinite(S.poles).all():

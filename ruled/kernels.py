@@ -205,7 +205,8 @@ if AVAILABLE:
         return min(max(x, a), b)
 
     @njit(cache=True, nogil=True)
-    def _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, start, stop):
+    def _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, feet, tau_out, foot_out,
+                       start, stop):
         Bu, Bv = _workspace(pu, pv)
         res_ = np.zeros((1, 6, 3))
         res = res_[0]
@@ -244,6 +245,8 @@ if AVAILABLE:
                 u = uu
                 v = vv
                 best = np.inf
+                Fu = uu
+                Fv = vv
                 for it in range(iters + 1):
                     nd = 1 if it < iters else 0
                     _eval_point(hom, ku, kv, tu, tv, pu, pv, u, v, nd, Bu, Bv, res_, 0)
@@ -253,6 +256,9 @@ if AVAILABLE:
                     d = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
                     if d < best:
                         best = d
+                        if feet and d < r0:
+                            Fu = u
+                            Fv = v
                     if nd == 0:
                         break
                     A_ = res[1, 0] * res[1, 0] + res[1, 1] * res[1, 1] + res[1, 2] * res[1, 2]
@@ -269,6 +275,10 @@ if AVAILABLE:
                     u = _wrap(u - (C_ * g1 - B_ * g2) / det, u0, u1, closed)
                     v = _wrap(v - (A_ * g2 - B_ * g1) / det, v0, v1, False)
                 dr = min(r0, best)
+                if feet:
+                    tau_out[kk, k] = tau
+                    foot_out[kk, k, 0] = Fu
+                    foot_out[kk, k, 1] = Fv
                 if r0 > rmax:
                     rmax = r0
                 if dr > dmax:
@@ -276,10 +286,19 @@ if AVAILABLE:
             ub[kk] = rmax
             dist[kk] = dmax
 
-    def ruling_distances(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist):
-        """Fused twin of distance.ruling_distances (one ruling at a time, threads over rulings)."""
+    def ruling_distances(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, tau_out=None,
+                         foot_out=None):
+        """Fused twin of distance.ruling_distances (one ruling at a time, threads over rulings); with
+        tau_out (K, m) and foot_out (K, m, 2) it also returns each sample's segment parameter and the
+        parameters of the surface point its distance was measured to."""
+        feet = tau_out is not None
+        if not feet:
+            tau_out = np.zeros((1, 1))
+            foot_out = np.zeros((1, 1, 2))
+
         def run(a, b):
-            _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, a, b)
+            _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, feet, tau_out,
+                           foot_out, a, b)
         _run_chunks(run, uP.shape[0], 64)
 
     def surface_eval(hom, ku, kv, tu, tv, pu, pv, u, v, nder, out):

@@ -442,6 +442,27 @@ class Surface:
         return {"Su": S1u, "Sv": S1v, "Suu": Suu, "Suv": Suv, "Svv": Svv}
 
 
+class SpanRangeMax:
+    """Max of per-knot-span values (one per span, index i - p) over the spans that meet [lo, hi];
+    the global max for intervals reaching outside the domain."""
+
+    def __init__(self, knots: np.ndarray, p: int, vals: np.ndarray):
+        self.knots, self.p = knots, p
+        self.n = knots.shape[0] - p - 1
+        m = vals.shape[0]
+        self.table = np.zeros((m, m))
+        for i in range(m):
+            self.table[i, i:] = np.maximum.accumulate(vals[i:])
+        self.vmax = float(vals.max())
+
+    def __call__(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        a, b = self.knots[self.p], self.knots[self.n]
+        out = (lo < a) | (hi > b)
+        i0 = find_spans(self.knots, self.p, self.n, np.clip(lo, a, b)) - self.p
+        i1 = find_spans(self.knots, self.p, self.n, np.clip(hi, a, b)) - self.p
+        return np.where(out, self.vmax, self.table[i0, np.maximum(i0, i1)])
+
+
 def _deriv_net(D: np.ndarray, knots: np.ndarray, p: int, axis: int):
     """Control net of the first derivative along ``axis`` of a B-spline of degree p."""
     if p == 0:

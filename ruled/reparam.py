@@ -275,8 +275,11 @@ class Boundaries:
 
 
 def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, tol: float,
-                   max_poles: int = 160, n_uniform: int = 8) -> Boundaries:
-    """A ~ C0(u0 + L a(s)), B ~ C1(u0 + L b(s)) in one shared spline space (see module doc)."""
+                   max_poles: int = 160, n_uniform: int = 8, lift: Optional[Callable] = None) -> Boundaries:
+    """A ~ C0(u0 + L a(s)), B ~ C1(u0 + L b(s)) in one shared spline space (see module doc).
+
+    lift(s, ua, ub) -> (offset_A (N, 3), offset_B (N, 3)), optional: the ends are moved by these
+    offsets (the 4D fit's elevations along the normal) before fitting."""
     closed = pairing.closed
     # polyline boundaries stay polylines (piecewise-bilinear result); otherwise at least cubic
     p = 1 if (C0.degree == 1 and C1.degree == 1) else max(3, C0.degree, C1.degree)
@@ -299,7 +302,10 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
         else:
             ua = np.clip(ua, lo0, hi0)
             ub = np.clip(ub, lo0, hi0)
-        return C0(ua), C1(ub)
+        if lift is None:
+            return C0(ua), C1(ub)
+        oa, ob = lift(s, ua, ub)
+        return C0(ua) + oa, C1(ub) + ob
 
     for _round in range(12):
         knots, nu = _space(br, kk, p, closed)

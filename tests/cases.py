@@ -16,15 +16,8 @@ def _circle_poles():
     return P, w
 
 
-def hyperboloid(a: float = 1.0, c: float = 1.0, zmax: float = 1.0) -> Surface:
-    """One-sheet hyperboloid x^2/a^2 + y^2/a^2 - z^2/c^2 = 1 as a surface of revolution.
-
-    u: angle (closed, rational circle), v: the hyperbola profile (rational quadratic conic)
-    from z = -zmax to z = zmax.  Every point lies on two straight lines that climb around the axis.
-    """
-    W = np.arcsinh(zmax / c)
-    prof = np.array([[a * np.cosh(W), -c * np.sinh(W)], [a / np.cosh(W), 0.0], [a * np.cosh(W), c * np.sinh(W)]])
-    pw = np.array([1.0, np.cosh(W), 1.0])
+def _revolution(prof: np.ndarray, pw: np.ndarray) -> Surface:
+    """The rational quadratic profile (r, z) with weights pw turned around the z axis (u: angle)."""
     cp, cw = _circle_poles()
     poles = np.zeros((9, 3, 3))
     weights = np.zeros((9, 3))
@@ -34,6 +27,18 @@ def hyperboloid(a: float = 1.0, c: float = 1.0, zmax: float = 1.0) -> Surface:
             poles[i, j] = (r * cp[i, 0], r * cp[i, 1], z)
             weights[i, j] = cw[i] * pw[j]
     return Surface(poles, CIRCLE_KNOTS, [0, 0, 0, 1, 1, 1], 2, 2, weights)
+
+
+def hyperboloid(a: float = 1.0, c: float = 1.0, zmax: float = 1.0) -> Surface:
+    """One-sheet hyperboloid x^2/a^2 + y^2/a^2 - z^2/c^2 = 1 as a surface of revolution.
+
+    u: angle (closed, rational circle), v: the hyperbola profile (rational quadratic conic)
+    from z = -zmax to z = zmax.  Every point lies on two straight lines that climb around the axis.
+    """
+    W = np.arcsinh(zmax / c)
+    prof = np.array([[a * np.cosh(W), -c * np.sinh(W)], [a / np.cosh(W), 0.0], [a * np.cosh(W), c * np.sinh(W)]])
+    pw = np.array([1.0, np.cosh(W), 1.0])
+    return _revolution(prof, pw)
 
 
 def _bernstein(n, x):
@@ -109,3 +114,10 @@ def nearly_closed_strip(gap: float = 1e-3, width: float = 0.02) -> Surface:
     P = np.stack([C, C + W], axis=0)  # (2, 12, 3): u is the width, v runs along the loop
     kv = np.concatenate([[0, 0, 0, 0], np.linspace(0, 1, 10)[1:-1], [1, 1, 1, 1]])
     return Surface(P, [0, 0, 1, 1], kv, 1, 3)
+
+
+def barrel(bulge: float = 0.2, height: float = 2.0) -> Surface:
+    """A closed, doubly curved surface of revolution: the parabola profile r(v) from 1 at both ends to
+    1 + bulge/2 at mid height, around the z axis (u: angle, rational circle).  Not ruled."""
+    prof = np.array([[1.0, -0.5 * height], [1.0 + bulge, 0.0], [1.0, 0.5 * height]])
+    return _revolution(prof, np.ones(3))
