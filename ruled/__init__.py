@@ -8,11 +8,11 @@ Data crosses every boundary as plain arrays in small frozen containers.
 
 from .errors import (BadInputError, CancelledError, DegenerateFaceError, InfeasibleError, RuledError,
                      TooBigError)
-from .fit import Direction, FitOptions, FitResult, Objective, fit_surface
+from .fit import Direction, FitOptions, FitResult, Method, Metric, Objective, fit_surface
 from .nurbs import Curve, Surface
 
 __version__ = "0.1.0"
 
-__all__ = ["Surface", "Curve", "FitOptions", "FitResult", "Objective", "Direction", "fit_surface",
+__all__ = ["Surface", "Curve", "FitOptions", "FitResult", "Objective", "Direction", "Method", "Metric", "fit_surface",
            "RuledError", "BadInputError", "DegenerateFaceError", "InfeasibleError", "TooBigError",
            "CancelledError", "__version__"]

@@ -1,8 +1,9 @@
 """The ``ruled`` command line.
 
     ruled faces INPUT
-    ruled fit INPUT --face K [--method 2d] [--samples N] [--objective sum|max]
-              [--max-error E] [--direction auto|u|v] -o OUTPUT.step [--report R.json] [--plot P.png]
+    ruled fit INPUT --face K [--method 2d|4d] [--samples N] [--objective sum|max]
+              [--max-error E] [--direction auto|u|v] [--elevations M] [--step TAU]
+              [--metric lsad|sshb] [--memory-cap MB] -o OUTPUT.step [--report R.json] [--plot P.png]
     ruled demo
 
 Every error a user can cause ends in one line on stderr and exit code 2.
@@ -36,7 +37,18 @@ def _parser() -> argparse.ArgumentParser:
     g = sub.add_parser("fit", help="fit the best ruled surface to one face")
     g.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
     g.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
-    g.add_argument("--method", choices=["2d"], default="2d", help="2d: rulings between boundary samples (Elber)")
+    g.add_argument("--method", choices=["2d", "4d"], default="2d",
+                   help="2d: rulings between boundary samples (Elber); 4d: their ends also lifted along the "
+                        "surface normal (Wang & Elber), never worse than 2d")
+    g.add_argument("--elevations", type=int, default=None,
+                   help="4d: elevation levels on each side of the surface (default 10, i.e. 21 levels)")
+    g.add_argument("--step", type=float, default=None,
+                   help="4d: elevation step in model units (default: the 2d result's distance / elevations)")
+    g.add_argument("--metric", choices=["lsad", "sshb"], default="lsad",
+                   help="4d cost: lsad, the line-surface distance of each ruling (default, faster); sshb, the "
+                        "certified surface-bilinear bound of each patch")
+    g.add_argument("--memory-cap", type=float, default=None,
+                   help="refuse tables larger than this many MiB (default: 80%% of the free memory)")
     g.add_argument("--samples", type=int, default=40, help="samples per boundary (default 40)")
     g.add_argument("--objective", choices=["sum", "max"], default="sum",
                    help="sum of ruling distances (Elber) or the largest one (minimax)")
@@ -65,7 +77,8 @@ def cmd_faces(args) -> int:
 
 
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
-            direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False) -> dict:
+            direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
+            elevations=None, step=None, metric="lsad", memory_cap_mb=None) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict."""
     from .fit import FitOptions, fit_surface, surface_area
     from .occ.convert import container_to_face, conversion_slack, face_to_container
@@ -76,7 +89,8 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     from .report import report_dict, write_report
 
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
-                      refine=refine).checked()
+                      refine=refine, method=method, elevations=elevations, step=step, metric=metric,
+                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
     for path in (output, report, plot):
         if path:
             d = os.path.dirname(os.path.abspath(path))
@@ -109,12 +123,14 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
               file=sys.stderr)
     h = hausdorff(face, out_face, measure_samples)
     t_meas = time.perf_counter() - t2
-    rep = report_dict(res, input_path=input_path, face=face_index,
+    rep = report_dict(res, input_path=input_path, face=face_index, method=method,
                       hausdorff={"max": h.max, "mean": h.mean, "input_to_result": h.max_a_to_b,
                                  "result_to_input": h.max_b_to_a, "samples": h.samples},
                       timings={"read": t_read, "fit": res.timings["total"], "build_and_write": t_write,
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
     rep["warnings"] = warnings
+    for note in res.notes:
+        print(f"ruled: {note}", file=sys.stderr)
     if report:
         write_report(rep, report)
     if plot:
@@ -127,6 +143,10 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
     print(f"face {rep['face']}: rulings along {rep['direction']}{' (closed)' if rep['closed'] else ''}, "
           f"{len(rep['pairs'])} DP rulings, result {rep['result']['poles'][0]}x{rep['result']['poles'][1]} poles "
           f"degree {rep['result']['degree'][0]}x{rep['result']['degree'][1]}")
+    if rep["method"] == "4d":
+        e = rep["elevation"]
+        print(f"4d: {e['levels'] * 2 + 1} elevation levels of {e['step']:.4g} ({e['metric']}); result from the "
+              f"{rep['result_method']} fit")
     print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g}")
     print(f"STEP:   {os.path.abspath(output)}")
     if report:
@@ -140,7 +160,9 @@ def cmd_fit(args) -> int:
         raise RuledError("--measure-samples must be at least 2")
     rep = run_fit(args.input, args.face, args.output, samples=args.samples, objective=args.objective,
                   max_error=args.max_error, direction=args.direction, refine=not args.no_refine,
-                  report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet)
+                  report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet,
+                  method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
+                  memory_cap_mb=args.memory_cap)
     _summary(rep, args.output, args.report, args.plot)
     return 0
 

@@ -42,8 +42,10 @@ def _topods(face):
 
 def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optional[float] = None,
              direction: str = "auto", refine: bool = True, measure: bool = True, measure_samples: int = 40,
-             progress: Progress = None) -> RuledFit:
-    """Fit the best ruled surface to a face (2D-DP over boundary samples, refined, certified)."""
+             progress: Progress = None, method: str = "2d", elevations: Optional[int] = None,
+             step: Optional[float] = None, metric: str = "lsad") -> RuledFit:
+    """Fit the best ruled surface to a face (2D-DP over boundary samples, or 4D-DP with the ruling
+    ends lifted along the normal; refined, certified)."""
     from .occ.convert import container_to_face, conversion_slack, face_to_container
     from .occ.measure import hausdorff
 
@@ -56,7 +58,8 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
         S = face_to_container(src)
         slack = conversion_slack(src, S)
     res = fit_surface(S, FitOptions(samples=samples, objective=objective, max_error=max_error,
-                                    direction=direction, refine=refine), progress)
+                                    direction=direction, refine=refine, method=method, elevations=elevations,
+                                    step=step, metric=metric), progress)
     out = container_to_face(res.surface)
     h = hausdorff(src, out, measure_samples) if measure else None
     try:

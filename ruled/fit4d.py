@@ -205,6 +205,7 @@ def _rebuild(So: Surface, path: np.ndarray, smp, n: int, closed: bool, tol: floa
     ea, eb = lev[path[ia, 2]], lev[path[ib, 3]]
     lift = None
     info = {"lift_refined": False}
+    curves = (sig, dlt, None, None, None)
     if np.any(ea != 0) or np.any(eb != 0):
         if closed:  # one period of samples (the last equals the first)
             xa, ea, xb, eb = xa[:-1], ea[:-1], xb[:-1], eb[:-1]
@@ -213,23 +214,25 @@ def _rebuild(So: Surface, path: np.ndarray, smp, n: int, closed: bool, tol: floa
         fb = _smooth_lift(xb, eb, closed, nc)
         a_s, b_s = sig - dlt, sig + dlt
         eA, eB = fa(a_s), fb(b_s)
+        f1 = _model_cost(line_model(So, a_s, b_s, closed), eA, eB)
         if refine:
-            f0 = _model_cost(line_model(So, a_s, b_s, closed), eA, eB)
+            f0 = f1
             dlt, eA, eB, f1 = refine_rulings(So, sig, dlt, eA, eB, closed, h, smp.tau)
             pairing = fit_delta(sig, dlt, closed, int(min(max(8, n // 2 + 4), 48)))
             info = {"lift_refined": True, "model_max_before": float(f0.max()), "model_max_after": float(f1.max())}
-        sg = sig
-        ga = _smooth_lift(sg, eA, closed, nc)
-        gb = _smooth_lift(sg, eB, closed, nc)
+        curves = (sig, dlt, f1, eA, eB)
+        ga = _smooth_lift(sig, eA, closed, nc)
+        gb = _smooth_lift(sig, eB, closed, nc)
+        s0 = pairing.sigma0
 
-        def lift(s, ua, ub):
+        def lift(s, ua, ub):  # s: the pairing's parameter, sigma = sigma0 + s
             na = unit_normals(So, ua, v0, v1 - v0)
             nb = unit_normals(So, ub, v1, v0 - v1)
-            return ga(s)[:, None] * na, gb(s)[:, None] * nb
+            return ga(s0 + s)[:, None] * na, gb(s0 + s)[:, None] * nb
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
     bd = fit_boundaries(C0, C1, u0, L, pairing, tol, lift=lift)
-    return path, ab, pairing, bd, ruled_surface(bd), (sig, dlt), info
+    return path, ab, pairing, bd, ruled_surface(bd), curves, info
 
 
 def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> FitResult:
@@ -284,7 +287,8 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
     # rebuild and certify
     t0 = time.perf_counter()
     tol = max(2e-6 * diag, TOL_SHARE * m2)
-    path, ab, pairing, bd, R, (sig, dlt), rinfo = _rebuild(So, res.path, smp, n, closed, tol, opts.refine)
+    path, ab, pairing, bd, R, (sig, dlt, fmod, eA, eB), rinfo = _rebuild(So, res.path, smp, n, closed, tol,
+                                                                         opts.refine)
     T["rebuild"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     _stage(progress, "certify (4d)", 0.0)
@@ -304,10 +308,12 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
     signed = path.copy()
     signed[:, 2:] -= m
     fit4 = DirectionFit(b2.direction, closed, R, signed, np.stack([P, Q], axis=1), pp, costs, res.score,
-                        (sig, dlt, np.interp(sig, 0.5 * (ab[:, 0] + ab[:, 1]), costs)), pairing, bd.fit_error,
+                        (sig, dlt, fmod if fmod is not None else np.interp(sig, 0.5 * (ab[:, 0] + ab[:, 1]), costs)),
+                        pairing, bd.fit_error,
                         cert, {**b2.timings, **{f"4d.{k}": v for k, v in T.items()}}, bd, So, "4d", elev,
                         {"levels": m, "step": tau, "metric": opts.metric.value, "nodes_per_ruling": ns,
-                         "dp_score": res.score, "dp_max_move_cost": res.max_cost, "shift": res.shift, **rinfo},
+                         "dp_score": res.score, "dp_max_move_cost": res.max_cost, "shift": res.shift, **rinfo,
+                         "refined_lifts": None if eA is None else (sig, eA, eB)},
                         m4)
     total = {"total": time.perf_counter() - t_start}
     if not m4 < m2:

@@ -16,10 +16,11 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
     """The JSON report; error_bound includes the face-to-surface conversion slack."""
     b = res.best
     R = b.surface
-    return {
+    out = {
         "input": input_path,
         "face": face,
         "method": method,
+        "result_method": b.method,
         "direction": b.direction,
         "closed": b.closed,
         "samples": res.options.samples,
@@ -45,7 +46,22 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
         "timings": {**{f"{d}.{k}": v for d, c in res.candidates.items() if not isinstance(c, str)
                        for k, v in c.timings.items()}, **(timings or {})},
         "version": version,
+        "notes": list(res.notes),
     }
+    if method == "4d":
+        fit4 = b if b.method == "4d" else res.other
+        out["elevation"] = {"levels": res.options.elevations if res.options.elevations is not None else
+                            (fit4.lift["levels"] if fit4 is not None else None),
+                            "step": fit4.lift["step"] if fit4 is not None else None,
+                            "metric": res.options.metric.value,
+                            "end_elevations": None if b.elevations is None else b.elevations.tolist(),
+                            "details": None if fit4 is None else {k: v for k, v in fit4.lift.items()
+                                                                  if k not in ("levels", "step", "metric",
+                                                                               "refined_lifts")}}
+        out["comparison"] = {f.method: {"measured_sampled": f.measured, "error_bound": f.error_bound,
+                                        "poles": list(f.surface.poles.shape[:2])}
+                             for f in (b, res.other) if f is not None}
+    return out
 
 
 def write_report(d: dict, path: str) -> None:
@@ -63,10 +79,12 @@ def plot(res: FitResult, path: str, measured: Optional[float] = None) -> None:
     b = res.best
     n = res.options.samples
     h = 1.0 / (n if b.closed else n - 1)
-    ab = b.pairs * h
+    ab = b.pairs[:, :2] * h
     s = np.linspace(0, 1, 400)
     a, bb = b.pairing.ab(s)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    lifted = b.elevations is not None
+    fig, axes = plt.subplots(1, 3 if lifted else 2, figsize=(16 if lifted else 11, 5))
+    ax1, ax2 = axes[0], axes[1]
     ax1.plot(ab[:, 0], ab[:, 1], color="0.6", lw=4, label="DP path (samples)")
     ax1.plot(a, bb, "k-", lw=1.2, label="fitted reparametrization")
     ax1.plot([0, 1], [0, 1], ":", color="0.3", lw=0.8, label="iso-parametric")
@@ -83,8 +101,23 @@ def plot(res: FitResult, path: str, measured: Optional[float] = None) -> None:
         ax2.axhline(measured, color="g", ls=":", lw=1.2, label=f"measured Hausdorff {measured:.4g}")
     ax2.set_xlabel("ruling index along the path")
     ax2.set_ylabel("line–surface distance")
-    ax2.set_title("error per ruling")
+    ax2.set_title("error per ruling" + (" (4d: move cost)" if lifted else ""))
     ax2.legend(loc="best", fontsize=8)
+    if lifted:
+        ax3 = axes[2]
+        idx = np.arange(len(b.elevations))
+        ax3.step(idx, b.elevations[:, 0], where="mid", color="C0", alpha=0.5, label="DP, first boundary end (P)")
+        ax3.step(idx, b.elevations[:, 1], where="mid", color="C1", alpha=0.5, label="DP, second boundary end (Q)")
+        if b.lift.get("refined_lifts") is not None:
+            sg, eA, eB = b.lift["refined_lifts"]
+            x = (sg - sg[0]) * (len(idx) - 1)
+            ax3.plot(x, eA, color="C0", lw=1.4, label="refined, P end")
+            ax3.plot(x, eB, color="C1", lw=1.4, label="refined, Q end")
+        ax3.axhline(0.0, color="0.3", lw=0.8, ls=":")
+        ax3.set_xlabel("ruling index along the path")
+        ax3.set_ylabel("elevation along the surface normal")
+        ax3.set_title(f"elevations ({2 * b.lift['levels'] + 1} levels of {b.lift['step']:.3g})")
+        ax3.legend(loc="best", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
