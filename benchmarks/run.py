@@ -1,10 +1,16 @@
-"""Benchmark of the full 2D fit: per-stage times and peak memory at n = 50, 100, 200.
+"""Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
-    .venv/bin/python benchmarks/run.py [--n 50 100 200] [--surface ex2]
+    .venv/bin/python benchmarks/run.py [--suite all|2d|4d] [--n 50 100 200] [--surface ex2] [--no-numpy]
 
-Target: n = 100 end to end (both directions tried, refined, rebuilt, certified) in <= 0.5 s on
-the 2-core machine.  The first call compiles the numba kernels (cached afterwards); the figures
-are from warm runs, median of three.  Peak memory is the traced Python/NumPy allocation peak.
+2D target: n = 100 end to end (both directions tried, refined, rebuilt, certified) in <= 0.5 s.
+4D targets (the 4D-DP end to end: elevated samples, closest-point nodes, cost tables, DP sweep and
+back-tracking): SSHB n = 50 with 41 levels <= 1.5 s and n = 100 with 21 levels <= 2.5 s, peak
+memory <= 400 MB for both; LSAD n = 50 with 49 levels <= 0.6 s.  The NumPy-only times (no numba,
+as in FreeCAD's Python) are printed too, from a subprocess with RULED_NO_NUMBA=1.
+
+The machine has 2 cores.  The first call compiles the numba kernels (cached afterwards); the
+figures are from warm runs, median of three.  Peak memory is the traced Python/NumPy allocation
+peak (numba kernels allocate nothing large).
 """
 
 from __future__ import annotations
@@ -24,13 +30,100 @@ from ruled.examples import EXAMPLES  # noqa: E402
 TARGET_N, TARGET_S = 100, 0.5
 
 
+CASES_4D = [("sshb", 50, 20, 1.5), ("sshb", 100, 10, 2.5), ("lsad", 50, 24, 0.6)]
+TARGET_MB = 400
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
+    ap.add_argument("--suite", choices=["all", "2d", "4d"], default="all")
     ap.add_argument("--n", type=int, nargs="+", default=[50, 100, 200])
     ap.add_argument("--surface", choices=sorted(EXAMPLES), default="ex2")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--no-numpy", action="store_true", help="skip the NumPy-only 4D times")
+    ap.add_argument("--numpy-child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     S = EXAMPLES[args.surface]()
+    if args.numpy_child:
+        for metric, n, m, _ in CASES_4D:
+            t, st, _ = _engine_4d(S, n, m, metric)
+            print(f"numpy {metric} {n} {2 * m + 1} {t:.3f} " + " ".join(f"{k}={v:.3f}" for k, v in st.items()))
+        return 0
+    if args.suite in ("all", "2d"):
+        _bench_2d(S, args)
+    if args.suite in ("all", "4d"):
+        _bench_4d(S, args)
+    return 0
+
+
+def _engine_4d(S, n: int, m: int, metric: str):
+    """The 4D-DP end to end on the oriented surface S: (seconds, stages, DP result)."""
+    from ruled import dp4d, metrics4d, sampling
+    st = {}
+    t0 = time.perf_counter()
+    smp = sampling.elevated_samples(S, n, m, 0.05 * S.diagonal() / max(m, 1), False)
+    if metric == "sshb":
+        feet = metrics4d.ruling_feet(S, smp, 16)
+        terms = metrics4d.patch_terms(S, smp, feet)
+        st["nodes"] = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        T = dp4d.Tables(True, n, 2 * m + 1, None, metrics4d.sshb_ruling_tables(smp, feet), terms)
+    else:
+        feet = metrics4d.ruling_feet(S, smp, 9, edges=False)
+        st["nodes"] = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        T = dp4d.Tables(False, n, 2 * m + 1, metrics4d.lsad_tables(smp, feet))
+    st["tables"] = time.perf_counter() - t1
+    t1 = time.perf_counter()
+    res = dp4d.solve(T, False, "sum")
+    st["dp"] = time.perf_counter() - t1
+    return time.perf_counter() - t0, st, res
+
+
+def _bench_4d(S, args) -> None:
+    import resource
+    import subprocess
+    _engine_4d(S, 8, 2, "sshb")
+    _engine_4d(S, 8, 2, "lsad")
+    print(f"\n4D-DP engine on {args.surface} (numba {'on' if kernels.enabled() else 'off'}), median of "
+          f"{args.repeat}:")
+    print(f"{'metric':>6} {'n':>4} {'levels':>6} {'total s':>8} {'nodes':>7} {'tables':>7} {'dp':>7} "
+          f"{'peak MiB':>9} {'target s':>8} {'ratio':>6}")
+    for metric, n, m, target in CASES_4D:
+        runs = [_engine_4d(S, n, m, metric) for _ in range(args.repeat)]
+        runs.sort(key=lambda r: r[0])
+        t, st, _ = runs[len(runs) // 2]
+        tracemalloc.start()
+        _engine_4d(S, n, m, metric)
+        peak = tracemalloc.get_traced_memory()[1] / 2**20
+        tracemalloc.stop()
+        print(f"{metric:>6} {n:4d} {2 * m + 1:6d} {t:8.3f} {st['nodes']:7.3f} {st['tables']:7.3f} {st['dp']:7.3f} "
+              f"{peak:9.1f} {target:8.1f} {t / target:6.2f}" + ("" if metric == "lsad" else
+                                                                 f"   memory ratio {peak / TARGET_MB:.2f}"))
+    print(f"process peak RSS so far: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MiB")
+    if not args.no_numpy:
+        run = subprocess.run([sys.executable, os.path.abspath(__file__), "--surface", args.surface, "--numpy-child"],
+                             capture_output=True, text=True, env={**os.environ, "RULED_NO_NUMBA": "1"})
+        print("NumPy only (RULED_NO_NUMBA=1, one run each):")
+        for line in run.stdout.splitlines():
+            if line.startswith("numpy"):
+                _, metric, n, lv, t, *rest = line.split()
+                print(f"{metric:>6} {int(n):4d} {int(lv):6d} {float(t):8.3f}   " + " ".join(rest))
+        if run.returncode:
+            print(run.stderr[-2000:])
+    # the whole 4D fit (2D baseline, 4D-DP, refinement, rebuild, certificates, measures)
+    from ruled.examples import elber_ex1, elber_ex2
+    for name, make in (("ex1", elber_ex1), ("ex2", elber_ex2)):
+        t = time.perf_counter()
+        r = fit_surface(make(), FitOptions(samples=40, method="4d", elevations=10))
+        t = time.perf_counter() - t
+        o = r.other
+        print(f"full 4D fit {name} (40 samples, 21 levels, lsad): {t:.2f} s; measured (sampled) "
+              f"{r.best.measured:.4g} vs 2D {o.measured:.4g} ({100 * (1 - r.best.measured / o.measured):.1f}% lower), "
+              f"bound {r.error_bound:.4g}")
+
+
+def _bench_2d(S, args) -> None:
     t = time.perf_counter()
     fit_surface(S, FitOptions(samples=10))
     print(f"warm-up (numba {'on' if kernels.enabled() else 'off'}, includes any compile): "
@@ -61,7 +154,6 @@ def main(argv=None) -> int:
         if n == TARGET_N:
             print(f"      target n={TARGET_N}: {TARGET_S} s -> ratio measured/target = {totals[k] / TARGET_S:.2f}")
     _with_occt(S, TARGET_N)
-    return 0
 
 
 def _with_occt(S, n: int) -> None:

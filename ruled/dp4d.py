@@ -70,13 +70,14 @@ class DP4Result:
     shift: int = 0
 
 
-def table_bytes(n: int, K: int, closed: bool, sshb: bool, ns: int = 16, threads: int = 2) -> int:
-    """Peak memory of a 4D fit (bytes): cost tables, ruling nodes and the DP tables (for a
-    closed boundary one set per thread, each (n + 1)^2 K^2)."""
+def table_bytes(n: int, K: int, closed: bool, sshb: bool, ns: int = 16) -> int:
+    """Peak memory of a 4D fit (bytes): cost tables, ruling nodes and the DP tables (one set,
+    (n + 1)^2 K^2 for a closed boundary, whose shifts are solved one after the other, plus the
+    best shift's back-pointers)."""
     cost = n * n * K * K * 4 * (4 if sshb else 1)
     nodes = n * n * ns * 8 * 24
     side = n + 1 if closed else n
-    dp = side * side * K * K * (8 + 8 + 1 + 2) * (threads if closed else 1)
+    dp = side * side * K * K * ((8 + 8 + 1 + 2) + (1 if closed else 0))
     return int((cost + nodes + dp) * 1.15)
 
 

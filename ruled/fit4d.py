@@ -3,12 +3,17 @@
 1. The 2D fit (fit.fit_surface) chooses the direction and is the baseline;
    its measured distance sets the default elevation step.
 2. Elevated samples (eqs. 1–3), the SSHB or LSAD tables (metrics4d) and the
-   4D-DP (dp4d), open or periodic.
-3. Rebuild: the pairing as in 2D (a strictly monotone delta(sigma)), the
-   elevations smoothed into functions of the boundary parameter, and the two
-   boundary curves fitted through the lifted ends in one spline space; the
-   ruled face between them is certified like a 2D result (certify.certify
-   bounds H(S, R) directly, so the rebuild error is inside the bound).
+   4D-DP (dp4d), open or periodic.  LSAD is the default cost: it follows the
+   true (closest-point) distance of each ruling and steers the DP best; SSHB
+   makes the DP minimize a certified bound of the discrete surface.
+3. Rebuild (beyond the paper): the pairing and the lifts refined continuously
+   per ruling (a golden-section search of the pairing within one sample step,
+   each candidate with its best lifts under the line model), the pairing as
+   in 2D a strictly monotone delta(sigma), the lifts smoothed, and the two
+   boundary curves fitted through the lifted ends in one spline space.  The
+   ruled face between them is certified like a 2D result
+   (certify.certified_bound bounds H(S, R) directly, so the rebuild error is
+   inside the reported bound).
 4. Never worse than 2D: both results are measured (certify.sampled_distance)
    and the 4D one is kept only if it is closer; otherwise the 2D result is
    returned with a note saying so.
@@ -25,7 +30,7 @@ import numpy as np
 from . import dp4d
 from .certify import certified_bound, sampled_distance
 from .distance import ruling_distances, wrap_u
-from .errors import TooBigError
+from .errors import InfeasibleError, TooBigError
 from .fit import (GRID_FINE, DirectionFit, FitOptions, FitResult, Method, Metric, Progress, _stage,
                   fit_surface, memory_budget)
 from .metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
@@ -238,7 +243,13 @@ def _rebuild(So: Surface, path: np.ndarray, smp, n: int, closed: bool, tol: floa
 def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> FitResult:
     """4D fit (see the module doc); opts already checked, method 4d."""
     t_start = time.perf_counter()
-    base = fit_surface(S, replace(opts, method=Method.D2, max_error=None), progress)
+    m = DEFAULT_LEVELS if opts.elevations is None else opts.elevations
+    sshb = opts.metric == Metric.SSHB
+    check_memory_4d(opts.samples, m, False, sshb, opts.memory_cap)  # before any work (closed: checked again)
+    try:  # the baseline honours --max-error when it can (it is what a fallback returns)
+        base = fit_surface(S, replace(opts, method=Method.D2), progress)
+    except InfeasibleError:
+        base = fit_surface(S, replace(opts, method=Method.D2, max_error=None), progress)
     b2 = base.best
     So, closed, n = b2.oriented, b2.closed, opts.samples
     diag = So.diagonal()
@@ -247,14 +258,12 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
     m2 = sampled_distance(So, b2.pairing, b2.boundaries, b2.surface)
     b2 = replace(b2, measured=m2)
     T["measure_2d"] = time.perf_counter() - t0
-    m = DEFAULT_LEVELS if opts.elevations is None else opts.elevations
     notes = []
     if opts.step is None and m2 <= 1e-9 * diag:
         notes.append("the 2D fit is exact to round-off (an exactly ruled face): no elevation needed")
         return replace(base, best=b2, candidates={**base.candidates, b2.direction: b2}, notes=tuple(notes),
                        other=b2)
     tau = opts.step if opts.step is not None else RANGE_FACTOR * m2 / max(m, 1)
-    sshb = opts.metric == Metric.SSHB
     check_memory_4d(n, m, closed, sshb, opts.memory_cap)
     # elevated samples and cost tables
     t0 = time.perf_counter()

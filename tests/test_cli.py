@@ -128,3 +128,43 @@ def test_argument_errors_exit_2():
                                                         "-o", "o.step"))
     assert "invalid choice" in _one_line_error(ruled("fit", "x.step", "--face", "1", "--method", "9d",
                                                      "-o", "o.step"))
+
+
+def _ex2_step(tmp_path):
+    from ruled.examples import elber_ex2
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import write_step
+    src = str(tmp_path / "ex2.step")
+    write_step(container_to_face(elber_ex2()), src)
+    return src
+
+
+def test_fit_4d_reports_elevated_pairs_and_plots_elevations(tmp_path):
+    src = _ex2_step(tmp_path)
+    out = ruled("fit", src, "--face", "0", "--method", "4d", "--samples", "30", "--elevations", "6",
+                "-o", str(tmp_path / "r.step"), "--report", str(tmp_path / "r.json"), "--plot",
+                str(tmp_path / "r.png"), "--quiet")
+    assert out.returncode == 0, out.stderr
+    rep = json.loads((tmp_path / "r.json").read_text())
+    assert rep["method"] == "4d" and rep["result_method"] in ("2d", "4d") and rep["notes"]
+    assert rep["elevation"]["levels"] == 6 and rep["elevation"]["step"] > 0
+    assert set(rep["comparison"]) == {"2d", "4d"}
+    assert rep["hausdorff"]["max"] <= rep["error_bound"]
+    if rep["result_method"] == "4d":
+        pairs = np.array(rep["pairs"])
+        assert pairs.shape[1] == 4 and np.abs(pairs[:, 2:]).max() <= 6
+        assert len(rep["elevation"]["end_elevations"]) == len(pairs)
+    assert (tmp_path / "r.png").stat().st_size > 10000
+
+
+def test_4d_argument_errors_exit_2(tmp_path):
+    src = _ex2_step(tmp_path)
+    o = str(tmp_path / "o.step")
+    assert "--elevations" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--elevations",
+                                                   "-2", "-o", o))
+    assert "--step" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--step", "0", "-o", o))
+    assert "invalid choice" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--metric",
+                                                     "vd", "-o", o))
+    msg = _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--samples", "120", "--elevations",
+                                "30", "--memory-cap", "50", "-o", o))
+    assert "MiB" in msg and "--samples" in msg and "--elevations" in msg

@@ -26,9 +26,11 @@ SCRIPT = textwrap.dedent("""
         u = rng.uniform(0, 1, 50); v = rng.uniform(0, 1, 50)
         D = S.evaluate(u, v, 2)
         r = fit_surface(elber_ex1(), FitOptions(samples=16))
+        r4 = fit_surface(elber_ex2(), FitOptions(samples=12, method="4d", elevations=3, metric="sshb"))
         out = {{"np": np.__version__, "scipy": scipy.__version__, "numba": kernels.AVAILABLE,
                "P": D.P.tolist(), "Suu": D.Suu.tolist(), "pairs": r.best.pairs.tolist(),
-               "bound": r.error_bound, "direction": r.direction}}
+               "bound": r.error_bound, "direction": r.direction,
+               "pairs4": r4.best.pairs.tolist(), "bound4": r4.error_bound, "method4": r4.best.method}}
         with open({out!r}, "w") as fh:
             json.dump(out, fh)
         code = 0
@@ -66,3 +68,8 @@ def test_same_numbers_in_freecad_python(tmp_path):
     assert fc["direction"] == r.direction
     assert fc["pairs"] == r.best.pairs.tolist()
     assert abs(fc["bound"] - r.error_bound) <= 1e-6 * r.error_bound
+    # the 4D fit: NumPy twins there, numba kernels here (when installed): the same path and bound
+    r4 = fit_surface(elber_ex2(), FitOptions(samples=12, method="4d", elevations=3, metric="sshb"))
+    assert fc["method4"] == r4.best.method
+    assert fc["pairs4"] == r4.best.pairs.tolist()
+    assert abs(fc["bound4"] - r4.error_bound) <= 1e-6 * r4.error_bound
