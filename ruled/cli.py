@@ -145,8 +145,11 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
           f"degree {rep['result']['degree'][0]}x{rep['result']['degree'][1]}")
     if rep["method"] == "4d":
         e = rep["elevation"]
-        print(f"4d: {e['levels'] * 2 + 1} elevation levels of {e['step']:.4g} ({e['metric']}); result from the "
-              f"{rep['result_method']} fit")
+        if e["step"] is None:
+            print("4d: no elevation tried; " + "; ".join(rep["notes"]))
+        else:
+            print(f"4d: {e['levels'] * 2 + 1} elevation levels of {e['step']:.4g} ({e['metric']}); result from "
+                  f"the {rep['result_method']} fit")
     print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g}")
     print(f"STEP:   {os.path.abspath(output)}")
     if report:

@@ -261,8 +261,7 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
     notes = []
     if opts.step is None and m2 <= 1e-9 * diag:
         notes.append("the 2D fit is exact to round-off (an exactly ruled face): no elevation needed")
-        return replace(base, best=b2, candidates={**base.candidates, b2.direction: b2}, notes=tuple(notes),
-                       other=b2)
+        return replace(base, best=b2, candidates={**base.candidates, b2.direction: b2}, notes=tuple(notes))
     tau = opts.step if opts.step is not None else RANGE_FACTOR * m2 / max(m, 1)
     check_memory_4d(n, m, closed, sshb, opts.memory_cap)
     # elevated samples and cost tables

@@ -49,9 +49,8 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
         "notes": list(res.notes),
     }
     if method == "4d":
-        fit4 = b if b.method == "4d" else res.other
-        out["elevation"] = {"levels": res.options.elevations if res.options.elevations is not None else
-                            (fit4.lift["levels"] if fit4 is not None else None),
+        fit4 = b if b.method == "4d" else (res.other if res.other is not None and res.other.method == "4d" else None)
+        out["elevation"] = {"levels": fit4.lift["levels"] if fit4 is not None else res.options.elevations,
                             "step": fit4.lift["step"] if fit4 is not None else None,
                             "metric": res.options.metric.value,
                             "end_elevations": None if b.elevations is None else b.elevations.tolist(),

@@ -168,3 +168,12 @@ def test_4d_argument_errors_exit_2(tmp_path):
     msg = _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--samples", "120", "--elevations",
                                 "30", "--memory-cap", "50", "-o", o))
     assert "MiB" in msg and "--samples" in msg and "--elevations" in msg
+
+
+def test_fit_4d_on_an_exactly_ruled_face_keeps_the_exact_2d_result(tmp_path):
+    out = ruled("fit", data_file("occt_wing.brep"), "--face", "1", "--method", "4d", "-o", str(tmp_path / "r.step"),
+                "--report", str(tmp_path / "r.json"), "--quiet")
+    assert out.returncode == 0, out.stderr
+    rep = json.loads((tmp_path / "r.json").read_text())
+    assert rep["result_method"] == "2d" and "exact" in rep["notes"][0]
+    assert rep["hausdorff"]["max"] <= rep["error_bound"] <= 1e-6
