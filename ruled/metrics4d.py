@@ -262,7 +262,7 @@ def patch_terms(S: Surface, smp: Elevated, feet: RulingFeet) -> PatchTerms:
             prev = np.roll(nrm, 1, axis=0)  # sample i - 1 (wrapped; unused at i = 0 when open)
             val = np.linalg.norm(e[None, :, None] * nrm[:, None, :]
                                  - e[np.clip(kp, 0, K - 1)][None, :, None] * prev[:, None, :], axis=-1)
-            g[col] = np.where(ok[None, :], val, np.inf)
+            g[col] = np.where(ok[None, :], val, 0.0)  # (unused: no such move)
     return PatchTerms(area, d0u, d0v, t0, g0, gP, gQ, feet.M)
 
 

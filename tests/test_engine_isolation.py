@@ -18,6 +18,8 @@ from ruled import fit_surface, FitOptions
 from ruled.examples import elber_ex1
 r = fit_surface(elber_ex1(), FitOptions(samples=12))
 assert r.error_bound > 0
+r = fit_surface(elber_ex1(), FitOptions(samples=12, method="4d", elevations=3, metric="sshb"))
+assert r.error_bound > 0
 mods = [m for m in sys.modules if m.split('.')[0] in ('OCP', 'cadquery', 'FreeCAD', 'Part')]
 assert not mods, mods
 print('ok')

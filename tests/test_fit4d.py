@@ -124,3 +124,10 @@ def test_tables_beyond_the_memory_cap_are_refused_with_the_estimate():
     S = elber_ex2()
     with pytest.raises(TooBigError, match=r"MiB.*--samples \d+ or fewer"):
         fit_surface(S, FitOptions(samples=100, method="4d", elevations=20, metric="sshb", memory_cap=64 * 2 ** 20))
+
+
+def test_cadquery_entry_point_fits_4d():
+    from ruled.cq import fit_face
+    fit = fit_face(elber_ex2(), samples=24, method="4d", elevations=6)
+    assert fit.result.best.method in ("2d", "4d") and fit.result.notes
+    assert fit.hausdorff.max <= fit.error_bound <= 1.5 * fit.hausdorff.max
