@@ -50,6 +50,7 @@ class Tables:
     ruling: Optional[tuple] = None      # (c, es, dku, dkv)
     terms: Optional[object] = None      # metrics4d.PatchTerms
     limit: float = np.inf  # moves costlier than this are forbidden (the max-error constraint)
+    start: int = -1        # when >= 0, the only allowed start levels k * K + l
 
     def arrays(self):
         z4 = np.zeros((1, 1, 1, 1), np.float32)
@@ -116,7 +117,7 @@ def _fill_numpy_lsad_sum(T: Tables, prim, sec, back, src):
 
 
 def _fill_numpy(T: Tables, use_max: bool, closed: bool, shift: int, prim, sec, back, src):
-    if not T.sshb and not use_max and not closed:
+    if not T.sshb and not use_max and not closed and T.start < 0:
         return _fill_numpy_lsad_sum(T, prim, sec, back, src)
     ni, nj, K = prim.shape[0], prim.shape[1], prim.shape[2]
     n = T.n
@@ -128,7 +129,7 @@ def _fill_numpy(T: Tables, use_max: bool, closed: bool, shift: int, prim, sec, b
         wi, wj = i % n, (j + shift) % n
         if d == 0:
             v = T.lc[wi[0], wj[0]].astype(f64) if not T.sshb else np.zeros((K, K))
-            v = np.where(v <= T.limit, v, np.inf)
+            v = np.where((v <= T.limit) & ((T.start < 0) | (kk * K + ll == T.start)), v, np.inf)
             prim[0, 0], sec[0, 0], back[0, 0], src[0, 0] = v, v, -1, kk * K + ll
             continue
         BP = np.full((i.size, K, K), np.inf)
@@ -207,8 +208,8 @@ def _fill(T: Tables, use_max: bool, closed: bool, shift: int, side: int):
     back = np.empty((side, side, K, K), np.int8)
     src = np.empty((side, side, K, K), np.int16)
     if kernels.enabled():
-        kernels4d.fill(T.sshb, use_max, _TIE, closed, T.n, shift, *T.arrays(), float(T.limit), prim, sec, back,
-                       src)
+        kernels4d.fill(T.sshb, use_max, _TIE, closed, T.n, shift, *T.arrays(), float(T.limit), int(T.start), prim,
+                       sec, back, src)
     else:
         _fill_numpy(T, use_max, closed, shift, prim, sec, back, src)
     return prim, sec, back, src
@@ -241,19 +242,20 @@ def _trace(back, end4) -> np.ndarray:
     return np.array(out[::-1], dtype=np.int64)
 
 
-def move_costs(T: Tables, path: np.ndarray, shift: int = 0) -> np.ndarray:
-    """The (unweighted) cost of each move of a path (T - 1,), recomputed from the tables."""
+def move_costs(T: Tables, path: np.ndarray) -> np.ndarray:
+    """The (unweighted) cost of each move of a path (T - 1,), recomputed from the tables; the path
+    in unwrapped indices (on a closed boundary its Q indices include the start shift)."""
     from .metrics4d import sshb_move
     n = T.n
     out = []
     for a, b in zip(path[:-1], path[1:]):
         di, dj, dk, dl = (int(x) for x in (b - a))
-        wi, wj = b[0] % n, (b[1] + shift) % n
+        wi, wj = b[0] % n, b[1] % n
         if not T.sshb:
             out.append(float(T.lc[wi, wj, b[2], b[3]]))
             continue
         pat = 0 if (di, dj) == (1, 1) else (1 if di else 2)
-        wpi, wpj = a[0] % n, (a[1] + shift) % n
+        wpi, wpj = a[0] % n, a[1] % n
         cur = tuple(float(x[wi, wj, b[2], b[3]]) for x in T.ruling)
         prev = tuple(float(x[wpi, wpj, a[2], a[3]]) for x in T.ruling)
         out.append(sshb_move(T.terms, prev, cur, pat, wi, wj, int(b[2]), int(b[3]), dk, dl))
@@ -272,7 +274,20 @@ def solve_open(T: Tables, objective: str = "sum") -> DP4Result:
 
 
 def solve_closed(T: Tables, objective: str = "sum", progress: Optional[Callable] = None) -> DP4Result:
-    """Every shift q of the Q samples; the first and the last ruling are the same line."""
+    """Every shift q of the Q samples; the first and the last ruling are the same line.
+
+    The coincidence is enforced as the paper does (each entry keeps the start elevation of its
+    path; the last ruling must return to it), which can leave no path for a shift.  If no shift
+    has one, the program runs again with the start fixed at zero elevation, where the path that
+    keeps every elevation at zero always exists."""
+    res = _solve_closed(T, objective, progress)
+    if not np.isfinite(res.score) and T.start < 0:
+        m = (T.K - 1) // 2
+        res = _solve_closed(replace(T, start=m * T.K + m), objective, progress)
+    return res
+
+
+def _solve_closed(T: Tables, objective: str, progress: Optional[Callable]) -> DP4Result:
     n, m = T.n, (T.K - 1) // 2
     best = None
     for q in range(n):

@@ -312,7 +312,7 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
     P = smp.points("P", path[:, 0], path[:, 2])
     Q = smp.points("Q", path[:, 1], path[:, 3])
     elev = np.stack([smp.levels[path[:, 2]], smp.levels[path[:, 3]]], axis=1)
-    costs = np.concatenate([[0.0], dp4d.move_costs(tables, res.path, res.shift)])
+    costs = np.concatenate([[0.0], dp4d.move_costs(tables, res.path)])  # (the path includes the shift)
     signed = path.copy()
     signed[:, 2:] -= m
     fit4 = DirectionFit(b2.direction, closed, R, signed, np.stack([P, Q], axis=1), pp, costs, res.score,

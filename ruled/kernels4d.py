@@ -150,7 +150,7 @@ if AVAILABLE:
 
     @njit(cache=True, nogil=True)
     def _fill_cells(sshb, use_max, tie, closed, n, shift, lc, c, es, dku, dkv, area, d0u, d0v, t0, g0, gP, gQ,
-                    Mq, limit, moves, pat_of, dk_col, dl_col, ni, nj, d, i0, u_lo, u_hi, prim, sec, back, src):
+                    Mq, limit, start, moves, pat_of, dk_col, dl_col, ni, nj, d, i0, u_lo, u_hi, prim, sec, back, src):
         """Entries (i, j = d - i, k, all l) of one anti-diagonal for the work units u in [u_lo, u_hi),
         unit u being cell i = i0 + u // K and row k = u % K; moves in order, l innermost."""
         K = prim.shape[2]
@@ -168,7 +168,7 @@ if AVAILABLE:
             if i == 0 and j == 0:
                 for l in range(K):
                     v = np.float64(lc[wi, wj, k, l]) if not sshb else 0.0
-                    if not v <= limit:
+                    if not v <= limit or (start >= 0 and k * K + l != start):
                         v = inf
                     prim[i, j, k, l] = v
                     sec[i, j, k, l] = v
@@ -275,12 +275,12 @@ if AVAILABLE:
                 src[i, j, k, l] = bz
 
     def fill(sshb, use_max, tie, closed, n, shift, lc, c, es, dku, dkv, area, d0u, d0v, t0, g0, gP, gQ, Mq, limit,
-             prim, sec, back, src):
+             start, prim, sec, back, src):
         """Twin of dp4d._fill_numpy: the whole table, anti-diagonal by anti-diagonal, the cells of a
         diagonal split over the cores."""
         ni, nj = prim.shape[0], prim.shape[1]
         K = prim.shape[2]
-        fast = not sshb and not use_max and not closed
+        fast = not sshb and not use_max and not closed and start < 0
         for d in range(ni + nj - 1):
             lo = max(0, d - nj + 1)
             hi = min(ni - 1, d) + 1
@@ -290,7 +290,8 @@ if AVAILABLE:
                     _fill_lsad_sum(n, shift, lc, limit, MOVES, d, lo, a, b, prim, sec, back, src)
                     return
                 _fill_cells(sshb, use_max, tie, closed, n, shift, lc, c, es, dku, dkv, area, d0u, d0v, t0, g0, gP, gQ,
-                            Mq, limit, MOVES, PATTERN_OF, DK_COL, DL_COL, ni, nj, d, lo, a, b, prim, sec, back, src)
+                            Mq, limit, start, MOVES, PATTERN_OF, DK_COL, DL_COL, ni, nj, d, lo, a, b, prim, sec, back,
+                            src)
             _run_chunks(run, (hi - lo) * K, 2 * K)
 else:  # pragma: no cover - exercised in FreeCAD's Python
     sshb_rulings = None

@@ -138,3 +138,13 @@ def test_max_error_forbids_costly_moves_or_says_what_is_achievable():
     assert res.max_cost <= best * 1.0001
     with pytest.raises(InfeasibleError, match="best achievable"):
         dp4d.solve(T, False, "sum", max_error=best * 0.5)
+
+
+def test_closed_start_can_be_fixed_and_then_always_has_a_path():
+    rng = np.random.default_rng(5)
+    n, K = 6, 5
+    lc = rng.uniform(0.1, 1.0, (n, n, K, K)).astype(np.float32)
+    T = dp4d.Tables(False, n, K, lc, start=2 * K + 2)
+    res = dp4d.solve_closed(T, "sum")
+    assert np.isfinite(res.score)
+    assert tuple(res.path[0, 2:]) == (2, 2) and tuple(res.path[-1, 2:]) == (2, 2)

@@ -59,9 +59,7 @@ def test_sshb_bounds_the_discrete_ruled_surface(name, rng):
         paths += [(_random_path(rng, n, 2 * m + 1), 0) for _ in range(2)]
     face = container_to_face(S)
     for path, shift in paths:
-        bound = dp4d.move_costs(T, path, 0).max()
-        if closed:  # unwrapped Q indices; the tables are read wrapped
-            bound = dp4d.move_costs(T, np.column_stack([path[:, 0], path[:, 1] - shift, path[:, 2:]]), shift).max()
+        bound = dp4d.move_costs(T, path).max()  # (closed: the path's Q indices include the shift)
         h = hausdorff(face, container_to_face(_discrete_surface(smp, path)), 40)
         assert bound >= h.max, (name, bound, h.max)
         if name != "random":  # (a random rational surface folds over itself: valid, but loose)
