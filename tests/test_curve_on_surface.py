@@ -1,0 +1,83 @@
+"""Curves on surfaces, domain side (Yang et al. §§3–4): pieces, single-sidedness, chord distance."""
+import numpy as np
+import pytest
+
+from cases import random_surface
+from ruled.curve_on_surface import bezier_eval, chord_distance, domain_pieces, span_tolerance
+from ruled.errors import BadInputError
+from ruled.nurbs import Curve, find_spans
+
+YANG_CURVE = Curve(np.array([(0.1, 0.1), (0.5, 1.8), (0.8, 0.1)]), [0, 0, 0, 1, 1, 1], 2)  # the paper's example
+
+
+def _random_domain_curve(rng, degree=3, n=7):
+    knots = np.concatenate([np.zeros(degree + 1), np.sort(rng.uniform(0.1, 0.9, n - degree - 1)),
+                            np.ones(degree + 1)])
+    return Curve(rng.uniform(0.05, 0.95, (n, 2)), knots, degree)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_pieces_cover_the_curve_stay_in_one_span_and_are_single_sided(seed):
+    rng = np.random.default_rng(seed)
+    S = random_surface(np.random.default_rng(4), pu=3, pv=3, nu=8, nv=7)
+    D = _random_domain_curve(rng)
+    pieces = domain_pieces(D, S)
+    assert pieces[0].t0 == D.domain[0] and pieces[-1].t1 == D.domain[1]
+    s = np.linspace(0.0, 1.0, 41)
+    for a, b in zip(pieces[:-1], pieces[1:]):
+        assert a.t1 == b.t0
+    for p in pieces:
+        X = bezier_eval(p.ctrl, s)
+        assert np.abs(X - D(p.t0 + s * (p.t1 - p.t0))).max() <= 1e-12
+        inner = X[1:-1]
+        su = find_spans(S.knots_u, S.degree_u, S.poles.shape[0], inner[:, 0])
+        sv = find_spans(S.knots_v, S.degree_v, S.poles.shape[1], inner[:, 1])
+        assert np.unique(su).size == 1 and np.unique(sv).size == 1
+        d = p.ctrl[-1] - p.ctrl[0]
+        cross = (X[:, 0] - p.ctrl[0, 0]) * d[1] - (X[:, 1] - p.ctrl[0, 1]) * d[0]
+        scale = np.abs(cross).max() + 1e-300
+        assert cross.min() >= -1e-9 * scale or cross.max() <= 1e-9 * scale
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_chord_distance_matches_brute_force(seed):
+    rng = np.random.default_rng(seed)
+    S = random_surface(np.random.default_rng(4), pu=3, pv=3, nu=8, nv=7)
+    for p in domain_pieces(_random_domain_curve(rng), S):
+        H, t = chord_distance(p.ctrl)
+        X = bezier_eval(p.ctrl, np.linspace(0, 1, 20001))
+        P0, d = p.ctrl[0], p.ctrl[-1] - p.ctrl[0]
+        s = np.clip((X - P0) @ d / (d @ d), 0, 1)
+        brute = np.linalg.norm(X - (P0 + s[:, None] * d), axis=1).max()
+        assert H >= brute - 1e-12 and H <= brute + 1e-7
+
+
+def test_yang_example_domain_curve_stays_one_single_sided_piece():
+    S = random_surface(np.random.default_rng(4), pu=2, pv=2, nu=3, nv=3)
+    pieces = domain_pieces(YANG_CURVE, S)
+    assert len(pieces) == 1  # a parabola arc lies on one side of its chord
+
+
+def test_span_tolerance_is_eps_over_the_derivative_bounds():
+    S = random_surface(np.random.default_rng(4), pu=3, pv=3, nu=8, nv=7, rational=True)
+    b = S.derivative_bounds()
+    d = span_tolerance(S, 1e-3, 0.5, 0.5, b)
+    iu = int(find_spans(S.knots_u, 3, 8, np.array([0.5]))[0]) - 3
+    iv = int(find_spans(S.knots_v, 3, 7, np.array([0.5]))[0]) - 3
+    assert d == pytest.approx(1e-3 / (b["Su"][iu, iv] + b["Sv"][iu, iv]))
+    # the bound holds: points d apart in the span map at most eps apart
+    rng = np.random.default_rng(0)
+    lo = np.array([S.knots_u[iu + 3], S.knots_v[iv + 3]])
+    hi = np.array([S.knots_u[iu + 4], S.knots_v[iv + 4]])
+    P = lo + rng.uniform(0, 1, (200, 2)) * (hi - lo)
+    ang = rng.uniform(0, 2 * np.pi, 200)
+    Q = np.clip(P + d * np.stack([np.cos(ang), np.sin(ang)], axis=1), lo, hi)
+    assert np.linalg.norm(S(P[:, 0], P[:, 1]) - S(Q[:, 0], Q[:, 1]), axis=1).max() <= 1e-3
+
+
+def test_rational_or_3d_domain_curves_are_refused():
+    S = random_surface(np.random.default_rng(4))
+    with pytest.raises(BadInputError):
+        domain_pieces(Curve(np.zeros((3, 2)) + 0.5, [0, 0, 0, 1, 1, 1], 2, weights=[1, 2, 1]), S)
+    with pytest.raises(BadInputError):
+        domain_pieces(Curve(np.zeros((3, 3)) + 0.5, [0, 0, 0, 1, 1, 1], 2), S)
