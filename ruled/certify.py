@@ -191,7 +191,7 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
     for rnd in range(rounds + 1):
         us, span_u = _knot_grid(S, "u", target_u, extra_u)
         vs, span_v = _knot_grid(S, "v", target_v, extra_v)
-        cert, cell, fc, rem = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u)
+        cert, cell, rem = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u)
         if best is None or cert.bound < best.bound:
             best = cert
         split = _cells_to_split(cert, cell, rem)
@@ -201,6 +201,11 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
         extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
         extra_v = np.concatenate([extra_v, 0.5 * (vs[iv] + vs[iv + 1])])
     return best
+
+
+def _corner_max(f: np.ndarray) -> np.ndarray:
+    """Per grid cell, the largest of the node values at its four corners."""
+    return np.maximum(np.maximum(f[:-1, :-1], f[1:, :-1]), np.maximum(f[:-1, 1:], f[1:, 1:]))
 
 
 def _cells_to_split(cert: Certificate, cell: np.ndarray, rem: np.ndarray):
@@ -345,9 +350,8 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R):
             for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
                 hit |= (lo <= sk + shift) & (hi >= sk + shift)
             rem = rem + np.where(hit, J * (dsu + dsv) / 4.0, 0.0)
-    fc = np.maximum(np.maximum(f[:-1, :-1], f[1:, :-1]), np.maximum(f[:-1, 1:], f[1:, 1:]))
-    cell = fc + rem
-    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, fc, rem
+    cell = _corner_max(f) + rem
+    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, rem
 
 
 def _curve_feet(S: Surface, Y: np.ndarray, u: np.ndarray, v: float, closed: bool, iters: int = 8) -> np.ndarray:
@@ -436,8 +440,7 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
         rem = (hs ** 2 * Rss_span[span_s][:, None]
                + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s + Mvv * dv_s ** 2
                + Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
-        fc = np.maximum(np.maximum(f[:-1, :-1], f[1:, :-1]), np.maximum(f[:-1, 1:], f[1:, 1:]))
-        cell = fc + rem
+        cell = _corner_max(f) + rem
         cert = Certificate(float(cell.max()), float(f.max()), float(rem.max()), (ns, nt))
         if best is None or cert.bound < best.bound:
             best = cert

@@ -14,7 +14,7 @@ from .certify import Certificate, certified_bound
 from .distance import ruling_distances
 from .errors import BadInputError, DegenerateFaceError, TooBigError
 from .nurbs import Surface
-from .reparam import (Boundaries, Pairing, exact_boundaries, fit_boundaries, fit_delta, refine_pairing,
+from .reparam import (Boundaries, Pairing, delta_coefs, exact_boundaries, fit_boundaries, fit_delta, refine_pairing,
                       ruled_surface)
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
@@ -262,7 +262,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
         sig = sp[0] + np.arange(G) / G if closed else np.linspace(0, 1, G)
         dlt = np.interp(sig, sp, 0.5 * (ab[:, 1] - ab[:, 0]))
         rc = ruling_distances(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)[1]
-    n_coef = int(min(max(8, n // 2 + 4), 48))
+    n_coef = delta_coefs(n)
     pairing = fit_delta(sig, dlt, closed, n_coef)
     T["refine"] = time.perf_counter() - t0
     # rebuild

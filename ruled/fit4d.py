@@ -35,7 +35,7 @@ from .fit import (GRID_FINE, DirectionFit, FitOptions, FitResult, Method, Metric
                   fit_surface, memory_budget)
 from .metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
 from .nurbs import Surface, bspline_basis_matrix
-from .reparam import _GOLD, fit_boundaries, fit_delta, ruled_surface
+from .reparam import _GOLD, delta_coefs, fit_boundaries, fit_delta, ruled_surface
 from .sampling import elevated_samples, unit_normals
 
 DEFAULT_LEVELS = 10          # m: 21 elevation levels
@@ -202,7 +202,7 @@ def _rebuild(So: Surface, path: np.ndarray, smp, n: int, closed: bool, tol: floa
     G = max(2 * n, 64)
     sig = sig_p[0] + np.arange(G) / G if closed else np.linspace(0.0, 1.0, G)
     dlt = np.interp(sig, sig_p, del_p)
-    pairing = fit_delta(sig, dlt, closed, int(min(max(8, n // 2 + 4), 48)))
+    pairing = fit_delta(sig, dlt, closed, delta_coefs(n))
     lev = smp.levels
     # elevation per boundary sample, in the path's (unwrapped) parameters
     xa, ia = np.unique(ab[:, 0], return_index=True)
@@ -223,7 +223,7 @@ def _rebuild(So: Surface, path: np.ndarray, smp, n: int, closed: bool, tol: floa
         if refine:
             f0 = f1
             dlt, eA, eB, f1 = refine_rulings(So, sig, dlt, eA, eB, closed, h, smp.tau)
-            pairing = fit_delta(sig, dlt, closed, int(min(max(8, n // 2 + 4), 48)))
+            pairing = fit_delta(sig, dlt, closed, delta_coefs(n))
             info = {"lift_refined": True, "model_max_before": float(f0.max()), "model_max_after": float(f1.max())}
         curves = (sig, dlt, f1, eA, eB)
         ga = _smooth_lift(sig, eA, closed, nc)

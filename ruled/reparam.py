@@ -121,6 +121,11 @@ def _clamped_knots(n_coef: int, p: int, a: float, b: float) -> np.ndarray:
     return np.concatenate([np.full(p + 1, a), inner, np.full(p + 1, b)])
 
 
+def delta_coefs(n: int) -> int:
+    """Coefficients of the smooth pairing delta(sigma) for n boundary samples."""
+    return int(min(max(8, n // 2 + 4), 48))
+
+
 def fit_delta(sig: np.ndarray, delta: np.ndarray, closed: bool, n_coef: int, eps: float = 0.01,
               weights: Optional[np.ndarray] = None) -> Pairing:
     """Least-squares cubic delta(sigma) with |delta'| <= 1 - eps (strictly monotone pairing)."""
