@@ -4,6 +4,8 @@
     ruled fit INPUT --face K [--method 2d|4d] [--samples N] [--objective sum|max]
               [--max-error E] [--direction auto|u|v] [--elevations M] [--step TAU]
               [--metric lsad|sshb] [--memory-cap MB] -o OUTPUT.step [--report R.json] [--plot P.png]
+    ruled curve-on-surface INPUT --face K (--uv "u0,v0;u1,v1;..." | --uv-curve CURVE.json)
+              [--tol EPS] [--angle DEG] -o OUTPUT.step [--report R.json]
     ruled demo
 
 Every error a user can cause ends in one line on stderr and exit code 2.
@@ -31,7 +33,7 @@ def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="ruled", description="Optimal ruled-surface fitting for CAD faces "
                                 "(wire EDM, flank milling, hot-wire cutting).")
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
-    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser, metavar="{faces,fit,demo}")
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser, metavar="{faces,fit,curve-on-surface,demo}")
     f = sub.add_parser("faces", help="list the faces of a STEP/BREP file")
     f.add_argument("input")
     g = sub.add_parser("fit", help="fit the best ruled surface to one face")
@@ -61,6 +63,24 @@ def _parser() -> argparse.ArgumentParser:
     g.add_argument("--plot", help="PNG plot of the pairing and the error per ruling")
     g.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")
     g.add_argument("--quiet", action="store_true", help="no progress bars")
+    c = sub.add_parser("curve-on-surface", help="a low-degree curve lying exactly on a face, within a tolerance "
+                       "of the image of a (u, v) curve (Yang et al.)")
+    c.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    c.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    src = c.add_mutually_exclusive_group(required=True)
+    src.add_argument("--uv", help='a polyline in the face\'s (u, v): "u0,v0;u1,v1;..."')
+    src.add_argument("--uv-curve", help='JSON B-spline in (u, v): {"degree": p, "knots": [...], "points": '
+                     '[[u, v], ...], "weights": [optional]}')
+    c.add_argument("--tol", type=float, default=1e-3,
+                   help="distance tolerance to the exact image, model units (default 0.001)")
+    c.add_argument("--angle", type=float, default=1.0, help="angle tolerance at the joints, degrees (default 1)")
+    c.add_argument("--bound", choices=["local", "span"], default="local",
+                   help="2D tolerance rule: local (derivative bounds over each piece's box, default) or span "
+                        "(the paper's eq. 12 over the whole knot span)")
+    c.add_argument("-o", "--output", required=True, help="STEP file for the curve (one edge)")
+    c.add_argument("--report", help="JSON report")
+    c.add_argument("--measure-samples", type=int, default=2000, help="samples of each curve for the measure")
+    c.add_argument("--quiet", action="store_true", help="no progress bars")
     d = sub.add_parser("demo", help="fit a bundled example; files go to ./ruled-demo/")
     d.add_argument("--quiet", action="store_true")
     return p
@@ -170,6 +190,109 @@ def cmd_fit(args) -> int:
     return 0
 
 
+def _load_domain_curve(uv, uv_curve):
+    import json
+
+    from .curve_on_surface import domain_curve_from_json, parse_uv
+    if uv is not None:
+        return parse_uv(uv), {"kind": "polyline", "text": uv}
+    if not os.path.isfile(uv_curve):
+        raise RuledError(f"{uv_curve}: no such file; give a JSON curve file")
+    try:
+        with open(uv_curve) as f:
+            d = json.load(f)
+    except (OSError, ValueError) as exc:
+        raise RuledError(f"{uv_curve}: cannot read it as JSON ({exc})") from None
+    return domain_curve_from_json(d), {"kind": "bspline", "file": os.path.abspath(uv_curve)}
+
+
+def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=None, uv_curve=None, tol=1e-3,
+                         angle=1.0, bound="local", report=None, measure_samples=2000, quiet=False) -> dict:
+    """Read a face, approximate the image of a (u, v) curve by a curve lying on it exactly, build
+    the edge (3D curve and pcurve), measure it with OCCT, write STEP. Returns the report dict."""
+    from .curve_on_surface import approximate, sampled_error
+    from .occ.convert import (container_to_bspline, container_to_face, curve2d_to_bspline, curve_to_bspline,
+                              edge_on_face, face_surface_type, face_to_container)
+    from .occ.io import get_face, write_step
+    from .occ.measure import curve_on_surface_measure
+    from .progress import Bar
+    from .report import write_report
+
+    if measure_samples < 2:
+        raise RuledError("--measure-samples must be at least 2")
+    for path in (output, report):
+        if path:
+            d = os.path.dirname(os.path.abspath(path))
+            if not os.path.isdir(d):
+                raise RuledError(f"cannot write {path}: folder {d} does not exist")
+    D, dom = _load_domain_curve(uv, uv_curve)
+    t0 = time.perf_counter()
+    face = get_face(input_path, face_index)
+    S = face_to_container(face)
+    warnings = []
+    kind = face_surface_type(face)
+    host = face
+    if kind != "bspline":
+        warnings.append(f"face {face_index} is a {kind}; (u, v) are taken in its B-spline conversion's parameters, "
+                        f"and the pcurve lies on that converted surface")
+        host = container_to_face(S)
+    for w in warnings:
+        print(f"ruled: warning: {w}", file=sys.stderr)
+    t_read = time.perf_counter() - t0
+    bar = Bar(enabled=not quiet and sys.stderr.isatty())
+    t1 = time.perf_counter()
+    try:
+        res = approximate(S, D, tol, angle, bound=bound, progress=bar)
+    finally:
+        bar.done()
+    t_fit = time.perf_counter() - t1
+    own = sampled_error(S, D, res)
+    t2 = time.perf_counter()
+    edge = edge_on_face(res.curve, res.pcurve, host)
+    write_step([edge], output)
+    t_write = time.perf_counter() - t2
+    t3 = time.perf_counter()
+    if not quiet and sys.stderr.isatty():
+        print(f"  measuring against the exact image with OCCT ({measure_samples} samples per curve)", file=sys.stderr)
+    m = curve_on_surface_measure(container_to_bspline(S), curve2d_to_bspline(D), curve_to_bspline(res.curve),
+                                 measure_samples, curve2d_to_bspline(res.pcurve))
+    t_meas = time.perf_counter() - t3
+    rep = {
+        "version": __version__, "input": os.path.abspath(input_path), "face": face_index, "domain_curve": dom,
+        "tol": res.tol, "angle_deg": res.angle_deg, "bound_rule": res.bound_rule,
+        "segments": res.segments, "segments_after_distance": res.distance_segments, "degree": res.degree,
+        "control_points": res.control_points, "closed": res.closed,
+        "error_bound": res.error_bound, "hausdorff": m.hausdorff,
+        "hausdorff_detail": {"result_to_exact": m.result_to_exact, "exact_to_result": m.exact_to_result,
+                             "samples": m.samples, "engine_sampled": own["hausdorff"]},
+        "max_distance_to_surface": m.on_surface, "max_joint_angle_deg": m.max_joint_angle_deg(res.angle_deg),
+        "engine_max_joint_angle_deg": res.max_joint_angle_deg,
+        "corners": [{"t": t, "angle_deg": a, "exact_image_angle_deg": e} for t, a, e in m.corners(res.angle_deg)],
+        "timings": {"read": t_read, "approximate": t_fit, "build_and_write": t_write, "measure": t_meas},
+        "notes": res.notes, "warnings": warnings,
+    }
+    for note in res.notes:
+        print(f"ruled: {note}", file=sys.stderr)
+    if report:
+        write_report(rep, report)
+    return rep
+
+
+def cmd_curve_on_surface(args) -> int:
+    rep = run_curve_on_surface(args.input, args.face, args.output, uv=args.uv, uv_curve=args.uv_curve, tol=args.tol,
+                               angle=args.angle, bound=args.bound, report=args.report,
+                               measure_samples=args.measure_samples, quiet=args.quiet)
+    print(f"face {rep['face']}: {rep['segments']} segments of degree {rep['degree']} "
+          f"({rep['control_points']} control points){' closed' if rep['closed'] else ''}, on the surface to "
+          f"{rep['max_distance_to_surface']:.2g}")
+    print(f"error bound {rep['error_bound']:.6g} (tolerance {rep['tol']:.6g})   measured Hausdorff to the exact image "
+          f"{rep['hausdorff']:.6g}   largest joint angle {rep['max_joint_angle_deg']:.3g} deg")
+    print(f"STEP:   {os.path.abspath(args.output)}")
+    if args.report:
+        print(f"report: {os.path.abspath(args.report)}")
+    return 0
+
+
 def cmd_demo(args) -> int:
     from .examples import elber_ex2
     from .occ.convert import container_to_face
@@ -189,7 +312,8 @@ def cmd_demo(args) -> int:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
-        return {"faces": cmd_faces, "fit": cmd_fit, "demo": cmd_demo}[args.cmd](args)
+        return {"faces": cmd_faces, "fit": cmd_fit, "curve-on-surface": cmd_curve_on_surface,
+                "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:
         print(f"ruled: error: {exc}", file=sys.stderr)
         return 2

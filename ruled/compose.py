@@ -23,18 +23,33 @@ from .knots import clamp_segment
 from .nurbs import Curve, Surface, find_spans
 
 
-def _blossom_net(b: np.ndarray, x0: float, x1: float) -> np.ndarray:
-    """Bézier control points (axis 0) of the same polynomial on [x0, x1] (x0 > x1 reverses it, x0 = x1
-    collapses it), by blossoming: point k is the blossom at (x0 repeated p - k times, x1 k times)."""
-    p = b.shape[0] - 1
-    out = np.empty_like(b)
-    for k in range(p + 1):
-        c = b.copy()
-        for r in range(p):
-            x = x0 if r < p - k else x1
-            c = (1.0 - x) * c[:-1] + x * c[1:]
-        out[k] = c[0]
-    return out
+def restrict_matrices(p: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Stacked matrices R (N, p + 1, p + 1): the Bernstein coefficients of a degree-p polynomial on
+    [a, b] are R @ its coefficients on [0, 1] (a > b reverses, a = b collapses).  Blossoming: row
+    k is the blossom at (a repeated p - k times, b k times)."""
+    a = np.atleast_1d(np.asarray(a, float))
+    b = np.atleast_1d(np.asarray(b, float))
+    c = np.broadcast_to(np.eye(p + 1), (a.shape[0], p + 1, p + 1, p + 1)).copy()   # (n, k, control, basis)
+    ks = np.arange(p + 1)
+    for r in range(p):
+        x = np.where(r < p - ks[None, :], a[:, None], b[:, None])[:, :, None, None]
+        c = (1 - x) * c[:, :, :-1] + x * c[:, :, 1:]
+    return c[:, :, 0, :]
+
+
+_DIAG: dict = {}
+
+
+def _diagonal(p: int, q: int) -> np.ndarray:
+    """C (p + q + 1, p + 1, q + 1): R_m = sum_kl C[m, k, l] Q_kl along the diagonal of a patch."""
+    C = _DIAG.get((p, q))
+    if C is None:
+        C = np.zeros((p + q + 1, p + 1, q + 1))
+        for k in range(p + 1):
+            for m in range(q + 1):
+                C[k + m, k, m] = comb(p, k) * comb(q, m) / comb(p + q, k + m)
+        _DIAG[(p, q)] = C
+    return C
 
 
 def span_patch(S: Surface, u: float, v: float):
@@ -54,6 +69,17 @@ def span_patch(S: Surface, u: float, v: float):
     return net, (float(ua), float(ub)), (float(va), float(vb))
 
 
+def compose_stack(nets: np.ndarray, lo: np.ndarray, hi: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Homogeneous Bézier control points (N, p + q + 1, 4) of the images of the segments a -> b (N, 2)
+    under the Bézier patches with homogeneous nets (N, p + 1, q + 1, 4) over [lo, hi] (N, 2)."""
+    p, q = nets.shape[1] - 1, nets.shape[2] - 1
+    sa = (a - lo) / (hi - lo)
+    sb = (b - lo) / (hi - lo)
+    Q = np.einsum("nia,nabk,njb->nijk", restrict_matrices(p, sa[:, 0], sb[:, 0]), nets,
+                  restrict_matrices(q, sa[:, 1], sb[:, 1]))
+    return np.einsum("mkl,nklc->nmc", _diagonal(p, q), Q)
+
+
 def compose_segment(S: Surface, a, b) -> Curve:
     """The exact image S(l(t)) of the domain segment from a = (u, v) to b as a Bézier curve of
     degree p + q (rational when S is).  The segment must lie in one knot-span rectangle."""
@@ -66,15 +92,8 @@ def compose_segment(S: Surface, a, b) -> Curve:
         if x < lo - tol or x > hi + tol:
             raise BadInputError(f"the segment {a.tolist()} -> {b.tolist()} crosses a knot line of the surface; "
                                 f"split it at the knots first")
-    su = ((a[0] - ua) / (ub - ua), (b[0] - ua) / (ub - ua))
-    sv = ((a[1] - va) / (vb - va), (b[1] - va) / (vb - va))
-    Q = _blossom_net(net, *su)                                           # along u (axis 0)
-    Q = _blossom_net(Q.transpose(1, 0, 2), *sv).transpose(1, 0, 2)        # along v
     p, q = S.degree_u, S.degree_v
-    R = np.zeros((p + q + 1, 4))
-    for k in range(p + 1):
-        for m in range(q + 1):
-            R[k + m] += comb(p, k) * comb(q, m) / comb(p + q, k + m) * Q[k, m]
+    R = compose_stack(net[None], np.array([[ua, va]]), np.array([[ub, vb]]), a[None], b[None])[0]
     d = p + q
     knots = np.concatenate([np.zeros(d + 1), np.ones(d + 1)])
     w = R[:, 3]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .nurbs import Surface
+from .nurbs import Curve, Surface
 
 # rows are the v direction, points within a row the u direction
 EX1_ROWS = [
@@ -41,3 +41,19 @@ def elber_ex2() -> Surface:
 
 
 EXAMPLES = {"ex1": elber_ex1, "ex2": elber_ex2}
+
+
+# Yang et al. 2008, first example: a biquadratic Bézier patch (P_ij, i along u, j along v) and a
+# quadratic Bézier domain curve
+YANG_NET = [[(0, 2, -1), (2.5, 1, 0), (1, 0, 1.5)],
+            [(1, 1, -2), (1, 0, -0.5), (2.5, -1, 0)],
+            [(1, 0, -3), (1, -1, -2), (-0.51, -2, -1)]]
+YANG_CURVE = [(0.1, 0.1), (0.5, 1.8), (0.8, 0.1)]
+
+
+def yang_surface() -> Surface:
+    return Surface(np.array(YANG_NET, dtype=float), [0, 0, 0, 1, 1, 1], [0, 0, 0, 1, 1, 1], 2, 2)
+
+
+def yang_curve() -> Curve:
+    return Curve(np.array(YANG_CURVE, dtype=float), [0, 0, 0, 1, 1, 1], 2)

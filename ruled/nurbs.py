@@ -149,7 +149,7 @@ class Curve:
     weights: Optional[np.ndarray] = None
     periodic: bool = False
     _hom: np.ndarray = field(default=None, repr=False, compare=False)
-    _tab: np.ndarray = field(default=None, repr=False, compare=False)
+    _tab_cache: np.ndarray = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         P = _as_f64(self.poles)
@@ -163,7 +163,13 @@ class Curve:
         _check_knots(self.knots, self.degree, self.poles.shape[0], "curve")
         w = np.ones(P.shape[0]) if self.weights is None else self.weights
         object.__setattr__(self, "_hom", np.ascontiguousarray(np.concatenate([P * w[:, None], w[:, None]], axis=1)))
-        object.__setattr__(self, "_tab", taylor_table(self.knots, self.degree) if kernels.AVAILABLE else None)
+
+    @property
+    def _tab(self):
+        """Taylor table of the numba evaluator, built on first use."""
+        if self._tab_cache is None and kernels.AVAILABLE:
+            object.__setattr__(self, "_tab_cache", taylor_table(self.knots, self.degree))
+        return self._tab_cache
 
     @property
     def domain(self) -> tuple[float, float]:

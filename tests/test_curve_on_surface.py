@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 from cases import random_surface
-from ruled.curve_on_surface import bezier_eval, chord_distance, domain_pieces, span_tolerance
+from ruled.curve_on_surface import (Piece, _roots01, bezier_eval, chord_distance, domain_pieces, single_sided,
+                                   span_tolerance)
 from ruled.errors import BadInputError
 from ruled.nurbs import Curve, find_spans
 
@@ -75,9 +76,53 @@ def test_span_tolerance_is_eps_over_the_derivative_bounds():
     assert np.linalg.norm(S(P[:, 0], P[:, 1]) - S(Q[:, 0], Q[:, 1]), axis=1).max() <= 1e-3
 
 
-def test_rational_or_3d_domain_curves_are_refused():
+def test_bad_domain_curves_are_refused():
     S = random_surface(np.random.default_rng(4))
-    with pytest.raises(BadInputError):
-        domain_pieces(Curve(np.zeros((3, 2)) + 0.5, [0, 0, 0, 1, 1, 1], 2, weights=[1, 2, 1]), S)
-    with pytest.raises(BadInputError):
+    with pytest.raises(BadInputError, match="positive weights"):
+        domain_pieces(Curve(np.zeros((3, 2)) + 0.5, [0, 0, 0, 1, 1, 1], 2, weights=[1, -2, 1]), S)
+    with pytest.raises(BadInputError, match="2D"):
         domain_pieces(Curve(np.zeros((3, 3)) + 0.5, [0, 0, 0, 1, 1, 1], 2), S)
+    with pytest.raises(BadInputError, match="reaches v = 1.2"):
+        domain_pieces(Curve(np.array([(0.2, 0.2), (0.5, 1.2)]), [0, 0, 1, 1], 1), S)
+    # control points outside the domain but the curve inside it is accepted (exact coordinate range)
+    domain_pieces(Curve(np.array([(0.2, 0.1), (0.5, 1.02), (0.8, 0.1)]), [0, 0, 0, 1, 1, 1], 2), S)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_rational_piece_chord_distance_matches_brute_force(seed):
+    rng = np.random.default_rng(seed)
+    ctrl = rng.uniform(0, 1, (4, 2))
+    w = rng.uniform(0.3, 3.0, 4)
+    for p in single_sided(Piece(np.concatenate([ctrl * w[:, None], w[:, None]], axis=1), 0.0, 1.0)):
+        H, t = chord_distance(p.ctrl, p.hom[:, 2])
+        X = bezier_eval(p.hom, np.linspace(0, 1, 20001))
+        X = X[:, :2] / X[:, 2:]
+        P0, d = X[0], X[-1] - X[0]
+        s = np.clip((X - P0) @ d / (d @ d), 0, 1)
+        brute = np.linalg.norm(X - (P0 + s[:, None] * d), axis=1).max()
+        assert H >= brute - 1e-12 and H <= brute + 1e-7
+
+
+def test_roots_in_the_unit_interval_match_numpy():
+    rng = np.random.default_rng(0)
+    P = rng.normal(size=(300, 6))
+    P[:40, -1] = 0.0      # lower degree rows
+    P[40:60, -2:] = 0.0
+    R = _roots01(P)
+    for row, r in zip(P, R):
+        k = np.max(np.nonzero(row)[0])
+        ref = np.roots(row[:k + 1][::-1])
+        ref = np.sort(ref[(np.abs(ref.imag) < 1e-9) & (ref.real > 1e-9) & (ref.real < 1 - 1e-9)].real)
+        got = np.sort(r[np.isfinite(r)])
+        assert got.shape == ref.shape and np.allclose(got, ref, atol=1e-10)
+
+
+def test_knot_line_crossings_are_exact():
+    S = random_surface(np.random.default_rng(4), pu=3, pv=3, nu=8, nv=7)
+    D = _random_domain_curve(np.random.default_rng(9))
+    ku, kv = set(S.interior_knots("u").tolist()), set(S.interior_knots("v").tolist())
+    hits = 0
+    for p in domain_pieces(D, S):
+        for x in (p.ctrl[0], p.ctrl[-1]):
+            hits += (x[0] in ku) + (x[1] in kv)
+    assert hits >= 4

@@ -27,7 +27,11 @@ SCRIPT = textwrap.dedent("""
         D = S.evaluate(u, v, 2)
         r = fit_surface(elber_ex1(), FitOptions(samples=16))
         r4 = fit_surface(elber_ex2(), FitOptions(samples=12, method="4d", elevations=3, metric="sshb"))
-        out = {{"np": np.__version__, "scipy": scipy.__version__, "numba": kernels.AVAILABLE,
+        from ruled.curve_on_surface import approximate
+        from ruled.examples import yang_surface, yang_curve
+        c = approximate(yang_surface(), yang_curve(), 1e-3, 1.0)
+        out = {{"cos": [c.segments, c.error_bound, c.max_joint_angle_deg, c.curve.poles.tolist()],
+               "np": np.__version__, "scipy": scipy.__version__, "numba": kernels.AVAILABLE,
                "P": D.P.tolist(), "Suu": D.Suu.tolist(), "pairs": r.best.pairs.tolist(),
                "bound": r.error_bound, "direction": r.direction,
                "pairs4": r4.best.pairs.tolist(), "bound4": r4.error_bound, "method4": r4.best.method}}
@@ -73,3 +77,11 @@ def test_same_numbers_in_freecad_python(tmp_path):
     assert fc["method4"] == r4.best.method
     assert fc["pairs4"] == r4.best.pairs.tolist()
     assert abs(fc["bound4"] - r4.error_bound) <= 1e-6 * r4.error_bound
+    # curves on surfaces: the same segments, bound and curve
+    from ruled.curve_on_surface import approximate
+    from ruled.examples import yang_curve, yang_surface
+    c = approximate(yang_surface(), yang_curve(), 1e-3, 1.0)
+    segs, bound, angle, poles = fc["cos"]
+    assert segs == c.segments
+    assert abs(bound - c.error_bound) <= 1e-9 * c.error_bound and abs(angle - c.max_joint_angle_deg) <= 1e-9
+    assert np.abs(np.array(poles) - c.curve.poles).max() <= 1e-12

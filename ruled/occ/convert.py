@@ -11,12 +11,13 @@ import numpy as np
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeEdge
 from OCP.BRepTools import BRepTools
-from OCP.BRep import BRep_Tool
+from OCP.BRep import BRep_Builder, BRep_Tool
 from OCP.Geom import Geom_BSplineSurface, Geom_BSplineCurve, Geom_RectangularTrimmedSurface
+from OCP.Geom2d import Geom2d_BSplineCurve
 from OCP.GeomAbs import GeomAbs_SurfaceType
 from OCP.GeomConvert import GeomConvert
-from OCP.gp import gp_Pnt
-from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array2OfPnt
+from OCP.gp import gp_Pnt, gp_Pnt2d
+from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array1OfPnt2d, TColgp_Array2OfPnt
 from OCP.TColStd import (TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal)
 from OCP.TopoDS import TopoDS_Face
 
@@ -151,8 +152,8 @@ def container_to_bspline(s: Surface) -> Geom_BSplineSurface:
     pu, pv = s.degree_u, s.degree_v
     ku, mu = _compress(s.knots_u)
     kv, mv = _compress(s.knots_v)
-    per_u = s.periodic_u and _is_unwrapped_periodic(s.knots_u, pu)
-    per_v = s.periodic_v and _is_unwrapped_periodic(s.knots_v, pv)
+    per_u = s.periodic_u and _is_unwrapped_periodic(s.knots_u, pu) and _wraps(poles, weights, pu, 0)
+    per_v = s.periodic_v and _is_unwrapped_periodic(s.knots_v, pv) and _wraps(poles, weights, pv, 1)
     if per_u:
         poles, weights, ku, mu = _to_occt_periodic(poles, weights, s.knots_u, pu, axis=0)
     if per_v:
@@ -171,6 +172,20 @@ def container_to_bspline(s: Surface) -> Geom_BSplineSurface:
 def _is_unwrapped_periodic(knots: np.ndarray, p: int) -> bool:
     # clamped containers (read from OCCT) are evaluated as they are
     return not (np.all(knots[: p + 1] == knots[0]) and np.all(knots[-p - 1:] == knots[-1]))
+
+
+def _wraps(poles, weights, p, axis) -> bool:
+    """Our unwrapped periodic storage repeats the first p poles at the end.  OCCT's own non-periodic
+    form of a periodic surface (SetNotPeriodic, also unclamped) does not: it is kept as it is."""
+    n = poles.shape[axis]
+    if p == 0 or n <= p:
+        return False
+    head, tail = np.take(poles, np.arange(p), axis=axis), np.take(poles, np.arange(n - p, n), axis=axis)
+    if weights is not None:
+        hw, tw = np.take(weights, np.arange(p), axis=axis), np.take(weights, np.arange(n - p, n), axis=axis)
+        if not np.array_equal(hw, tw):
+            return False
+    return bool(np.array_equal(head, tail))
 
 
 def _to_occt_periodic(poles, weights, knots, p, axis):
@@ -210,6 +225,32 @@ def curve_to_bspline(c: Curve) -> Geom_BSplineCurve:
     if c.weights is None:
         return Geom_BSplineCurve(P, _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
     return Geom_BSplineCurve(P, _arr1(c.weights), _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
+
+
+def curve2d_to_bspline(c: Curve) -> Geom2d_BSplineCurve:
+    """A 2D (u, v) curve container as a Geom2d_BSplineCurve (a domain curve or a pcurve)."""
+    k, m = _compress(c.knots)
+    n = c.poles.shape[0]
+    P = TColgp_Array1OfPnt2d(1, n)
+    for i in range(n):
+        P.SetValue(i + 1, gp_Pnt2d(float(c.poles[i, 0]), float(c.poles[i, 1])))
+    if c.weights is None:
+        return Geom2d_BSplineCurve(P, _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
+    return Geom2d_BSplineCurve(P, _arr1(c.weights), _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
+
+
+def edge_on_face(curve: Curve, pcurve: Curve, face: TopoDS_Face, tol: float = 1e-7):
+    """An edge with the 3D curve and its pcurve on the face (the same parameter: curve(t) is the
+    face's surface at pcurve(t)), so it can split or bound the face."""
+    mk = BRepBuilderAPI_MakeEdge(curve_to_bspline(curve))
+    if not mk.IsDone():
+        raise BadInputError("could not build an edge from the curve")
+    edge = mk.Edge()
+    b = BRep_Builder()
+    b.UpdateEdge(edge, curve2d_to_bspline(pcurve), face, tol)
+    b.SameParameter(edge, True)
+    b.SameRange(edge, True)
+    return edge
 
 
 def segment_edge(a, b):
