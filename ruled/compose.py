@@ -19,7 +19,7 @@ from math import comb
 import numpy as np
 
 from .errors import BadInputError
-from .knots import clamp_segment
+from .knots import span_bezier
 from .nurbs import Curve, Surface, find_spans
 
 
@@ -61,11 +61,8 @@ def span_patch(S: Surface, u: float, v: float):
     iv = int(find_spans(S.knots_v, pv, nv, np.array([v]))[0])
     ua, ub = S.knots_u[iu], S.knots_u[iu + 1]
     va, vb = S.knots_v[iv], S.knots_v[iv + 1]
-    H = S._hom  # (nu, nv, 4)
-    Cu = clamp_segment(Curve(H.reshape(nu, -1), S.knots_u, pu), ua, ub)
-    Hu = Cu.poles.reshape(pu + 1, nv, 4).transpose(1, 0, 2).reshape(nv, -1)
-    Cv = clamp_segment(Curve(Hu, S.knots_v, pv), va, vb)
-    net = Cv.poles.reshape(pv + 1, pu + 1, 4).transpose(1, 0, 2)
+    rows = span_bezier(S._hom, S.knots_u, pu, iu)                          # (pu + 1, nv, 4)
+    net = span_bezier(rows.transpose(1, 0, 2), S.knots_v, pv, iv).transpose(1, 0, 2)
     return net, (float(ua), float(ub)), (float(va), float(vb))
 
 

@@ -32,7 +32,7 @@ import numpy as np
 
 from .compose import compose_stack, restrict_matrices, span_patch
 from .errors import BadInputError, TooBigError
-from .knots import clamp_segment
+from .knots import span_bezier
 from .nurbs import Curve, Surface, find_spans
 
 Progress = Optional[Callable[[str, float], None]]
@@ -267,8 +267,9 @@ def domain_pieces(D: Curve, S: Surface) -> list[Piece]:
     tol = 1e-9 * max(u1 - u0, v1 - v0)
     knots = (np.unique(S.interior_knots("u")), np.unique(S.interior_knots("v")))
     out = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        hom = clamp_segment(D, a, b)._hom.copy()
+    spans = find_spans(D.knots, D.degree, D.poles.shape[0], 0.5 * (edges[:-1] + edges[1:]))
+    for a, b, i in zip(edges[:-1], edges[1:], spans):
+        hom = span_bezier(D._hom, D.knots, D.degree, int(i))
         ts, snap = [], []
         for ax, (dlo, dhi), name in ((0, (u0, u1), "u"), (1, (v0, v1), "v")):
             cmin, cmax = _coord_range(hom, ax)

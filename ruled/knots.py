@@ -29,6 +29,22 @@ def insert_knot(C: Curve, u: float, times: int = 1) -> Curve:
     return Curve(P[:, :-1] / w[:, None], k, p, weights, C.periodic)
 
 
+def span_bezier(H: np.ndarray, knots: np.ndarray, p: int, i: int) -> np.ndarray:
+    """Bézier coefficients (p + 1, ...) of the spline with coefficients H (n, ...) on its knot span
+    [knots[i], knots[i + 1]] (non-empty): coefficient k is the blossom at (knots[i] p - k times,
+    knots[i + 1] k times), by de Boor's triangle, all k at once."""
+    a, b = knots[i], knots[i + 1]
+    ks = np.arange(p + 1)
+    d = np.broadcast_to(H[i - p: i + 1], (p + 1,) + H[i - p: i + 1].shape).astype(float)   # (k, j, ...)
+    extra = (1,) * (H.ndim - 1)
+    for r in range(1, p + 1):
+        j = np.arange(i - p + r, i + 1)
+        x = np.where(r - 1 < p - ks, a, b)[:, None]
+        alpha = ((x - knots[j]) / (knots[j + p + 1 - r] - knots[j])).reshape((p + 1, j.size) + extra)
+        d = (1 - alpha) * d[:, :-1] + alpha * d[:, 1:]
+    return d[:, 0]
+
+
 def knot_multiplicity(knots: np.ndarray, u: float, tol: float = 0.0) -> int:
     return int(np.sum(np.abs(knots - u) <= tol))
 
