@@ -104,6 +104,23 @@ def bench_cos(repeat: int = 7) -> None:
         h = sampled_error(E, C, r)["hausdorff"]
         print(f"  angle {ang:4g}: {r.segments:5d} segments ({r.control_points} control points), bound "
               f"{r.error_bound:.3g}, measured {h:.3g}, {1e3 * t:7.1f} ms, ratio to 100 ms {t / 0.1:5.2f}")
+    import os
+    import subprocess
+    import sys
+    here = os.path.dirname(os.path.abspath(__file__))
+    code = f"import sys; sys.path[:0] = [{here!r}, {os.path.dirname(here)!r}]; from cos import numpy_times; numpy_times()"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ, "RULED_NO_NUMBA": "1"})
+    print(out.stdout.rstrip() or out.stderr[-500:])
+
+
+def numpy_times(repeat: int = 5) -> None:
+    """The two timing targets on the NumPy path alone (run with RULED_NO_NUMBA=1, as FreeCAD's Python)."""
+    S, D = yang_surface(), yang_curve()
+    E, C = ear_like_surface(), star_curve()
+    t1 = _best_time(lambda: approximate(S, D, 1e-3, 10.0), repeat)
+    t2 = _best_time(lambda: approximate(E, C, 1e-3, 1.0), max(2, repeat // 2))
+    print(f"  NumPy only (no numba): first example {1e3 * t1:.2f} ms, 19x19 at 1 degree {1e3 * t2:.1f} ms")
 
 
 def _chord_error_uniform(S, D, k: int) -> float:

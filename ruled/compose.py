@@ -66,15 +66,27 @@ def span_patch(S: Surface, u: float, v: float):
     return net, (float(ua), float(ub)), (float(va), float(vb))
 
 
+def sandwich(Ru: np.ndarray, net: np.ndarray, Rv: np.ndarray) -> np.ndarray:
+    """Ru @ net @ Rv^T per patch and coordinate: (N, a, i), (N, i, j, k), (N, b, j) -> (N, a, b, k), summed
+    in order (as the numba kernels do)."""
+    X = np.zeros((net.shape[0], Ru.shape[1], net.shape[2], net.shape[3]))
+    for i in range(net.shape[1]):
+        X += Ru[:, :, i, None, None] * net[:, None, i]
+    out = np.zeros((net.shape[0], Ru.shape[1], Rv.shape[1], net.shape[3]))
+    for j in range(net.shape[2]):
+        out += X[:, :, None, j] * Rv[:, None, :, j, None]
+    return out
+
+
 def compose_stack(nets: np.ndarray, lo: np.ndarray, hi: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Homogeneous Bézier control points (N, p + q + 1, 4) of the images of the segments a -> b (N, 2)
     under the Bézier patches with homogeneous nets (N, p + 1, q + 1, 4) over [lo, hi] (N, 2)."""
     p, q = nets.shape[1] - 1, nets.shape[2] - 1
     sa = (a - lo) / (hi - lo)
     sb = (b - lo) / (hi - lo)
-    Q = np.einsum("nia,nabk,njb->nijk", restrict_matrices(p, sa[:, 0], sb[:, 0]), nets,
-                  restrict_matrices(q, sa[:, 1], sb[:, 1]))
-    return np.einsum("mkl,nklc->nmc", _diagonal(p, q), Q)
+    Q = sandwich(restrict_matrices(p, sa[:, 0], sb[:, 0]), nets, restrict_matrices(q, sa[:, 1], sb[:, 1]))
+    C = _diagonal(p, q)
+    return np.tensordot(Q, C, axes=([1, 2], [1, 2])).transpose(0, 2, 1)
 
 
 def compose_segment(S: Surface, a, b) -> Curve:

@@ -30,7 +30,8 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .compose import compose_stack, restrict_matrices, span_patch
+from . import kernels, kernels_cos
+from .compose import compose_stack, restrict_matrices, sandwich, span_patch
 from .errors import BadInputError, TooBigError
 from .knots import span_bezier
 from .nurbs import Curve, Surface, find_spans
@@ -166,7 +167,7 @@ def _roots01(P: np.ndarray, imag_tol: float = 1e-7) -> np.ndarray:
             C = np.zeros((rows.size, d, d))
             C[:, np.arange(1, d), np.arange(d - 1)] = 1.0
             C[:, :, -1] = -a[:, :d]
-            ev = np.linalg.eigvals(C)
+            ev = np.linalg.eigvals(C.astype(complex))       # zgeev, as the numba twin
             r = np.where(np.abs(ev.imag) <= imag_tol * (1 + np.abs(ev.real)), ev.real, np.nan)
         da = _der(a)
         for _ in range(2):
@@ -206,50 +207,74 @@ def _cross_poly(H: np.ndarray) -> np.ndarray:
     """Power coefficients (N, d + 1) of the numerator of (C(t) - P0) x (Pn - P0) for a stack."""
     P0 = H[:, 0, :2] / H[:, 0, 2:]
     d = H[:, -1, :2] / H[:, -1, 2:] - P0
-    W = H[:, :, :2] - H[:, :, 2:] * P0[:, None]
-    b = W[:, :, 0] * d[:, 1:2] - W[:, :, 1] * d[:, 0:1]
-    return b @ _b2p(H.shape[1] - 1).T
+    b = (H[:, :, 0] - H[:, :, 2] * P0[:, :1]) * d[:, 1:] - (H[:, :, 1] - H[:, :, 2] * P0[:, 1:]) * d[:, :1]
+    M = _b2p(H.shape[1] - 1)
+    a = np.zeros(b.shape)
+    for j in range(b.shape[1]):                       # summed in order, as the numba twin
+        a += M[None, :, j] * b[:, j, None]
+    return a
 
 
-def _single_sided_stack(H: np.ndarray, t0: np.ndarray, t1: np.ndarray):
-    """Split every piece of the stack where it crosses its own chord (§3), recursively."""
-    outH, out0, out1 = [], [], []
+def _first_cross(H: np.ndarray) -> np.ndarray:
+    """The first parameter in (0, 1) where each piece of the stack crosses its chord, NaN if none."""
+    if kernels.enabled():
+        out = np.empty(H.shape[0])
+        kernels_cos.first_cross(np.ascontiguousarray(H), _b2p(H.shape[1] - 1), out)
+        return out
+    R = _roots01(_cross_poly(H))
+    has = np.isfinite(R).any(axis=1)
+    out = np.full(H.shape[0], np.nan)
+    out[has] = np.nanmin(R[has], axis=1)
+    return out
+
+
+def _single_sided_stack(H: np.ndarray, t0: np.ndarray, t1: np.ndarray, tag=None):
+    """Split every piece of the stack where it crosses its own chord (§3), recursively; tag (N,) is
+    carried along to the parts."""
+    tag = np.zeros(H.shape[0], int) if tag is None else tag
+    outH, out0, out1, outg = [], [], [], []
     while H.shape[0]:
-        R = _roots01(_cross_poly(H))
-        has = np.isfinite(R).any(axis=1)
+        t = _first_cross(H)
+        has = np.isfinite(t)
         outH.append(H[~has])
         out0.append(t0[~has])
         out1.append(t1[~has])
+        outg.append(tag[~has])
         if not has.any():
             break
         # split each crossing piece at its first crossing and look at both parts again
         idx = np.nonzero(has)[0]
-        t = np.nanmin(R[idx], axis=1)
-        L, Rr = _split_stack(H[idx], t)
-        tm = t0[idx] + (t1[idx] - t0[idx]) * t
+        L, Rr = _split_stack(H[idx], t[idx])
+        tm = t0[idx] + (t1[idx] - t0[idx]) * t[idx]
         H = np.concatenate([L, Rr])
         t0 = np.concatenate([t0[idx], tm])
         t1 = np.concatenate([tm, t1[idx]])
-    return np.concatenate(outH), np.concatenate(out0), np.concatenate(out1)
+        tag = np.concatenate([tag[idx], tag[idx]])
+    return np.concatenate(outH), np.concatenate(out0), np.concatenate(out1), np.concatenate(outg)
 
 
 def single_sided(piece: Piece) -> list[Piece]:
     """Split a piece where it crosses its own chord (§3), so every part lies on one side of its chord."""
-    H, t0, t1 = _single_sided_stack(piece.hom[None], np.array([piece.t0]), np.array([piece.t1]))
+    H, t0, t1, _ = _single_sided_stack(piece.hom[None], np.array([piece.t0]), np.array([piece.t1]))
     order = np.argsort(t0)
     return [Piece(H[k], float(t0[k]), float(t1[k])) for k in order]
 
 
-def _coord_range(hom: np.ndarray, axis: int) -> tuple[float, float]:
-    """Exact min and max of one coordinate of a (rational) Bézier piece."""
-    M = _b2p(hom.shape[0] - 1)
-    A, w = (M @ hom[:, axis])[None], (M @ hom[:, 2])[None]
-    t = np.array([[0.0, 1.0]])
-    if hom.shape[0] > 2:
-        r = _roots01(_add(_mul(_der(A), w), -_mul(A, _der(w))))
-        t = np.concatenate([t, np.nan_to_num(r, nan=0.0)], axis=1)
-    x = _polyval(A, t) / _polyval(w, t)
-    return float(x.min()), float(x.max())
+def _coord_ranges(H: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Exact min and max (N, 2) of the coordinates of a stack of (rational) Bézier pieces: over the
+    ends and the real roots of the derivatives' numerators A' w - A w'."""
+    N, n1, _ = H.shape
+    M = _b2p(n1 - 1)
+    w = H[:, :, 2] @ M.T
+    A = np.concatenate([H[:, :, 0] @ M.T, H[:, :, 1] @ M.T])          # u rows, then v rows
+    W = np.concatenate([w, w])
+    t = np.tile([0.0, 1.0], (2 * N, 1))
+    if n1 > 2:                                                          # both axes in one solve
+        r = _roots01(_add(_mul(_der(A), W), -_mul(A, _der(W))))
+        t = np.concatenate([t, np.where(np.isfinite(r), r, 0.0)], axis=1)
+    x = _polyval(A, t) / _polyval(W, t)
+    lo, hi = x.min(axis=1), x.max(axis=1)
+    return np.stack([lo[:N], lo[N:]], axis=1), np.stack([hi[:N], hi[N:]], axis=1)
 
 
 def domain_pieces(D: Curve, S: Surface) -> list[Piece]:
@@ -263,32 +288,46 @@ def domain_pieces(D: Curve, S: Surface) -> list[Piece]:
     lo, hi = D.domain
     br = np.unique(D.knots[(D.knots > lo) & (D.knots < hi)])
     edges = np.concatenate([[lo], br, [hi]])
-    u0, u1, v0, v1 = S.domain
-    tol = 1e-9 * max(u1 - u0, v1 - v0)
-    knots = (np.unique(S.interior_knots("u")), np.unique(S.interior_knots("v")))
-    out = []
     spans = find_spans(D.knots, D.degree, D.poles.shape[0], 0.5 * (edges[:-1] + edges[1:]))
-    for a, b, i in zip(edges[:-1], edges[1:], spans):
-        hom = span_bezier(D._hom, D.knots, D.degree, int(i))
-        ts, snap = [], []
-        for ax, (dlo, dhi), name in ((0, (u0, u1), "u"), (1, (v0, v1), "v")):
-            cmin, cmax = _coord_range(hom, ax)
-            if cmin < dlo - tol or cmax > dhi + tol:
-                bad = cmin if cmin < dlo - tol else cmax
-                raise BadInputError(f"the domain curve leaves the surface's parameter domain: it reaches "
-                                    f"{name} = {bad:.6g} between t = {a:.6g} and {b:.6g}; keep (u, v) inside "
-                                    f"u in [{u0:.6g}, {u1:.6g}], v in [{v0:.6g}, {v1:.6g}]")
-            for k in knots[ax][(knots[ax] > cmin) & (knots[ax] < cmax)]:
-                r = _bernstein_roots01(hom[:, ax] - k * hom[:, 2])
-                ts.extend(r.tolist())
-                snap.extend([(ax, float(k))] * r.size)
-        order = np.argsort(ts, kind="stable")
-        ts = np.asarray(ts, float)[order]
-        snap = [snap[i] for i in order]
-        keep = np.concatenate([[True], np.diff(ts) > 1e-12]) if ts.size else np.zeros(0, bool)
-        for p in _split_many(hom, float(a), float(b), ts[keep], [s for s, k in zip(snap, keep) if k]):
-            out.extend(single_sided(p))
-    return out
+    H = np.array([span_bezier(D._hom, D.knots, D.degree, int(i)) for i in spans])     # (K, d + 1, 3)
+    dom = np.array(S.domain).reshape(2, 2)                                           # [[u0, u1], [v0, v1]]
+    tol = 1e-9 * max(dom[0, 1] - dom[0, 0], dom[1, 1] - dom[1, 0])
+    P = H[:, :, :2] / H[:, :, 2:]
+    cmin, cmax = P.min(axis=1), P.max(axis=1)          # the control points' box holds the piece
+    if np.any((cmin < dom[:, 0] - tol) | (cmax > dom[:, 1] + tol)):
+        cmin, cmax = _coord_ranges(H)                    # the exact ranges decide
+    bad = (cmin < dom[:, 0] - tol) | (cmax > dom[:, 1] + tol)
+    if bad.any():
+        k, ax = (int(x[0]) for x in np.nonzero(bad))
+        x = cmin[k, ax] if cmin[k, ax] < dom[ax, 0] - tol else cmax[k, ax]
+        raise BadInputError(f"the domain curve leaves the surface's parameter domain: it reaches "
+                            f"{'uv'[ax]} = {x:.6g} between t = {edges[k]:.6g} and {edges[k + 1]:.6g}; keep (u, v) "
+                            f"inside u in [{dom[0, 0]:.6g}, {dom[0, 1]:.6g}], v in [{dom[1, 0]:.6g}, {dom[1, 1]:.6g}]")
+    # crossings of the interior knot lines that each piece's coordinate range spans, all roots at once
+    seg, axis, val = [], [], []
+    for ax, ks in ((0, np.unique(S.interior_knots("u"))), (1, np.unique(S.interior_knots("v")))):
+        sg, kk = np.nonzero((ks[None, :] > cmin[:, ax:ax + 1]) & (ks[None, :] < cmax[:, ax:ax + 1]))
+        seg.append(sg)
+        axis.append(np.full(sg.size, ax))
+        val.append(ks[kk])
+    seg, axis, val = np.concatenate(seg), np.concatenate(axis), np.concatenate(val)
+    cuts = {}
+    if seg.size:
+        b = H[seg, :, axis] - val[:, None] * H[seg, :, 2]
+        R = _roots01(b @ _b2p(H.shape[1] - 1).T)
+        for r, k, ax, v in zip(R, seg.tolist(), axis.tolist(), val.tolist()):
+            for t in r[np.isfinite(r)]:
+                cuts.setdefault(k, []).append((float(t), ax, v))
+    pieces = []
+    for k in range(H.shape[0]):
+        c = sorted(cuts.get(k, []))
+        ts = [t for i, (t, _, _) in enumerate(c) if i == 0 or t - c[i - 1][0] > 1e-12]
+        snap = [(ax, v) for i, (t, ax, v) in enumerate(c) if i == 0 or t - c[i - 1][0] > 1e-12]
+        pieces.extend(_split_many(H[k], float(edges[k]), float(edges[k + 1]), ts, snap))
+    Hs, t0, t1, _ = _single_sided_stack(np.array([p.hom for p in pieces]), np.array([p.t0 for p in pieces]),
+                                        np.array([p.t1 for p in pieces]))
+    order = np.argsort(t0, kind="stable")
+    return [Piece(Hs[k], float(t0[k]), float(t1[k])) for k in order]
 
 
 def polyline_curve(points) -> Curve:
@@ -357,13 +396,21 @@ def _farthest(H: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = n1 - 1
     if n == 1:
         return np.zeros(N), np.full(N, 0.5)
-    A = np.einsum("kj,njc->nkc", _b2p(n), H)        # power coefficients (N, n + 1, 3)
+    poly = bool(np.all(H[:, :, 2] == H[:, :1, 2]))
+    if kernels.enabled():
+        h, t = np.empty(N), np.empty(N)
+        kernels_cos.farthest(np.ascontiguousarray(H), _b2p(n), poly, h, t)
+        return h, t
+    M = _b2p(n)
+    A = np.zeros((N, n1, 3))                         # power coefficients, summed in order (as the twin)
+    for j in range(n1):
+        A += M[None, :, j, None] * H[:, None, j, :]
     Au, Av, w = A[:, :, 0], A[:, :, 1], A[:, :, 2]
     P0 = H[:, 0, :2] / H[:, 0, 2:]
     Pn = H[:, -1, :2] / H[:, -1, 2:]
     d = Pn - P0
     du, dv = d[:, :1], d[:, 1:]
-    if np.all(H[:, :, 2] == H[:, :1, 2]):         # polynomial: w constant, C' = A' / w
+    if poly:                                         # polynomial: w constant, C' = A' / w
         w0 = H[:, :1, 2]
         Cu, Cv, one = Au / w0, Av / w0, np.ones((1, 1))
         Nu, Nv = _der(Cu), _der(Cv)
@@ -376,7 +423,7 @@ def _farthest(H: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     # the end regions (beyond the perpendiculars at the chord's ends) only matter for pieces whose
     # control points (hence the piece) reach beyond them
     L2 = (d * d).sum(axis=1)
-    sc = np.einsum("nkc,nc->nk", H[:, :, :2] / H[:, :, 2:] - P0[:, None], d)
+    sc = (H[:, :, 0] / H[:, :, 2] - P0[:, :1]) * du + (H[:, :, 1] / H[:, :, 2] - P0[:, 1:]) * dv
     out = np.nonzero(~((sc >= 0).all(axis=1) & (sc <= L2[:, None]).all(axis=1)))[0]
     if out.size:
         perp, crit = [], []
@@ -395,7 +442,8 @@ def _farthest(H: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     tt = np.nan_to_num(t, nan=0.0)
     W = _polyval(w, tt)
     X = np.stack([_polyval(Au, tt) / W, _polyval(Av, tt) / W], axis=2)          # (N, m, 2)
-    s = np.clip(np.einsum("nmc,nc->nm", X - P0[:, None], d) / np.where(L2 > 0, L2, 1.0)[:, None], 0.0, 1.0)
+    s = np.clip(((X[:, :, 0] - P0[:, :1]) * du + (X[:, :, 1] - P0[:, 1:]) * dv) / np.where(L2 > 0, L2, 1.0)[:, None],
+                0.0, 1.0)
     s[L2 == 0] = 0.0
     dist = np.linalg.norm(X - (P0[:, None] + s[:, :, None] * d[:, None]), axis=2)
     dist[np.isnan(t)] = -1.0
@@ -423,12 +471,6 @@ def span_tolerance(S: Surface, eps: float, u: float, v: float, bounds: dict | No
     iu = int(find_spans(S.knots_u, S.degree_u, S.poles.shape[0], np.array([u]))[0]) - S.degree_u
     iv = int(find_spans(S.knots_v, S.degree_v, S.poles.shape[1], np.array([v]))[0]) - S.degree_v
     return float(eps / (b["Su"][iu, iv] + b["Sv"][iu, iv]))
-
-
-def _sandwich(Ru: np.ndarray, net: np.ndarray, Rv: np.ndarray) -> np.ndarray:
-    """Ru @ net @ Rv^T per piece and coordinate: (N, a, i), (N, i, j, 4), (N, b, j) -> (N, a, b, 4)."""
-    X = np.matmul(Ru[:, None], net.transpose(0, 3, 1, 2))
-    return np.matmul(X, Rv.transpose(0, 2, 1)[:, None]).transpose(0, 2, 3, 1)
 
 
 def _bernstein(n: int, t: np.ndarray) -> np.ndarray:
@@ -482,11 +524,16 @@ class _Spans:
         its span: the patch and its derivative nets restricted to the box, convex hull property and,
         for rational patches, the quotient rule with the smallest weight."""
         nets, du, dv, slo, shi = self.arrays()
+        if kernels.enabled():
+            out = np.empty(sid.shape[0])
+            kernels_cos.local_bounds(sid, np.ascontiguousarray(lo), np.ascontiguousarray(hi), nets, du, dv, slo, shi,
+                                     out)
+            return out
         p, q = self.p, self.q
         a = (lo - slo[sid]) / (shi[sid] - slo[sid])
         b = (hi - slo[sid]) / (shi[sid] - slo[sid])
         Ru, Rv = restrict_matrices(p, a[:, 0], b[:, 0]), restrict_matrices(q, a[:, 1], b[:, 1])
-        sub = _sandwich(Ru, nets[sid], Rv)
+        sub = sandwich(Ru, nets[sid], Rv)
         w = sub[..., 3]
         X = sub[..., :3] / w[..., None]
         Xf = X.reshape(X.shape[0], -1, 3)
@@ -500,8 +547,8 @@ class _Spans:
             num = np.linalg.norm(D3 - Dw[..., None] * c[:, None], axis=2).max(axis=1)
             return (num + np.abs(Dw).max(axis=1) * r) / wmin
 
-        mu = hull(_sandwich(restrict_matrices(p - 1, a[:, 0], b[:, 0]), du[sid], Rv)) if p else 0.0
-        mv = hull(_sandwich(Ru, dv[sid], restrict_matrices(q - 1, a[:, 1], b[:, 1]))) if q else 0.0
+        mu = hull(sandwich(restrict_matrices(p - 1, a[:, 0], b[:, 0]), du[sid], Rv)) if p else 0.0
+        mv = hull(sandwich(Ru, dv[sid], restrict_matrices(q - 1, a[:, 1], b[:, 1]))) if q else 0.0
         return np.hypot(mu, mv)
 
     def jacobian(self, sid: np.ndarray, X: np.ndarray) -> np.ndarray:
@@ -510,13 +557,16 @@ class _Spans:
         nets, du, dv, slo, shi = self.arrays()
         s = (X - slo[sid]) / (shi[sid] - slo[sid])
         bu, bv = _bernstein(self.p, s[:, 0]), _bernstein(self.q, s[:, 1])
-        Hh = np.einsum("ni,nijk,nj->nk", bu, nets[sid], bv)
+
+        def ev(bu, net, bv):
+            return ((bu[:, :, None, None] * net).sum(axis=1) * bv[:, :, None]).sum(axis=1)
+        Hh = ev(bu, nets[sid], bv)
         out = np.zeros((X.shape[0], 2, 3))
         if self.p:
-            Hu = np.einsum("ni,nijk,nj->nk", _bernstein(self.p - 1, s[:, 0]), du[sid], bv)
+            Hu = ev(_bernstein(self.p - 1, s[:, 0]), du[sid], bv)
             out[:, 0] = (Hu[:, :3] - Hh[:, :3] / Hh[:, 3:] * Hu[:, 3:]) / Hh[:, 3:]
         if self.q:
-            Hv = np.einsum("ni,nijk,nj->nk", bu, dv[sid], _bernstein(self.q - 1, s[:, 1]))
+            Hv = ev(bu, dv[sid], _bernstein(self.q - 1, s[:, 1]))
             out[:, 1] = (Hv[:, :3] - Hh[:, :3] / Hh[:, 3:] * Hv[:, 3:]) / Hh[:, 3:]
         return out
 
@@ -608,11 +658,11 @@ def approximate(S: Surface, D: Curve, tol: float, angle_deg: float = 10.0, *, bo
     spans = _Spans(S)
     sb = S.derivative_bounds() if bound == "span" else None
 
-    def analyse(H, t0, t1) -> _Stack:
-        W = H[:, :, 2:]
-        P = H[:, :, :2] / W
-        mid = _split_stack(H, np.full(H.shape[0], 0.5))[1][:, 0]
-        sid = spans.of(mid[:, :2] / mid[:, 2:])
+    def analyse(H, t0, t1, sid=None) -> _Stack:
+        P = H[:, :, :2] / H[:, :, 2:]
+        if sid is None:
+            mid = _split_stack(H, np.full(H.shape[0], 0.5))[1][:, 0]
+            sid = spans.of(mid[:, :2] / mid[:, 2:])
         h, tf = _farthest(H)
         if bound == "span":
             _, _, _, slo, _ = spans.arrays()
@@ -624,12 +674,13 @@ def approximate(S: Surface, D: Curve, tol: float, angle_deg: float = 10.0, *, bo
         return _Stack(H, t0, t1, sid, h, tf, G)
 
     def split(st: _Stack) -> _Stack:
+        """Split at the farthest points, then into single-sided parts (which stay in their span)."""
         t = np.where(st.h > 0, st.tf, 0.5)
         L, R = _split_stack(st.H, t)
         tm = st.t0 + (st.t1 - st.t0) * t
-        H, t0, t1 = _single_sided_stack(np.concatenate([L, R]), np.concatenate([st.t0, tm]),
-                                        np.concatenate([tm, st.t1]))
-        return analyse(H, t0, t1)
+        H, t0, t1, sid = _single_sided_stack(np.concatenate([L, R]), np.concatenate([st.t0, tm]),
+                                             np.concatenate([tm, st.t1]), np.concatenate([st.sid, st.sid]))
+        return analyse(H, t0, t1, sid)
 
     t_lo, t_hi = D.domain
     init = domain_pieces(D, S)
@@ -664,8 +715,8 @@ def approximate(S: Surface, D: Curve, tol: float, angle_deg: float = 10.0, *, bo
             i = np.append(i, k - 1)
         j = (i + 1) % k
         P = st.H[:, :, :2] / st.H[:, :, 2:]
-        Ja = spans.jacobian(st.sid[i], P[i, -1])
-        Jb = spans.jacobian(st.sid[j], P[j, 0])
+        J = spans.jacobian(np.concatenate([st.sid[i], st.sid[j]]), np.concatenate([P[i, -1], P[j, 0]]))
+        Ja, Jb = J[:i.size], J[i.size:]
         chord = _angles(np.einsum("nc,ncx->nx", P[i, -1] - P[i, 0], Ja),
                         np.einsum("nc,ncx->nx", P[j, -1] - P[j, 0], Jb))
         exact = _angles(np.einsum("nc,ncx->nx", _end_legs(P[i], False), Ja),
@@ -675,8 +726,8 @@ def approximate(S: Surface, D: Curve, tol: float, angle_deg: float = 10.0, *, bo
     # §5: split the piece with the larger deviation at every joint over the angle tolerance; joints
     # where the exact image itself turns by the tolerance or more are corners and stay
     rounds = 0
+    i, j, chord, exact = joints(pieces)
     while True:
-        i, j, chord, exact = joints(pieces)
         corner = np.isnan(chord) | np.isnan(exact) | (exact >= angle_deg * (1 - 1e-9))
         bad = ~corner & (chord > angle_deg)
         pick = np.where(pieces.h[i] >= pieces.h[j], i, j)[bad]
@@ -694,7 +745,7 @@ def approximate(S: Surface, D: Curve, tol: float, angle_deg: float = 10.0, *, bo
         pieces = pieces.take(np.argsort(pieces.t0, kind="stable"))
         if progress is not None:
             progress("angle", min(1.0, rounds / 20))
-    i, j, chord, exact = joints(pieces)
+        i, j, chord, exact = joints(pieces)
     corner = np.isnan(chord) | np.isnan(exact) | (exact >= angle_deg * (1 - 1e-9))
     made = chord[~corner]
     corners = [(float(pieces.t0[jj]) if jj else float(pieces.t1[ii]), float(e))

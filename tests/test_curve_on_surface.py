@@ -126,3 +126,47 @@ def test_knot_line_crossings_are_exact():
         for x in (p.ctrl[0], p.ctrl[-1]):
             hits += (x[0] in ku) + (x[1] in kv)
     assert hits >= 4
+
+
+def _both_paths(fn, monkeypatch):
+    """fn() with the numba kernels (when installed) and with NumPy alone."""
+    from ruled import kernels
+    a = fn()
+    monkeypatch.setenv("RULED_NO_NUMBA", "1")
+    assert not kernels.enabled()
+    b = fn()
+    monkeypatch.delenv("RULED_NO_NUMBA")
+    return a, b
+
+
+@pytest.mark.parametrize("deg,rational", [(2, False), (3, True), (5, False), (5, True)])
+def test_numba_kernels_and_numpy_twins_agree_bit_for_bit(deg, rational, monkeypatch):
+    from ruled import curve_on_surface as cos
+    rng = np.random.default_rng(deg)
+    P = rng.uniform(0, 1, (150, deg + 1, 2))
+    w = rng.uniform(0.5, 2, (150, deg + 1)) if rational else np.ones((150, deg + 1))
+    H = np.concatenate([P * w[..., None], w[..., None]], axis=2)
+    c0, c1 = _both_paths(lambda: cos._first_cross(H), monkeypatch)
+    assert np.array_equal(c0, c1, equal_nan=True)
+    H, t0, t1, _ = cos._single_sided_stack(H, np.zeros(150), np.ones(150))
+    (h0, t0_), (h1, t1_) = _both_paths(lambda: cos._farthest(H), monkeypatch)
+    assert np.array_equal(h0, h1) and np.array_equal(t0_, t1_)
+    S = random_surface(np.random.default_rng(4), pu=3, pv=2, nu=8, nv=7, rational=rational)
+    sp = cos._Spans(S)
+    sid = sp.of(rng.uniform(0.01, 0.99, (200, 2)))
+    _, _, _, slo, shi = sp.arrays()
+    lo = slo[sid] + rng.uniform(0, 0.5, (200, 2)) * (shi[sid] - slo[sid])
+    hi = lo + rng.uniform(0, 0.5, (200, 2)) * (shi[sid] - slo[sid])
+    hi[:10, 0] = lo[:10, 0]                   # boxes of zero width (a piece along an iso-line)
+    g0, g1 = _both_paths(lambda: sp.local_bounds(sid, lo, hi), monkeypatch)
+    assert np.array_equal(g0, g1)
+
+
+def test_whole_approximation_is_the_same_on_both_paths(monkeypatch):
+    from ruled.curve_on_surface import approximate
+    from ruled.examples import yang_curve, yang_surface
+    S = random_surface(np.random.default_rng(5), pu=3, pv=3, nu=8, nv=8, rational=True)
+    for surf, D in ((yang_surface(), yang_curve()), (S, _random_domain_curve(np.random.default_rng(2)))):
+        a, b = _both_paths(lambda: approximate(surf, D, 1e-3 * surf.diagonal(), 1.0), monkeypatch)
+        assert a.segments == b.segments and a.error_bound == b.error_bound
+        assert np.array_equal(a.curve.poles, b.curve.poles) and np.array_equal(a.curve.knots, b.curve.knots)
