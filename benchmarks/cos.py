@@ -10,6 +10,9 @@ tolerance sweep of the paper's Table 1 (measured / tolerance).
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -104,11 +107,9 @@ def bench_cos(repeat: int = 7) -> None:
         h = sampled_error(E, C, r)["hausdorff"]
         print(f"  angle {ang:4g}: {r.segments:5d} segments ({r.control_points} control points), bound "
               f"{r.error_bound:.3g}, measured {h:.3g}, {1e3 * t:7.1f} ms, ratio to 100 ms {t / 0.1:5.2f}")
-    import os
-    import subprocess
-    import sys
     here = os.path.dirname(os.path.abspath(__file__))
-    code = f"import sys; sys.path[:0] = [{here!r}, {os.path.dirname(here)!r}]; from cos import numpy_times; numpy_times()"
+    code = (f"import sys; sys.path[:0] = [{here!r}, {os.path.dirname(here)!r}]; "
+            f"from cos import numpy_times; numpy_times()")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={**os.environ, "RULED_NO_NUMBA": "1"})
     print(out.stdout.rstrip() or out.stderr[-500:])

@@ -210,11 +210,8 @@ def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=No
                          angle=1.0, bound="local", report=None, measure_samples=2000, quiet=False) -> dict:
     """Read a face, approximate the image of a (u, v) curve by a curve lying on it exactly, build
     the edge (3D curve and pcurve), measure it with OCCT, write STEP. Returns the report dict."""
-    from .curve_on_surface import approximate, sampled_error
-    from .occ.convert import (container_to_bspline, container_to_face, curve2d_to_bspline, curve_to_bspline,
-                              edge_on_face, face_surface_type, face_to_container)
+    from .occ.cos import curve_on_face
     from .occ.io import get_face, write_step
-    from .occ.measure import curve_on_surface_measure
     from .progress import Bar
     from .report import write_report
 
@@ -228,35 +225,17 @@ def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=No
     D, dom = _load_domain_curve(uv, uv_curve)
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
-    S = face_to_container(face)
-    warnings = []
-    kind = face_surface_type(face)
-    host = face
-    if kind != "bspline":
-        warnings.append(f"face {face_index} is a {kind}; (u, v) are taken in its B-spline conversion's parameters, "
-                        f"and the pcurve lies on that converted surface")
-        host = container_to_face(S)
-    for w in warnings:
-        print(f"ruled: warning: {w}", file=sys.stderr)
-    t_read = time.perf_counter() - t0
     bar = Bar(enabled=not quiet and sys.stderr.isatty())
-    t1 = time.perf_counter()
     try:
-        res = approximate(S, D, tol, angle, bound=bound, progress=bar)
+        fc = curve_on_face(face, D, tol, angle, bound=bound, progress=bar, measure_samples=measure_samples)
     finally:
         bar.done()
-    t_fit = time.perf_counter() - t1
-    own = sampled_error(S, D, res)
-    t2 = time.perf_counter()
-    edge = edge_on_face(res.curve, res.pcurve, host)
-    write_step([edge], output)
-    t_write = time.perf_counter() - t2
-    t3 = time.perf_counter()
-    if not quiet and sys.stderr.isatty():
-        print(f"  measuring against the exact image with OCCT ({measure_samples} samples per curve)", file=sys.stderr)
-    m = curve_on_surface_measure(container_to_bspline(S), curve2d_to_bspline(D), curve_to_bspline(res.curve),
-                                 measure_samples, curve2d_to_bspline(res.pcurve))
-    t_meas = time.perf_counter() - t3
+    for w in fc.warnings:
+        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    t1 = time.perf_counter()
+    write_step([fc.edge], output)
+    res, m = fc.result, fc.measure
+    t_write = time.perf_counter() - t1
     rep = {
         "version": __version__, "input": os.path.abspath(input_path), "face": face_index, "domain_curve": dom,
         "tol": res.tol, "angle_deg": res.angle_deg, "bound_rule": res.bound_rule,
@@ -264,12 +243,12 @@ def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=No
         "control_points": res.control_points, "closed": res.closed,
         "error_bound": res.error_bound, "hausdorff": m.hausdorff,
         "hausdorff_detail": {"result_to_exact": m.result_to_exact, "exact_to_result": m.exact_to_result,
-                             "samples": m.samples, "engine_sampled": own["hausdorff"]},
+                             "samples": m.samples, "engine_sampled": fc.engine_hausdorff},
         "max_distance_to_surface": m.on_surface, "max_joint_angle_deg": m.max_joint_angle_deg(res.angle_deg),
         "engine_max_joint_angle_deg": res.max_joint_angle_deg,
         "corners": [{"t": t, "angle_deg": a, "exact_image_angle_deg": e} for t, a, e in m.corners(res.angle_deg)],
-        "timings": {"read": t_read, "approximate": t_fit, "build_and_write": t_write, "measure": t_meas},
-        "notes": res.notes, "warnings": warnings,
+        "timings": {"total": time.perf_counter() - t0, **fc.timings, "write": t_write},
+        "notes": res.notes, "warnings": fc.warnings,
     }
     for note in res.notes:
         print(f"ruled: {note}", file=sys.stderr)

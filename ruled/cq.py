@@ -8,6 +8,11 @@
     print(fit.error_bound, fit.hausdorff.max)
     cq.exporters.export(cq.Workplane().add(fit.face), "ruled.step")
 
+    from ruled.cq import curve_on_face
+    c = curve_on_face(face, [(0.1, 0.2), (0.5, 0.8), (0.9, 0.3)], tol=1e-3, angle=1.0)
+    print(c.result.segments, c.result.error_bound, c.measure.hausdorff)
+    cq.exporters.export(cq.Workplane().add(c.edge), "curve.step")
+
 The face may be a ``cadquery.Face``, an OCP ``TopoDS_Face`` or a
 :class:`ruled.Surface` container.  OCP is reached only through ``ruled.occ``.
 """
@@ -68,3 +73,35 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     except ImportError:  # plain OCP
         out_face = out
     return RuledFit(out_face, res.surface, res.best.rulings, res.error_bound + slack, h, res)
+
+
+@dataclass(frozen=True)
+class CurveOnFace:
+    """A curve lying exactly on a face, within a tolerance of the image of a (u, v) curve."""
+
+    edge: Any                 # cadquery.Edge when CadQuery is installed, else TopoDS_Edge; carries its pcurve
+    result: Any               # ruled.curve_on_surface.CurveOnSurface: segments, bound, the curve and pcurve arrays
+    measure: Optional[Any]    # ruled.occ.measure.CurveMeasure (OCCT), or None when not asked
+    warnings: tuple = ()
+
+
+def curve_on_face(face, uv, tol: float = 1e-3, angle: float = 1.0, bound: str = "local", measure: bool = True,
+                  measure_samples: int = 2000, progress=None) -> CurveOnFace:
+    """The image on the face of a (u, v) curve: uv is a polyline ((N, 2) points) or a 2D
+    :class:`ruled.Curve`; the result is a curve of degree p + q on the face's surface exactly (Yang et
+    al. 2008), within tol of the exact image and G1 within angle degrees at its joints."""
+    from .curve_on_surface import polyline_curve
+    from .nurbs import Curve
+    from .occ.convert import container_to_face
+    from .occ.cos import curve_on_face as _on_face
+
+    src = container_to_face(face) if isinstance(face, Surface) else _topods(face)
+    D = uv if isinstance(uv, Curve) else polyline_curve(uv)
+    fc = _on_face(src, D, tol, angle, bound=bound, progress=progress,
+                  measure_samples=measure_samples if measure else None)
+    try:
+        import cadquery as cq
+        edge = cq.Edge(fc.edge)
+    except ImportError:  # plain OCP
+        edge = fc.edge
+    return CurveOnFace(edge, fc.result, fc.measure, tuple(fc.warnings))

@@ -230,3 +230,13 @@ def test_bad_input_is_refused_in_one_line(tmp_path):
         rc = main(["curve-on-surface", step, "--face", "0", "-o", str(tmp_path / "o.step"), "--quiet"] + extra)
         assert rc == 2, extra
     assert not os.path.exists(tmp_path / "o.step")
+
+
+def test_cadquery_entry_gives_an_edge_on_the_face():
+    cq = pytest.importorskip("cadquery")
+    from ruled.cq import curve_on_face
+    face = cq.Workplane().box(10, 10, 10).faces(">Z").val()      # a plane, converted to a B-spline
+    c = curve_on_face(face, [(0.1, 0.1), (0.9, 0.5), (0.2, 0.9)], tol=1e-3, angle=1.0, measure_samples=200)
+    assert isinstance(c.edge, cq.Edge) and c.warnings
+    assert c.measure.hausdorff <= 1e-9 and c.measure.on_surface <= 1e-9
+    assert c.result.segments == 2 and len(c.result.corners) == 1
