@@ -32,6 +32,7 @@ import numpy as np
 
 from . import kernels, kernels_cos
 from .compose import compose_stack, restrict_matrices, sandwich, span_patch
+from .distance import to_polyline
 from .errors import BadInputError, TooBigError
 from .knots import span_bezier
 from .nurbs import Curve, Surface, find_spans
@@ -788,8 +789,6 @@ def sampled_error(S: Surface, D: Curve, res: CurveOnSurface, per_segment: int = 
     """The engine's own measure of a result (no OCCT): the Hausdorff distance between the result
     and the exact image S(D(t)) by dense sampling of both (distance to the other's dense polyline),
     and the largest |curve(t) - S(pcurve(t))|."""
-    from scipy.spatial import cKDTree
-
     knots = np.unique(res.curve.knots)
     per_segment = max(per_segment, -(-4000 // (knots.size - 1)))
     s = np.linspace(0.0, 1.0, per_segment + 1)[:-1]
@@ -801,21 +800,7 @@ def sampled_error(S: Surface, D: Curve, res: CurveOnSurface, per_segment: int = 
     kd = D.knots[(D.knots > lo) & (D.knots < hi)]
     duv = D(np.unique(np.concatenate([np.linspace(lo, hi, max(4 * t.size, 2001)), kd])))   # corners included
     E = S(duv[:, 0], duv[:, 1])
-    return {"hausdorff": max(_directed(C, E, cKDTree), _directed(E, C, cKDTree)), "on_surface": on}
-
-
-def _directed(A: np.ndarray, B: np.ndarray, tree_cls, k: int = 4) -> float:
-    """max over A of the distance to the polyline through B (the edges at the k nearest vertices)."""
-    _, near = tree_cls(B).query(A, k=min(k, B.shape[0]))
-    near = near.reshape(A.shape[0], -1)
-    best = np.full(A.shape[0], np.inf)
-    for c in range(near.shape[1]):
-        for off in (-1, 0):
-            i = np.clip(near[:, c] + off, 0, B.shape[0] - 2)
-            P, d = B[i], B[i + 1] - B[i]
-            s = np.clip(((A - P) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0, 1)
-            best = np.minimum(best, np.linalg.norm(A - (P + s[:, None] * d), axis=1))
-    return float(best.max())
+    return {"hausdorff": max(to_polyline(C, E), to_polyline(E, C)), "on_surface": on}
 
 
 __all__ = ["Piece", "CurveOnSurface", "approximate", "domain_pieces", "polyline_curve", "parse_uv",

@@ -129,3 +129,20 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
             tau_all[s:e] = tau
             foot_all[s:e] = np.where((dproj < r0)[..., None], uvb.reshape(k, m, 2), uv0.reshape(k, m, 2))
     return (ub, dist, tau_all, foot_all) if feet else (ub, dist)
+
+
+def to_polyline(A: np.ndarray, B: np.ndarray, k: int = 4) -> float:
+    """max over the points A of their distance to the polyline through the points B (the edges at
+    each point's k nearest vertices): a dense-sampling measure between two curves."""
+    from scipy.spatial import cKDTree
+
+    _, near = cKDTree(B).query(A, k=min(k, B.shape[0]))
+    near = near.reshape(A.shape[0], -1)
+    best = np.full(A.shape[0], np.inf)
+    for c in range(near.shape[1]):
+        for off in (-1, 0):
+            i = np.clip(near[:, c] + off, 0, B.shape[0] - 2)
+            P, d = B[i], B[i + 1] - B[i]
+            s = np.clip(((A - P) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0, 1)
+            best = np.minimum(best, np.linalg.norm(A - (P + s[:, None] * d), axis=1))
+    return float(best.max())

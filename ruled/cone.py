@@ -1,0 +1,186 @@
+"""Cone splines by fat conic spline fitting (Yang & Yang 2006), the planar building blocks.
+
+A ruled surface between two parallel planes projects onto a planar "fat curve" bounded by two
+curves b0(v), b1(v).  A cone patch between the planes projects onto a fat conic arc: two rational
+quadratic arcs with the same middle weight whose control triangles have parallel sides
+(Theorem 2).  Here: the conic arcs, the interpolation of the two boundaries by piecewise parallel
+polygons (§3.1), the common tangents by local convexity and reflection (eqs. 3–4), the control
+triangles and the shared weight by the discrete form of eq. 5 (§3.2), the boundary error (eq. 6),
+and the check of Theorem 1 on a patch's generator lines.  Still to come (issue 5): the skew error
+(eqs. 7–9), the sequential fitting loop (§3.3), extension and trim (§5), faces, CLI.
+
+Boundary curves are callables v -> (N, 2) points with a derivative callable, v in [0, 1].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .distance import to_polyline
+from .errors import BadInputError
+
+
+def conic(P0, R, P2, w: float, t) -> np.ndarray:
+    """Points (N, dim) of the standard rational quadratic Bézier arc (P0, R with weight w, P2)."""
+    t = np.atleast_1d(np.asarray(t, float))[:, None]
+    b0, b1, b2 = (1 - t) ** 2, 2 * w * t * (1 - t), t ** 2
+    return (b0 * np.asarray(P0, float) + b1 * np.asarray(R, float) + b2 * np.asarray(P2, float)) / (b0 + b1 + b2)
+
+
+def _cross(a, b) -> float:
+    return float(a[0] * b[1] - a[1] * b[0])
+
+
+def tangent_lines_meet(A, TA, B, TB):
+    """(point, s, u) with point = A + s TA = B + u TB, or None when the lines are parallel."""
+    den = _cross(TA, TB)
+    scale = np.linalg.norm(TA) * np.linalg.norm(TB)
+    if abs(den) <= 1e-14 * scale:
+        return None
+    d = np.asarray(B, float) - np.asarray(A, float)
+    s = _cross(d, TB) / den
+    u = _cross(d, TA) / den
+    return np.asarray(A, float) + s * np.asarray(TA, float), s, u
+
+
+def locally_convex(A, TA, B, TB) -> bool:
+    """§3.2's first rule for the chord A -> B: the turn from TA to the chord and from the chord to TB
+    have the same sign, and the tangent lines meet ahead of A and behind B (the control triangle)."""
+    c = np.asarray(B, float) - np.asarray(A, float)
+    s1, s2 = _cross(TA, c), _cross(c, TB)
+    if not (s1 * s2 > 0):
+        return False
+    m = tangent_lines_meet(A, TA, B, TB)
+    return m is not None and m[1] > 0 and m[2] < 0
+
+
+def reflect(V, U) -> np.ndarray:
+    """Eq. 4: V reflected about the chord direction U."""
+    U = np.asarray(U, float) / np.linalg.norm(U)
+    W = 2 * (np.asarray(V, float) @ U) * U - np.asarray(V, float)
+    return W / np.linalg.norm(W)
+
+
+def choose_tangent(A, TA, B, V) -> np.ndarray:
+    """The tangent at B after the chord A -> B (§3.2): V (eq. 3) when the triangle is locally convex;
+    V reflected about the chord (eq. 4) when the turns have opposite signs; otherwise the one
+    closest to it, moved towards the circular-arc tangent (TA mirrored about the chord), that is."""
+    V = np.asarray(V, float) / np.linalg.norm(V)
+    if locally_convex(A, TA, B, V):
+        return V
+    U = np.asarray(B, float) - np.asarray(A, float)
+    if _cross(TA, U) * _cross(U, V) < 0:
+        V = reflect(V, U)
+        if locally_convex(A, TA, B, V):
+            return V
+    circ = reflect(TA, U)                      # isosceles triangle: convex whenever TA turns < 90 deg to U
+    if not locally_convex(A, TA, B, circ):
+        raise BadInputError("no locally convex tangent exists after this chord (the boundary turns by 90 "
+                            "degrees or more within one step); use a smaller step")
+    lo, hi = 0.0, 1.0                          # blend V -> circ, keep the convex end
+    for _ in range(50):
+        m = 0.5 * (lo + hi)
+        T = (1 - m) * V + m * circ
+        if np.linalg.norm(T) > 0 and locally_convex(A, TA, B, T / np.linalg.norm(T)):
+            hi = m
+        else:
+            lo = m
+    T = (1 - hi) * V + hi * circ
+    return T / np.linalg.norm(T)
+
+
+def barycentric(P, A, R, B) -> np.ndarray:
+    """Barycentric coordinates (N, 3) of the points P (N, 2) in the triangle (A, R, B)."""
+    P = np.atleast_2d(np.asarray(P, float))
+    A, R, B = (np.asarray(x, float) for x in (A, R, B))
+    det = _cross(R - A, B - A)
+    tr = ((R[0] - P[:, 0]) * (B[1] - P[:, 1]) - (R[1] - P[:, 1]) * (B[0] - P[:, 0])) / det
+    tb = ((A[0] - P[:, 0]) * (R[1] - P[:, 1]) - (A[1] - P[:, 1]) * (R[0] - P[:, 0])) / det
+    return np.stack([tr, 1 - tr - tb, tb], axis=1)
+
+
+def shared_weight(tri0, pts0, tri1, pts1, default: float = 2.0) -> float:
+    """The discrete eq. 5: the weight w with sum over the boundary samples inside their triangle of
+    4 w^2 tau0 tau2 - tau1^2 = 0 (Floater's implicit form of the conic), i.e. w^2 = sum tau1^2 /
+    (4 sum tau0 tau2); the paper's default 2 when no sample lies inside either triangle."""
+    num = den = 0.0
+    for tri, pts in ((tri0, pts0), (tri1, pts1)):
+        if tri is None or len(pts) == 0:
+            continue
+        tau = barycentric(pts, *tri)
+        inside = np.all(tau >= -1e-12, axis=1)
+        num += float((tau[inside, 1] ** 2).sum())
+        den += float(4 * (tau[inside, 0] * tau[inside, 2]).sum())
+    if den <= 0 or num <= 0:
+        return default
+    return float(np.sqrt(num / den))
+
+
+def _crossing(b, X, c, lo, hi, n=64):
+    """The smallest v in (lo, hi] where the curve b crosses the line through X with direction c."""
+    v = np.linspace(lo, hi, n + 1)
+    g = (b(v) - X) @ np.array([-c[1], c[0]])      # b(lo) is on the line itself: only later crossings count
+    for k in range(n):
+        if g[k + 1] == 0.0:
+            return float(v[k + 1])
+        if (g[k] < 0 < g[k + 1]) or (g[k] > 0 > g[k + 1]):
+            a, z, ga = v[k], v[k + 1], g[k]
+            for _ in range(60):
+                m = 0.5 * (a + z)
+                gm = float((b(np.array([m]))[0] - X) @ np.array([-c[1], c[0]]))
+                a, z, ga = (a, m, ga) if ga * gm <= 0 else (m, z, gm)
+            return 0.5 * (a + z)
+    return None
+
+
+@dataclass
+class ParallelStep:
+    v: float            # new parameter on b0
+    vb: float           # new parameter on b1
+    collapsed: int      # -1: none, 0: the b0 side stayed, 1: the b1 side stayed
+
+
+def parallel_step(b0, b1, v: float, vb: float, delta: float, kf: float = 1.5) -> ParallelStep:
+    """§3.1: advance the boundary with the smaller parameter by delta, then find the other boundary's
+    point on the line through its current point parallel to the new chord, within (its parameter,
+    its parameter + kf delta]; the smallest solution, or no move (that side collapses)."""
+    if v <= vb:
+        nv = min(1.0, v + delta)
+        L0, L1 = b0(np.array([v, nv]))
+        X = b1(np.array([vb]))[0]
+        hit = _crossing(b1, X, L1 - L0, vb, min(1.0, vb + kf * delta))
+        return ParallelStep(nv, vb if hit is None else hit, 1 if hit is None else -1)
+    nvb = min(1.0, vb + delta)
+    M0, M1 = b1(np.array([vb, nvb]))
+    X = b0(np.array([v]))[0]
+    hit = _crossing(b0, X, M1 - M0, v, min(1.0, v + kf * delta))
+    return ParallelStep(v if hit is None else hit, nvb, 0 if hit is None else -1)
+
+
+def hausdorff_2d(A: np.ndarray, B: np.ndarray) -> float:
+    """Eq. 6 by dense samples: the two-sided distance between two densely sampled planar curves
+    (each point to the other's polyline)."""
+    return max(to_polyline(A, B), to_polyline(B, A))
+
+
+def generators_concurrent(P: np.ndarray, Q: np.ndarray, rel: float = 1e-9) -> bool:
+    """Theorem 1: the generator lines P_i Q_i (i = 0, 1, 2) of a cone patch meet at one point (the
+    apex) or are parallel (a cylinder), to rel of the patch's size."""
+    P, Q = np.asarray(P, float), np.asarray(Q, float)
+    D = Q - P
+    size = max(np.ptp(np.vstack([P, Q]), axis=0).max(), 1e-300)
+    u = D / np.linalg.norm(D, axis=1)[:, None]
+    if np.abs(np.cross(u[0], u[1])).max() <= rel and np.abs(np.cross(u[0], u[2])).max() <= rel:
+        return True                                   # parallel
+    # the apex from lines 0 and 1 (least squares), then the distance of all three lines to it
+    A = np.zeros((3, 3))
+    b = np.zeros(3)
+    for p, d in zip(P, u):
+        M = np.eye(3) - np.outer(d, d)
+        A += M
+        b += M @ p
+    X = np.linalg.lstsq(A, b, rcond=None)[0]
+    dist = [np.linalg.norm((np.eye(3) - np.outer(d, d)) @ (X - p)) for p, d in zip(P, u)]
+    return max(dist) <= rel * max(size, np.linalg.norm(X - P[0]))

@@ -1,0 +1,118 @@
+"""Cone splines (Yang & Yang 2006), the planar building blocks: conic arcs, the shared weight,
+tangent rules, parallel polygons and Theorem 1, checked against closed-form geometry."""
+import numpy as np
+import pytest
+
+from ruled.cone import (barycentric, choose_tangent, conic, generators_concurrent, hausdorff_2d, locally_convex,
+                        parallel_step, reflect, shared_weight, tangent_lines_meet)
+
+
+def test_conic_points_satisfy_the_implicit_form_and_the_weight_is_recovered():
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        A, R, B = rng.normal(size=(3, 2))
+        w = rng.uniform(0.2, 5.0)
+        t = np.linspace(0.02, 0.98, 40)
+        X = conic(A, R, B, w, t)
+        tau = barycentric(X, A, R, B)
+        assert np.allclose(tau.sum(axis=1), 1.0)
+        assert np.allclose(4 * w * w * tau[:, 0] * tau[:, 2], tau[:, 1] ** 2, atol=1e-12)
+        # a similar triangle (parallel sides) with the same weight: the shared weight comes back
+        k, off = rng.uniform(0.3, 2.0), rng.normal(size=2)
+        Y = conic(k * A + off, k * R + off, k * B + off, w, t[::3])
+        assert shared_weight((A, R, B), X, (k * A + off, k * R + off, k * B + off), Y) == pytest.approx(w, rel=1e-10)
+
+
+def test_circular_arc_weight():
+    # isosceles control triangle with base angle a: the weight cos(a) gives a circular arc
+    a = 0.7
+    A, B = np.array([-1.0, 0.0]), np.array([1.0, 0.0])
+    R = np.array([0.0, np.tan(a)])
+    X = conic(A, R, B, np.cos(a), np.linspace(0, 1, 50))
+    centre = np.array([0.0, -1.0 / np.tan(a)])
+    r = np.linalg.norm(X - centre, axis=1)
+    assert np.abs(r - r[0]).max() <= 1e-12
+    assert shared_weight((A, R, B), X[5:-5], None, []) == pytest.approx(np.cos(a), rel=1e-10)
+    assert shared_weight((A, R, B), np.array([[5.0, 5.0]]), None, []) == 2.0     # nothing inside: the default
+
+
+def test_chosen_tangents_are_locally_convex():
+    rng = np.random.default_rng(1)
+    n = 0
+    for _ in range(300):
+        A = rng.normal(size=2)
+        ang = rng.uniform(-1.2, 1.2)                  # the incoming tangent turns less than 90 deg to the chord
+        U = rng.normal(size=2)
+        U /= np.linalg.norm(U)
+        B = A + rng.uniform(0.1, 2) * U
+        c, s = np.cos(ang), np.sin(ang)
+        TA = np.array([c * U[0] - s * U[1], s * U[0] + c * U[1]])
+        if abs(ang) < 1e-3:
+            continue
+        V = rng.normal(size=2)
+        T = choose_tangent(A, TA, B, V)
+        assert locally_convex(A, TA, B, T)
+        n += 1
+        if locally_convex(A, TA, B, V / np.linalg.norm(V)):
+            assert np.allclose(T, V / np.linalg.norm(V))
+    assert n > 250
+
+
+def test_reflection_and_tangent_intersection():
+    U = np.array([1.0, 0.0])
+    assert np.allclose(reflect([0.6, 0.8], U), [0.6, -0.8])
+    X, s, u = tangent_lines_meet([0, 0], [1, 1], [2, 0], [1, -1])
+    assert np.allclose(X, [1, 1]) and s > 0 and u < 0
+    assert tangent_lines_meet([0, 0], [1, 0], [0, 1], [2, 0]) is None
+
+
+def test_parallel_step_on_a_cone_section_keeps_the_parameters_together():
+    # b1 = 1.5 b0 about the apex's projection: the parallel line through b1(v) meets b1 at the same
+    # parameter as the new point on b0
+    def b0(v):
+        v = np.atleast_1d(v)
+        th = 3.0 * v
+        return np.stack([(0.5 + v) * np.cos(th), (0.5 + v) * np.sin(th)], axis=1)
+
+    def b1(v):
+        return 1.5 * b0(v)
+    v = vb = 0.0
+    for _ in range(8):
+        st = parallel_step(b0, b1, v, vb, 0.1)
+        assert st.collapsed == -1
+        assert st.vb == pytest.approx(st.v, abs=1e-12) or st.v == pytest.approx(st.vb, abs=1e-12)
+        c0 = b0(np.array([v, st.v]))
+        c1 = b1(np.array([vb, st.vb]))
+        d0, d1 = c0[1] - c0[0], c1[1] - c1[0]
+        assert abs(d0[0] * d1[1] - d0[1] * d1[0]) <= 1e-12 * np.linalg.norm(d0) * np.linalg.norm(d1)
+        v, vb = st.v, st.vb
+
+
+def test_fat_conic_arc_of_a_true_cone_is_developable():
+    # a circular cone: sections at z = 0 (radius 1) and z = 1 (radius 0.6) about the z axis
+    ang = np.array([0.0, 0.5, 1.0])
+    P = np.stack([np.cos(ang), np.sin(ang), np.zeros(3)], axis=1)
+    Q = np.stack([0.6 * np.cos(ang), 0.6 * np.sin(ang), np.ones(3)], axis=1)
+    assert generators_concurrent(P, Q)
+    Q2 = Q.copy()
+    Q2[1, 0] += 1e-3
+    assert not generators_concurrent(P, Q2)
+    # a cylinder: parallel generators
+    assert generators_concurrent(P, P + [0.0, 0.0, 1.0])
+    # the planar fat conic arc: control triangles from the end tangents are similar (Theorem 2)
+    t0 = np.array([0.0, 1.0])
+    t1 = np.array([-np.sin(1.0), np.cos(1.0)])
+    A0, A1 = P[0, :2], P[2, :2]
+    B0, B1 = Q[0, :2], Q[2, :2]
+    R = tangent_lines_meet(A0, t0, A1, t1)[0]
+    Rb = tangent_lines_meet(B0, t0, B1, t1)[0]
+    for (x, y), (xb, yb) in (((A0, R), (B0, Rb)), ((R, A1), (Rb, B1)), ((A0, A1), (B0, B1))):
+        d, db = y - x, yb - xb
+        assert abs(d[0] * db[1] - d[1] * db[0]) <= 1e-12
+    w = np.cos(0.5)                                   # the circular arcs' weight (base angle 0.5)
+    X = conic(A0, R, A1, w, np.linspace(0, 1, 30))
+    assert np.abs(np.linalg.norm(X, axis=1) - 1).max() <= 1e-12
+    # the 30-point polyline against the dense arc: the largest chord sag, 1 - cos(half the largest step)
+    phi = np.arctan2(X[:, 1], X[:, 0])
+    sag = 1 - np.cos(0.5 * np.diff(phi).max())
+    assert hausdorff_2d(X, conic(A0, R, A1, w, np.linspace(0, 1, 3000))) == pytest.approx(sag, rel=1e-2)
