@@ -6,8 +6,9 @@ quadratic arcs with the same middle weight whose control triangles have parallel
 (Theorem 2).  Here: the conic arcs, the interpolation of the two boundaries by piecewise parallel
 polygons (§3.1), the common tangents by local convexity and reflection (eqs. 3–4), the control
 triangles and the shared weight by the discrete form of eq. 5 (§3.2), the boundary error (eq. 6),
-and the check of Theorem 1 on a patch's generator lines.  Still to come (issue 5): the skew error
-(eqs. 7–9), the sequential fitting loop (§3.3), extension and trim (§5), faces, CLI.
+the check of Theorem 1 on a patch's generator lines, and the sequential fitting loop (§3.3) with the
+boundary error as its test.  Still to come (issue 5): the skew error (eqs. 7–9) in the loop, growing
+each arc as long as it stays within tolerance, extension and trim (§5), faces, CLI.
 
 Boundary curves are callables v -> (N, 2) points with a derivative callable, v in [0, 1].
 """
@@ -63,10 +64,11 @@ def reflect(V, U) -> np.ndarray:
     return W / np.linalg.norm(W)
 
 
-def choose_tangent(A, TA, B, V) -> np.ndarray:
+def choose_tangent(A, TA, B, V):
     """The tangent at B after the chord A -> B (§3.2): V (eq. 3) when the triangle is locally convex;
     V reflected about the chord (eq. 4) when the turns have opposite signs; otherwise the one
-    closest to it, moved towards the circular-arc tangent (TA mirrored about the chord), that is."""
+    closest to it, moved towards the circular-arc tangent (TA mirrored about the chord), that is.
+    None when no tangent is (TA turns by 90 degrees or more from the chord: the step is too long)."""
     V = np.asarray(V, float) / np.linalg.norm(V)
     if locally_convex(A, TA, B, V):
         return V
@@ -77,8 +79,7 @@ def choose_tangent(A, TA, B, V) -> np.ndarray:
             return V
     circ = reflect(TA, U)                      # isosceles triangle: convex whenever TA turns < 90 deg to U
     if not locally_convex(A, TA, B, circ):
-        raise BadInputError("no locally convex tangent exists after this chord (the boundary turns by 90 "
-                            "degrees or more within one step); use a smaller step")
+        return None
     lo, hi = 0.0, 1.0                          # blend V -> circ, keep the convex end
     for _ in range(50):
         m = 0.5 * (lo + hi)
@@ -184,3 +185,78 @@ def generators_concurrent(P: np.ndarray, Q: np.ndarray, rel: float = 1e-9) -> bo
     X = np.linalg.lstsq(A, b, rcond=None)[0]
     dist = [np.linalg.norm((np.eye(3) - np.outer(d, d)) @ (X - p)) for p, d in zip(P, u)]
     return max(dist) <= rel * max(size, np.linalg.norm(X - P[0]))
+
+
+@dataclass
+class FatArc:
+    """One fat conic arc: control triangles on both boundaries (a collapsed side repeats its point),
+    the shared middle weight, the boundary parameters it covers and its boundary error (eq. 6)."""
+
+    A: np.ndarray       # (3, 2): L_{i-1}, R_i, L_i on the b0 side
+    B: np.ndarray       # (3, 2) on the b1 side
+    w: float
+    v: tuple            # (v_{i-1}, v_i) on b0
+    vb: tuple           # on b1
+    err: float
+
+
+def _unit(x) -> np.ndarray:
+    x = np.asarray(x, float)
+    return x / np.linalg.norm(x)
+
+
+def _side(b, a: float, z: float, L, R, N, w: float, samples: int):
+    """Control triangle (or a collapsed point), the boundary samples and the boundary error of one side."""
+    pts = b(np.linspace(a, z, samples))
+    if z <= a or np.linalg.norm(N - L) == 0:
+        return np.array([L, L, L]), pts, float(np.linalg.norm(pts - L, axis=1).max())
+    return np.array([L, R, N]), pts, None
+
+
+def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, ks: float = 0.9, kf: float = 1.5,
+                  samples: int = 41, max_arcs: int = 10_000) -> list:
+    """The sequential fitting loop of §3.3 with the boundary error of eq. 6 as the acceptance test
+    (the skew error of eqs. 7–8 is still to come): from the start, a parallel step of delta, the
+    common tangent, the control triangles, the shared weight; accept when both boundary errors are
+    within tol, else shrink delta by ks."""
+    if not (tol > 0 and delta0 > 0):
+        raise BadInputError("the tolerance and the step must be positive")
+    arcs = []
+    v = vb = 0.0
+    L, Lb = b0(np.array([0.0]))[0], b1(np.array([0.0]))[0]
+    T = _unit(db0(np.array([0.0]))[0] + db1(np.array([0.0]))[0])
+    while v < 1.0 or vb < 1.0:
+        delta = delta0
+        while True:
+            st = parallel_step(b0, b1, v, vb, delta, kf)
+            N, Nb = b0(np.array([st.v]))[0], b1(np.array([st.vb]))[0]
+            V = _unit(db0(np.array([st.v]))[0] + db1(np.array([st.vb]))[0])
+            a, z = (L, N) if np.linalg.norm(N - L) >= np.linalg.norm(Nb - Lb) else (Lb, Nb)
+            Tn = choose_tangent(a, T, z, V)
+            if Tn is None:                       # the boundary turns too much within this step
+                delta *= ks
+                if delta < 1e-9:
+                    raise BadInputError(f"no locally convex fat arc from v = {v:.6g}; the boundaries have a corner")
+                continue
+            R = tangent_lines_meet(L, T, N, Tn)
+            Rb = tangent_lines_meet(Lb, T, Nb, Tn)
+            triA, ptsA, eA = _side(b0, v, st.v, L, None if R is None else R[0], N, 1.0, samples)
+            triB, ptsB, eB = _side(b1, vb, st.vb, Lb, None if Rb is None else Rb[0], Nb, 1.0, samples)
+            w = shared_weight(None if eA is not None else tuple(triA), ptsA,
+                              None if eB is not None else tuple(triB), ptsB)
+            t = np.linspace(0.0, 1.0, 4 * samples)
+            if eA is None:
+                eA = hausdorff_2d(conic(*triA, w, t), ptsA)
+            if eB is None:
+                eB = hausdorff_2d(conic(*triB, w, t), ptsB)
+            err = max(eA, eB)
+            if err <= tol:
+                break
+            delta *= ks
+            if delta < 1e-9:
+                raise BadInputError(f"no fat conic arc within {tol:g} from v = {v:.6g}, {vb:.6g}; raise the tolerance")
+        arcs.append(FatArc(triA, triB, w, (v, st.v), (vb, st.vb), err))
+        if len(arcs) > max_arcs:
+            raise BadInputError(f"more than {max_arcs} arcs needed; raise the tolerance")
+        v, vb, L, Lb, T = st.v, st.vb, N, Nb, Tn
+    return arcs

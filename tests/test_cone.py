@@ -51,7 +51,7 @@ def test_chosen_tangents_are_locally_convex():
             continue
         V = rng.normal(size=2)
         T = choose_tangent(A, TA, B, V)
-        assert locally_convex(A, TA, B, T)
+        assert T is not None and locally_convex(A, TA, B, T)
         n += 1
         if locally_convex(A, TA, B, V / np.linalg.norm(V)):
             assert np.allclose(T, V / np.linalg.norm(V))
@@ -116,3 +116,38 @@ def test_fat_conic_arc_of_a_true_cone_is_developable():
     phi = np.arctan2(X[:, 1], X[:, 0])
     sag = 1 - np.cos(0.5 * np.diff(phi).max())
     assert hausdorff_2d(X, conic(A0, R, A1, w, np.linspace(0, 1, 3000))) == pytest.approx(sag, rel=1e-2)
+
+
+def _spiral():
+    def b0(v):
+        v = np.atleast_1d(v)
+        a = 3.5 * np.pi * v
+        return np.stack([(0.2 + v) * np.cos(a), (0.2 + v) * np.sin(a)], axis=1)
+
+    def db0(v):
+        v = np.atleast_1d(v)
+        a = 3.5 * np.pi * v
+        k = 3.5 * np.pi
+        return np.stack([np.cos(a) - (0.2 + v) * k * np.sin(a), np.sin(a) + (0.2 + v) * k * np.cos(a)], axis=1)
+    return b0, db0, (lambda v: 1.5 * b0(v)), (lambda v: 1.5 * db0(v))
+
+
+def test_fat_conic_fit_of_the_spiral_boundaries():
+    from ruled.cone import fit_fat_conic
+    b0, db0, b1, db1 = _spiral()
+    arcs = fit_fat_conic(b0, db0, b1, db1, 1e-3, 0.5)
+    assert arcs[0].v[0] == 0.0 and arcs[-1].v[1] == 1.0 and arcs[-1].vb[1] == 1.0
+    for a, b in zip(arcs[:-1], arcs[1:]):
+        assert a.v[1] == b.v[0] and a.vb[1] == b.vb[0]
+        assert np.allclose(a.A[2], b.A[0]) and np.allclose(a.B[2], b.B[0])
+    for arc in arcs:
+        # Theorem 2: parallel sides (similar triangles), one weight; measured boundary error within tol
+        for i, j in ((0, 1), (1, 2), (0, 2)):
+            d, db = arc.A[j] - arc.A[i], arc.B[j] - arc.B[i]
+            assert abs(d[0] * db[1] - d[1] * db[0]) <= 1e-9 * (np.linalg.norm(d) * np.linalg.norm(db) + 1e-300)
+        t = np.linspace(0, 1, 2001)
+        dense0 = b0(np.linspace(*arc.v, 2001))
+        dense1 = b1(np.linspace(*arc.vb, 2001))
+        e = max(hausdorff_2d(conic(*arc.A, arc.w, t), dense0), hausdorff_2d(conic(*arc.B, arc.w, t), dense1))
+        assert e <= 1e-3 * 1.01
+    print(f"spiral, tol 1e-3, step 0.5: {len(arcs)} fat arcs (boundary error only; the paper: 7 with the skew error)")
