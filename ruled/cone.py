@@ -6,9 +6,9 @@ quadratic arcs with the same middle weight whose control triangles have parallel
 (Theorem 2).  Here: the conic arcs, the interpolation of the two boundaries by piecewise parallel
 polygons (§3.1), the common tangents by local convexity and reflection (eqs. 3–4), the control
 triangles and the shared weight by the discrete form of eq. 5 (§3.2), the boundary error (eq. 6),
-the check of Theorem 1 on a patch's generator lines, and the sequential fitting loop (§3.3) with the
-boundary error as its test.  Still to come (issue 5): the skew error (eqs. 7–9) in the loop, growing
-each arc as long as it stays within tolerance, extension and trim (§5), faces, CLI.
+the check of Theorem 1 on a patch's generator lines, the skew error (eqs. 7–8), the sequential
+fitting loop (§3.3) with the total of eq. 9, the cone patches as rational surfaces and the trim of
+§5.  Still to come (issue 5): input from faces, the independent 3D measure, the shell, the CLI.
 
 Boundary curves are callables v -> (N, 2) points with a derivative callable, v in [0, 1].
 """
@@ -213,50 +213,150 @@ def _side(b, a: float, z: float, L, R, N, w: float, samples: int):
     return np.array([L, R, N]), pts, None
 
 
-def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, ks: float = 0.9, kf: float = 1.5,
-                  samples: int = 41, max_arcs: int = 10_000) -> list:
-    """The sequential fitting loop of §3.3 with the boundary error of eq. 6 as the acceptance test
-    (the skew error of eqs. 7–8 is still to come): from the start, a parallel step of delta, the
-    common tangent, the control triangles, the shared weight; accept when both boundary errors are
-    within tol, else shrink delta by ks."""
+def _line_distance(P, D, Q, E) -> float:
+    """Distance between the lines P + s D and Q + u E in 3D."""
+    n = np.cross(D, E)
+    nn = np.linalg.norm(n)
+    if nn <= 1e-14 * np.linalg.norm(D) * np.linalg.norm(E):
+        d = Q - P
+        return float(np.linalg.norm(d - (d @ D) / (D @ D) * D))
+    return float(abs((Q - P) @ n) / nn)
+
+
+def _second(f, x, eps=1e-5):
+    """Numerical second derivatives of f at x (N,) (central differences)."""
+    return (f(x + eps) - 2 * f(x) + f(x - eps)) / eps ** 2
+
+
+def _nearest_params(f, lo, hi, X, n=400):
+    """For each point of X, the parameter in [lo, hi] of the nearest of n samples of f."""
+    if hi <= lo:
+        return np.full(X.shape[0], lo)
+    t = np.linspace(lo, hi, n)
+    F = f(t)
+    k = np.argmin(((X[:, None, :] - F[None]) ** 2).sum(axis=2), axis=1)
+    return t[k]
+
+
+def skew_error(arc: "FatArc", b0, b1, h0: float, h1: float, m: int = 25) -> float:
+    """Eqs. 7–8: max(d0, d1), the bound of the distance between the rulings of the two surfaces once
+    the boundaries agree: for a cone generator A(t)B(t), the nearest boundary parameters v_A, v_B,
+    the bilinear quadrangle of the ruled surface between them (its thickness: the distance between
+    its diagonals) plus the chord heights dv^2/8 sup|b''|; and the same from every ruled generator
+    b0(v)b1(v) to the cone."""
+    (v0, v1), (w0, w1) = arc.v, arc.vb
+    t = np.linspace(0.0, 1.0, m)
+
+    def A(x):
+        return conic(*arc.A, arc.w, x)
+
+    def B(x):
+        return conic(*arc.B, arc.w, x)
+
+    def up(X, h):
+        return np.concatenate([X, np.full((X.shape[0], 1), h)], axis=1)
+    lo, hi = min(v0, w0), max(v1, w1)
+    vs = np.linspace(lo, hi, 200)
+    edge = np.clip(np.concatenate([vs, [lo + 1e-5, hi - 1e-5]]), lo + 1e-5, hi - 1e-5) if hi - lo > 3e-5 else vs
+    sup_b = max(np.linalg.norm(_second(b0, edge), axis=1).max(), np.linalg.norm(_second(b1, edge), axis=1).max())
+    vA = _nearest_params(b0, v0, v1, A(t))
+    vB = _nearest_params(b1, w0, w1, B(t))
+    d0 = 0.0
+    for a, b in zip(vA, vB):
+        P0, Q1 = up(b0(np.array([a])), h0)[0], up(b1(np.array([b])), h1)[0]
+        P1, Q0 = up(b1(np.array([a])), h1)[0], up(b0(np.array([b])), h0)[0]
+        d0 = max(d0, 0.125 * (b - a) ** 2 * sup_b + _line_distance(P0, Q1 - P0, P1, Q0 - P1))
+    sup_c = max(np.linalg.norm(_second(A, np.clip(t, 1e-5, 1 - 1e-5)), axis=1).max(),
+                np.linalg.norm(_second(B, np.clip(t, 1e-5, 1 - 1e-5)), axis=1).max())
+    d1 = 0.0
+    a_, z_ = max(v0, w0), min(v1, w1)
+    if z_ > a_:
+        vv = np.linspace(a_, z_, m)
+        tA = _nearest_params(A, 0.0, 1.0, b0(vv))
+        tB = _nearest_params(B, 0.0, 1.0, b1(vv))
+        for a, b in zip(tA, tB):
+            P0, Q1 = up(A(np.array([b])), h0)[0], up(B(np.array([a])), h1)[0]
+            P1, Q0 = up(A(np.array([a])), h0)[0], up(B(np.array([b])), h1)[0]
+            d1 = max(d1, 0.125 * (a - b) ** 2 * sup_c + _line_distance(P0, Q1 - P0, P1, Q0 - P1))
+    return float(max(d0, d1))
+
+
+def _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta, kf, samples, h0, h1):
+    """One candidate fat arc from (v, vb) with step delta: (arc, its end state) or None when no locally
+    convex tangent exists for this step."""
+    st = parallel_step(b0, b1, v, vb, delta, kf)
+    N, Nb = b0(np.array([st.v]))[0], b1(np.array([st.vb]))[0]
+    V = _unit(db0(np.array([st.v]))[0] + db1(np.array([st.vb]))[0])
+    a, z = (L, N) if np.linalg.norm(N - L) >= np.linalg.norm(Nb - Lb) else (Lb, Nb)
+    Tn = choose_tangent(a, T, z, V)
+    if Tn is None:
+        return None
+    R = tangent_lines_meet(L, T, N, Tn)
+    Rb = tangent_lines_meet(Lb, T, Nb, Tn)
+    triA, ptsA, eA = _side(b0, v, st.v, L, None if R is None else R[0], N, 1.0, samples)
+    triB, ptsB, eB = _side(b1, vb, st.vb, Lb, None if Rb is None else Rb[0], Nb, 1.0, samples)
+    w = shared_weight(None if eA is not None else tuple(triA), ptsA, None if eB is not None else tuple(triB), ptsB)
+    t = np.linspace(0.0, 1.0, 4 * samples)
+    if eA is None:
+        eA = hausdorff_2d(conic(*triA, w, t), ptsA)
+    if eB is None:
+        eB = hausdorff_2d(conic(*triB, w, t), ptsB)
+    arc = FatArc(triA, triB, w, (v, st.v), (vb, st.vb), max(eA, eB))
+    arc.err = arc.err + skew_error(arc, b0, b1, h0, h1)          # eq. 9
+    return arc, (st.v, st.vb, N, Nb, Tn)
+
+
+def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.0, h1: float = 1.0,
+                  ks: float = 0.9, kf: float = 1.5, samples: int = 41, grow: bool = True,
+                  max_arcs: int = 10_000) -> list:
+    """The sequential fitting loop of §3.3: from the start, a parallel step of delta, the common
+    tangent, the control triangles, the shared weight; the error of eq. 9 (boundary + skew, with the
+    boundaries' planes at heights h0 and h1); accept within tol, else shrink delta by ks.  With grow
+    (beyond the paper) an accepted arc is lengthened by 1 / ks steps for as long as it stays within tol."""
     if not (tol > 0 and delta0 > 0):
         raise BadInputError("the tolerance and the step must be positive")
     arcs = []
     v = vb = 0.0
     L, Lb = b0(np.array([0.0]))[0], b1(np.array([0.0]))[0]
     T = _unit(db0(np.array([0.0]))[0] + db1(np.array([0.0]))[0])
+    args = (kf, samples, h0, h1)
     while v < 1.0 or vb < 1.0:
         delta = delta0
         while True:
-            st = parallel_step(b0, b1, v, vb, delta, kf)
-            N, Nb = b0(np.array([st.v]))[0], b1(np.array([st.vb]))[0]
-            V = _unit(db0(np.array([st.v]))[0] + db1(np.array([st.vb]))[0])
-            a, z = (L, N) if np.linalg.norm(N - L) >= np.linalg.norm(Nb - Lb) else (Lb, Nb)
-            Tn = choose_tangent(a, T, z, V)
-            if Tn is None:                       # the boundary turns too much within this step
-                delta *= ks
-                if delta < 1e-9:
-                    raise BadInputError(f"no locally convex fat arc from v = {v:.6g}; the boundaries have a corner")
-                continue
-            R = tangent_lines_meet(L, T, N, Tn)
-            Rb = tangent_lines_meet(Lb, T, Nb, Tn)
-            triA, ptsA, eA = _side(b0, v, st.v, L, None if R is None else R[0], N, 1.0, samples)
-            triB, ptsB, eB = _side(b1, vb, st.vb, Lb, None if Rb is None else Rb[0], Nb, 1.0, samples)
-            w = shared_weight(None if eA is not None else tuple(triA), ptsA,
-                              None if eB is not None else tuple(triB), ptsB)
-            t = np.linspace(0.0, 1.0, 4 * samples)
-            if eA is None:
-                eA = hausdorff_2d(conic(*triA, w, t), ptsA)
-            if eB is None:
-                eB = hausdorff_2d(conic(*triB, w, t), ptsB)
-            err = max(eA, eB)
-            if err <= tol:
+            got = _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta, *args)
+            if got is not None and got[0].err <= tol:
                 break
             delta *= ks
             if delta < 1e-9:
-                raise BadInputError(f"no fat conic arc within {tol:g} from v = {v:.6g}, {vb:.6g}; raise the tolerance")
-        arcs.append(FatArc(triA, triB, w, (v, st.v), (vb, st.vb), err))
+                raise BadInputError(f"no fat conic arc within {tol:g} from v = {v:.6g}, {vb:.6g}; the boundaries "
+                                    f"have a corner there or the tolerance is too small")
+        while grow and max(got[0].v[1], got[0].vb[1]) < 1.0:
+            nxt = _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta / ks, *args)
+            if nxt is None or nxt[0].err > tol:
+                break
+            got, delta = nxt, delta / ks
+        arc, (v, vb, L, Lb, T) = got
+        arcs.append(arc)
         if len(arcs) > max_arcs:
             raise BadInputError(f"more than {max_arcs} arcs needed; raise the tolerance")
-        v, vb, L, Lb, T = st.v, st.vb, N, Nb, Tn
     return arcs
+
+
+def patch_surface(arc: FatArc, h0: float = 0.0, h1: float = 1.0):
+    """The cone patch of a fat arc: its boundary triangles lifted to the planes z = h0 and z = h1, as a
+    rational B-spline surface, linear in u (from the b0 side to the b1 side), quadratic in v."""
+    from .nurbs import Surface
+    P = np.zeros((2, 3, 3))
+    P[0, :, :2], P[0, :, 2] = arc.A, h0
+    P[1, :, :2], P[1, :, 2] = arc.B, h1
+    W = np.array([[1.0, arc.w, 1.0], [1.0, arc.w, 1.0]])
+    return Surface(P, [0, 0, 1, 1], [0, 0, 0, 1, 1, 1], 1, 2, W)
+
+
+def trim_arc(arc: FatArc, s0: float, s1: float) -> FatArc:
+    """§5, extension and trim: the fat arc between the planes at fractions s0 < s1 of the way from the
+    b0 plane to the b1 plane.  A plane section of a cone patch interpolates its two boundary conics
+    linearly (same weight, same parameter), so the trimmed triangles are (1 - s) A + s B."""
+    A = (1 - s0) * arc.A + s0 * arc.B
+    B = (1 - s1) * arc.A + s1 * arc.B
+    return FatArc(A, B, arc.w, arc.v, arc.vb, arc.err)
