@@ -127,12 +127,9 @@ def _crossing(b, X, c, lo, hi, n=64):
         if g[k + 1] == 0.0:
             return float(v[k + 1])
         if (g[k] < 0 < g[k + 1]) or (g[k] > 0 > g[k + 1]):
-            a, z, ga = v[k], v[k + 1], g[k]
-            for _ in range(60):
-                m = 0.5 * (a + z)
-                gm = float((b(np.array([m]))[0] - X) @ np.array([-c[1], c[0]]))
-                a, z, ga = (a, m, ga) if ga * gm <= 0 else (m, z, gm)
-            return 0.5 * (a + z)
+            from scipy.optimize import brentq
+            nrm = np.array([-c[1], c[0]])
+            return float(brentq(lambda x: float((b(np.array([x]))[0] - X) @ nrm), v[k], v[k + 1], xtol=1e-15))
     return None
 
 
@@ -213,14 +210,15 @@ def _side(b, a: float, z: float, L, R, N, w: float, samples: int):
     return np.array([L, R, N]), pts, None
 
 
-def _line_distance(P, D, Q, E) -> float:
-    """Distance between the lines P + s D and Q + u E in 3D."""
+def _line_distances(P, D, Q, E) -> np.ndarray:
+    """Distances between the lines P + s D and Q + u E in 3D, row by row (N, 3) arrays."""
     n = np.cross(D, E)
-    nn = np.linalg.norm(n)
-    if nn <= 1e-14 * np.linalg.norm(D) * np.linalg.norm(E):
-        d = Q - P
-        return float(np.linalg.norm(d - (d @ D) / (D @ D) * D))
-    return float(abs((Q - P) @ n) / nn)
+    nn = np.linalg.norm(n, axis=1)
+    d = Q - P
+    skew = np.abs((d * n).sum(axis=1)) / np.where(nn > 0, nn, 1.0)
+    par = np.linalg.norm(d - ((d * D).sum(axis=1) / np.maximum((D * D).sum(axis=1), 1e-300))[:, None] * D, axis=1)
+    small = nn <= 1e-14 * np.linalg.norm(D, axis=1) * np.linalg.norm(E, axis=1)
+    return np.where(small, par, skew)
 
 
 def _second(f, x, eps=1e-5):
@@ -261,23 +259,18 @@ def skew_error(arc: "FatArc", b0, b1, h0: float, h1: float, m: int = 25) -> floa
     sup_b = max(np.linalg.norm(_second(b0, edge), axis=1).max(), np.linalg.norm(_second(b1, edge), axis=1).max())
     vA = _nearest_params(b0, v0, v1, A(t))
     vB = _nearest_params(b1, w0, w1, B(t))
-    d0 = 0.0
-    for a, b in zip(vA, vB):
-        P0, Q1 = up(b0(np.array([a])), h0)[0], up(b1(np.array([b])), h1)[0]
-        P1, Q0 = up(b1(np.array([a])), h1)[0], up(b0(np.array([b])), h0)[0]
-        d0 = max(d0, 0.125 * (b - a) ** 2 * sup_b + _line_distance(P0, Q1 - P0, P1, Q0 - P1))
-    sup_c = max(np.linalg.norm(_second(A, np.clip(t, 1e-5, 1 - 1e-5)), axis=1).max(),
-                np.linalg.norm(_second(B, np.clip(t, 1e-5, 1 - 1e-5)), axis=1).max())
+    P0, Q1, P1, Q0 = up(b0(vA), h0), up(b1(vB), h1), up(b1(vA), h1), up(b0(vB), h0)
+    d0 = float((0.125 * (vB - vA) ** 2 * sup_b + _line_distances(P0, Q1 - P0, P1, Q0 - P1)).max())
+    tc = np.clip(t, 1e-5, 1 - 1e-5)
+    sup_c = max(np.linalg.norm(_second(A, tc), axis=1).max(), np.linalg.norm(_second(B, tc), axis=1).max())
     d1 = 0.0
     a_, z_ = max(v0, w0), min(v1, w1)
     if z_ > a_:
         vv = np.linspace(a_, z_, m)
         tA = _nearest_params(A, 0.0, 1.0, b0(vv))
         tB = _nearest_params(B, 0.0, 1.0, b1(vv))
-        for a, b in zip(tA, tB):
-            P0, Q1 = up(A(np.array([b])), h0)[0], up(B(np.array([a])), h1)[0]
-            P1, Q0 = up(A(np.array([a])), h0)[0], up(B(np.array([b])), h1)[0]
-            d1 = max(d1, 0.125 * (a - b) ** 2 * sup_c + _line_distance(P0, Q1 - P0, P1, Q0 - P1))
+        P0, Q1, P1, Q0 = up(A(tB), h0), up(B(tA), h1), up(A(tA), h0), up(B(tB), h1)
+        d1 = float((0.125 * (tA - tB) ** 2 * sup_c + _line_distances(P0, Q1 - P0, P1, Q0 - P1)).max())
     return float(max(d0, d1))
 
 

@@ -132,8 +132,16 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
 
 
 def to_polyline(A: np.ndarray, B: np.ndarray, k: int = 4) -> float:
-    """max over the points A of their distance to the polyline through the points B (the edges at
-    each point's k nearest vertices): a dense-sampling measure between two curves."""
+    """max over the points A of their distance to the polyline through the points B (every edge for
+    small inputs, else the edges at each point's k nearest vertices): a dense-sampling measure
+    between two curves."""
+    if B.shape[0] < 2:
+        return float(np.linalg.norm(A - B[:1], axis=1).max())
+    if A.shape[0] * B.shape[0] <= 200_000:           # small: every edge, exactly
+        P, d = B[:-1], B[1:] - B[:-1]
+        s = np.clip(((A[:, None] - P[None]) * d[None]).sum(axis=2) / np.maximum((d * d).sum(axis=1), 1e-300),
+                    0, 1)
+        return float(np.linalg.norm(A[:, None] - (P[None] + s[..., None] * d[None]), axis=2).min(axis=1).max())
     from scipy.spatial import cKDTree
 
     _, near = cKDTree(B).query(A, k=min(k, B.shape[0]))
