@@ -176,3 +176,48 @@ def test_trimmed_arc_is_the_patch_between_the_inner_planes():
     # the trimmed sides keep a real control triangle each
     for row in (0, 1):
         assert np.linalg.norm(cut.poles[row, 1] - cut.poles[row, 0]) > 0
+
+
+def _bezier(P):
+    from ruled.nurbs import Curve
+    P = np.array(P, float)
+    n = len(P) - 1
+    C = Curve(P, [0] * (n + 1) + [1] * (n + 1), n)
+    return (lambda v: C.evaluate(np.clip(np.atleast_1d(v), 0, 1), 1)[0],
+            lambda v: C.evaluate(np.clip(np.atleast_1d(v), 0, 1), 1)[1])
+
+
+def paper_examples():
+    """The paper's examples 2 and 3 (extended boundaries, heights 1 and 3): (name, b0, db0, b1, db1,
+    tol, step, height, the paper's count)."""
+    b0, db0 = _bezier([(0, 1.5), (0, 1.5), (0, 0), (0, 0), (1, -0.075), (1, -0.075), (3, 0), (3, 0), (3, 1.5),
+                       (3, 1.5)])
+    b1, db1 = _bezier([(0, 1.5), (0, 0.5), (0, 0), (0, 0), (0.5, 0), (2.5, 0), (3, 0), (3, 0), (3, 0.5), (3, 1.5)])
+    c0, dc0 = _bezier([(-2, -2), (4, 8), (5, -8), (12, 1)])
+
+    def p(v):
+        v = np.atleast_1d(v)
+        a, b = np.tan(np.pi / 8 * np.cos(np.pi * v)), np.pi / 2 + 0.1 * np.sin(np.pi * v)
+        return 3 * np.stack([a * np.cos(b), a * np.sin(b)], axis=1)
+
+    def c1(v):
+        return c0(v) + p(v)
+
+    def dc1(v, e=1e-6):
+        return dc0(v) + (p(np.atleast_1d(v) + e) - p(np.atleast_1d(v) - e)) / (2 * e)
+    return [("2", b0, db0, b1, db1, 0.06, 0.1, 1.0, 16), ("3a", c0, dc0, c1, dc1, 0.2, 0.3, 3.0, 7),
+            ("3b", c0, dc0, c1, dc1, 0.1, 0.1, 3.0, 15)]
+
+
+@pytest.mark.parametrize("case", paper_examples(), ids=lambda c: "example " + c[0])
+def test_paper_examples_2_and_3_stay_within_the_error_estimate(case):
+    from ruled.cone import fit_fat_conic, patch_surface
+    name, b0, db0, b1, db1, tol, step, height, paper = case
+    arcs = fit_fat_conic(b0, db0, b1, db1, tol, step, h1=height)
+    assert arcs[-1].v[1] == 1.0 and arcs[-1].vb[1] == 1.0
+    assert max(a.err for a in arcs) <= tol
+    for arc in arcs:
+        S = patch_surface(arc, 0.0, height)
+        assert generators_concurrent(S.poles[0], S.poles[1])
+    print(f"example {name}: {len(arcs)} fat arcs (the paper: {paper}), largest eq. 9 error "
+          f"{max(a.err for a in arcs):.4g} for tolerance {tol}")
