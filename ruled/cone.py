@@ -299,28 +299,28 @@ def _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta, kf, samples, h0, h1):
     return arc, (st.v, st.vb, N, Nb, Tn)
 
 
-def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.0, h1: float = 1.0,
-                  ks: float = 0.9, kf: float = 1.5, samples: int = 41, grow: bool = True,
-                  max_arcs: int = 10_000) -> list:
-    """The sequential fitting loop of §3.3: from the start, a parallel step of delta, the common
-    tangent, the control triangles, the shared weight; the error of eq. 9 (boundary + skew, with the
-    boundaries' planes at heights h0 and h1); accept within tol, else shrink delta by ks.  With grow
-    (beyond the paper) an accepted arc is lengthened by 1 / ks steps for as long as it stays within tol."""
-    if not (tol > 0 and delta0 > 0):
-        raise BadInputError("the tolerance and the step must be positive")
+def _sequential(b0, db0, b1, db1, tol, delta0, target, args, ks, grow, max_arcs):
+    """One pass of the §3.3 loop; with a target count, each arc's first step is the remaining range
+    spread over the arcs left (None when the pass would need more arcs than the target)."""
     arcs = []
     v = vb = 0.0
     L, Lb = b0(np.array([0.0]))[0], b1(np.array([0.0]))[0]
     T = _unit(db0(np.array([0.0]))[0] + db1(np.array([0.0]))[0])
-    args = (kf, samples, h0, h1)
     while v < 1.0 or vb < 1.0:
-        delta = delta0
+        if target is not None:
+            if len(arcs) >= target:
+                return None
+            delta = max(1.05 * (1.0 - min(v, vb)) / (target - len(arcs)), 1e-6)
+        else:
+            delta = delta0
         while True:
             got = _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta, *args)
             if got is not None and got[0].err <= tol:
                 break
             delta *= ks
             if delta < 1e-9:
+                if target is not None:
+                    return None
                 raise BadInputError(f"no fat conic arc within {tol:g} from v = {v:.6g}, {vb:.6g}; the boundaries "
                                     f"have a corner there or the tolerance is too small")
         while grow and max(got[0].v[1], got[0].vb[1]) < 1.0:
@@ -332,6 +332,27 @@ def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.
         arcs.append(arc)
         if len(arcs) > max_arcs:
             raise BadInputError(f"more than {max_arcs} arcs needed; raise the tolerance")
+    return arcs
+
+
+def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.0, h1: float = 1.0,
+                  ks: float = 0.9, kf: float = 1.5, samples: int = 41, grow: bool = True, balance: bool = True,
+                  max_arcs: int = 10_000) -> list:
+    """The sequential fitting loop of §3.3: from the start, a parallel step of delta, the common
+    tangent, the control triangles, the shared weight; the error of eq. 9 (boundary + skew, with the
+    boundaries' planes at heights h0 and h1); accept within tol, else shrink delta by ks.  Beyond the
+    paper: with grow an accepted arc is lengthened by 1 / ks steps for as long as it stays within tol;
+    with balance the fit is repeated with one arc fewer (the remaining range spread over the arcs
+    left) for as long as that succeeds, so a short leftover arc at the end disappears."""
+    if not (tol > 0 and delta0 > 0):
+        raise BadInputError("the tolerance and the step must be positive")
+    args = (kf, samples, h0, h1)
+    arcs = _sequential(b0, db0, b1, db1, tol, delta0, None, args, ks, grow, max_arcs)
+    while balance and len(arcs) > 1:
+        fewer = _sequential(b0, db0, b1, db1, tol, delta0, len(arcs) - 1, args, ks, grow, max_arcs)
+        if fewer is None:
+            break
+        arcs = fewer
     return arcs
 
 
