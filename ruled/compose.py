@@ -18,6 +18,7 @@ from math import comb
 
 import numpy as np
 
+from . import kernels, kernels_cos
 from .errors import BadInputError
 from .knots import span_bezier
 from .nurbs import Curve, Surface, find_spans
@@ -107,3 +108,101 @@ def compose_segment(S: Surface, a, b) -> Curve:
     knots = np.concatenate([np.zeros(d + 1), np.ones(d + 1)])
     w = R[:, 3]
     return Curve(R[:, :3] / w[:, None], knots, d, None if S.weights is None else w)
+
+
+def _bernstein(n: int, t: np.ndarray) -> np.ndarray:
+    """Bernstein basis values (N, n + 1) at t (N,)."""
+    k = np.arange(n + 1)
+    c = np.array([comb(n, i) for i in k], float)
+    return c * t[:, None] ** k * (1 - t[:, None]) ** (n - k)
+
+
+class SpanPatches:
+    """The Bézier patches of S by knot span, built when a piece first needs them, with their
+    derivative nets (in the surface's parameters)."""
+
+    def __init__(self, S: Surface):
+        self.S = S
+        self.p, self.q = S.degree_u, S.degree_v
+        self.index: dict = {}
+        self.nets, self.du, self.dv, self.lo, self.hi = [], [], [], [], []
+        self._arrays = None
+
+    def of(self, X: np.ndarray) -> np.ndarray:
+        """Span numbers of the points X (N, 2)."""
+        S = self.S
+        iu = find_spans(S.knots_u, self.p, S.poles.shape[0], X[:, 0])
+        iv = find_spans(S.knots_v, self.q, S.poles.shape[1], X[:, 1])
+        code = iu * S.knots_v.shape[0] + iv
+        uniq, first, inv = np.unique(code, return_index=True, return_inverse=True)
+        ids = np.empty(uniq.shape[0], int)
+        for m, (c, k) in enumerate(zip(uniq.tolist(), first.tolist())):
+            j = self.index.get(c)
+            if j is None:
+                net, ur, vr = span_patch(S, float(X[k, 0]), float(X[k, 1]))
+                j = len(self.nets)
+                self.index[c] = j
+                self.nets.append(net)
+                self.du.append(np.diff(net, axis=0) * (self.p / (ur[1] - ur[0])))
+                self.dv.append(np.diff(net, axis=1) * (self.q / (vr[1] - vr[0])))
+                self.lo.append((ur[0], vr[0]))
+                self.hi.append((ur[1], vr[1]))
+                self._arrays = None
+            ids[m] = j
+        return ids[inv.ravel()]
+
+    def arrays(self):
+        if self._arrays is None:
+            self._arrays = tuple(np.array(x) for x in (self.nets, self.du, self.dv, self.lo, self.hi))
+        return self._arrays
+
+    def local_bounds(self, sid: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Rigorous bounds of sqrt(max|S_u|^2 + max|S_v|^2) over the boxes [lo, hi] (N, 2), each inside
+        its span: the patch and its derivative nets restricted to the box, convex hull property and,
+        for rational patches, the quotient rule with the smallest weight."""
+        nets, du, dv, slo, shi = self.arrays()
+        if kernels.enabled():
+            out = np.empty(sid.shape[0])
+            kernels_cos.local_bounds(sid, np.ascontiguousarray(lo), np.ascontiguousarray(hi), nets, du, dv, slo, shi,
+                                     out)
+            return out
+        p, q = self.p, self.q
+        a = (lo - slo[sid]) / (shi[sid] - slo[sid])
+        b = (hi - slo[sid]) / (shi[sid] - slo[sid])
+        Ru, Rv = restrict_matrices(p, a[:, 0], b[:, 0]), restrict_matrices(q, a[:, 1], b[:, 1])
+        sub = sandwich(Ru, nets[sid], Rv)
+        w = sub[..., 3]
+        X = sub[..., :3] / w[..., None]
+        Xf = X.reshape(X.shape[0], -1, 3)
+        c = 0.5 * (Xf.min(axis=1) + Xf.max(axis=1))
+        r = 0.5 * np.linalg.norm(Xf.max(axis=1) - Xf.min(axis=1), axis=1)
+        wmin = w.reshape(w.shape[0], -1).min(axis=1)
+
+        def hull(dsub):
+            Dw = dsub[..., 3].reshape(dsub.shape[0], -1)
+            D3 = dsub[..., :3].reshape(dsub.shape[0], -1, 3)
+            num = np.linalg.norm(D3 - Dw[..., None] * c[:, None], axis=2).max(axis=1)
+            return (num + np.abs(Dw).max(axis=1) * r) / wmin
+
+        mu = hull(sandwich(restrict_matrices(p - 1, a[:, 0], b[:, 0]), du[sid], Rv)) if p else 0.0
+        mv = hull(sandwich(Ru, dv[sid], restrict_matrices(q - 1, a[:, 1], b[:, 1]))) if q else 0.0
+        return np.hypot(mu, mv)
+
+    def jacobian(self, sid: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """(S_u, S_v) as (N, 2, 3) of each point's span patch at X (eqs. 21–22; rational patches by
+        the quotient rule), so one-sided at knot lines where S is only C0."""
+        nets, du, dv, slo, shi = self.arrays()
+        s = (X - slo[sid]) / (shi[sid] - slo[sid])
+        bu, bv = _bernstein(self.p, s[:, 0]), _bernstein(self.q, s[:, 1])
+
+        def ev(bu, net, bv):
+            return ((bu[:, :, None, None] * net).sum(axis=1) * bv[:, :, None]).sum(axis=1)
+        Hh = ev(bu, nets[sid], bv)
+        out = np.zeros((X.shape[0], 2, 3))
+        if self.p:
+            Hu = ev(_bernstein(self.p - 1, s[:, 0]), du[sid], bv)
+            out[:, 0] = (Hu[:, :3] - Hh[:, :3] / Hh[:, 3:] * Hu[:, 3:]) / Hh[:, 3:]
+        if self.q:
+            Hv = ev(bu, dv[sid], _bernstein(self.q - 1, s[:, 1]))
+            out[:, 1] = (Hv[:, :3] - Hh[:, :3] / Hh[:, 3:] * Hv[:, 3:]) / Hh[:, 3:]
+        return out

@@ -202,7 +202,7 @@ def _unit(x) -> np.ndarray:
     return x / np.linalg.norm(x)
 
 
-def _side(b, a: float, z: float, L, R, N, w: float, samples: int):
+def _side(b, a: float, z: float, L, R, N, samples: int):
     """Control triangle (or a collapsed point), the boundary samples and the boundary error of one side."""
     pts = b(np.linspace(a, z, samples))
     if z <= a or np.linalg.norm(N - L) == 0:
@@ -286,8 +286,8 @@ def _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta, kf, samples, h0, h1):
         return None
     R = tangent_lines_meet(L, T, N, Tn)
     Rb = tangent_lines_meet(Lb, T, Nb, Tn)
-    triA, ptsA, eA = _side(b0, v, st.v, L, None if R is None else R[0], N, 1.0, samples)
-    triB, ptsB, eB = _side(b1, vb, st.vb, Lb, None if Rb is None else Rb[0], Nb, 1.0, samples)
+    triA, ptsA, eA = _side(b0, v, st.v, L, None if R is None else R[0], N, samples)
+    triB, ptsB, eB = _side(b1, vb, st.vb, Lb, None if Rb is None else Rb[0], Nb, samples)
     w = shared_weight(None if eA is not None else tuple(triA), ptsA, None if eB is not None else tuple(triB), ptsB)
     t = np.linspace(0.0, 1.0, 4 * samples)
     if eA is None:

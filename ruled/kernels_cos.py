@@ -2,7 +2,7 @@
 gradient bound.
 
 Each kernel computes, piece by piece and in the same order of operations, what its NumPy twin in
-curve_on_surface.py computes (_farthest, _Spans.local_bounds): the same power coefficients,
+curve_on_surface.py and compose.py compute (_farthest, SpanPatches.local_bounds): the same power coefficients,
 polynomial products, root formulas (closed forms up to degree 2, the companion matrix's
 eigenvalues above, two Newton steps), candidates in the same order, and the same restricted nets.
 Tests compare the twins.

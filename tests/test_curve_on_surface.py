@@ -152,7 +152,8 @@ def test_numba_kernels_and_numpy_twins_agree_bit_for_bit(deg, rational, monkeypa
     (h0, t0_), (h1, t1_) = _both_paths(lambda: cos._farthest(H), monkeypatch)
     assert np.array_equal(h0, h1) and np.array_equal(t0_, t1_)
     S = random_surface(np.random.default_rng(4), pu=3, pv=2, nu=8, nv=7, rational=rational)
-    sp = cos._Spans(S)
+    from ruled.compose import SpanPatches
+    sp = SpanPatches(S)
     sid = sp.of(rng.uniform(0.01, 0.99, (200, 2)))
     _, _, _, slo, shi = sp.arrays()
     lo = slo[sid] + rng.uniform(0, 0.5, (200, 2)) * (shi[sid] - slo[sid])
