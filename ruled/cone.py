@@ -119,17 +119,160 @@ def shared_weight(tri0, pts0, tri1, pts1, default: float = 2.0) -> float:
     return float(np.sqrt(num / den))
 
 
+class Track:
+    """A planar boundary curve v -> (x, y), v in [0, 1], tabulated once (points and first derivatives at
+    a uniform grid plus the curve's own breaks) and evaluated by piecewise cubic Hermite interpolation:
+    every query of the fitting loop is then a few array operations, whatever the curve is.  With the
+    breaks (knots) in the grid each table interval lies inside one smooth piece, and the interpolation
+    error is h^4 / 384 sup |b^(4)| (about 1e-12 of the size for h = 1/1024 on the paper's spiral)."""
+
+    def __init__(self, f, df, breaks=(), m: int = 1024):
+        t = np.linspace(0.0, 1.0, m + 1)
+        br = np.asarray([b for b in np.ravel(breaks) if 0.0 < b < 1.0], float)
+        t = np.unique(np.concatenate([t, br]))
+        self.t = t
+        self.P = np.asarray(f(t), float)
+        self.D = np.asarray(df(t), float)
+        self.h = np.diff(t)
+
+    def _at(self, v):
+        v = np.minimum(np.maximum(np.atleast_1d(np.asarray(v, float)), 0.0), 1.0)
+        i = np.minimum(np.searchsorted(self.t, v, side="right") - 1, len(self.t) - 2)
+        h = self.h[i]
+        return i, h[:, None], ((v - self.t[i]) / h)[:, None]
+
+    def __call__(self, v) -> np.ndarray:
+        i, h, s = self._at(v)
+        s2, s3 = s * s, s * s * s
+        return ((2 * s3 - 3 * s2 + 1) * self.P[i] + (s3 - 2 * s2 + s) * h * self.D[i]
+                + (-2 * s3 + 3 * s2) * self.P[i + 1] + (s3 - s2) * h * self.D[i + 1])
+
+    def d(self, v) -> np.ndarray:
+        return self.all3(v)[1]
+
+    def dd(self, v) -> np.ndarray:
+        return self.all3(v)[2]
+
+    def all3(self, v):
+        """Point, first and second derivative at v."""
+        i, h, s = self._at(v)
+        s2, s3 = s * s, s * s * s
+        P0, P1, D0, D1 = self.P[i], self.P[i + 1], h * self.D[i], h * self.D[i + 1]
+        dP = P1 - P0
+        X = P0 + s * D0 + s2 * (3 * dP - 2 * D0 - D1) + s3 * (D0 + D1 - 2 * dP)
+        X1 = (D0 + 2 * s * (3 * dP - 2 * D0 - D1) + 3 * s2 * (D0 + D1 - 2 * dP)) / h
+        X2 = (2 * (3 * dP - 2 * D0 - D1) + 6 * s * (D0 + D1 - 2 * dP)) / (h * h)
+        return X, X1, X2
+
+
+class Conic:
+    """The rational quadratic arc (P0, R with weight w, P2) with its first and second derivatives."""
+
+    def __init__(self, P0, R, P2, w: float):
+        self.P0, self.R, self.P2 = (np.asarray(x, float) for x in (P0, R, P2))
+        self.w = float(w)
+
+    def __call__(self, t) -> np.ndarray:
+        t = np.atleast_1d(np.asarray(t, float))[:, None]
+        a, b, c = (1 - t) ** 2, 2 * self.w * t * (1 - t), t * t
+        return (a * self.P0 + b * self.R + c * self.P2) / (a + b + c)
+
+    def d(self, t) -> np.ndarray:
+        return self.all3(t)[1]
+
+    def dd(self, t) -> np.ndarray:
+        return self.all3(t)[2]
+
+    def all3(self, t):
+        """Point, first and second derivative at t."""
+        t = np.atleast_1d(np.asarray(t, float))[:, None]
+        w, P0, R, P2 = self.w, self.P0, self.R, self.P2
+        u = 1 - t
+        N = u * u * P0 + 2 * w * t * u * R + t * t * P2
+        D = u * u + 2 * w * t * u + t * t
+        N1 = -2 * u * P0 + 2 * w * (1 - 2 * t) * R + 2 * t * P2
+        D1 = -2 * u + 2 * w * (1 - 2 * t) + 2 * t
+        C = N / D
+        C1 = (N1 - C * D1) / D
+        C2 = (2 * P0 - 4 * w * R + 2 * P2 - 2 * C1 * D1 - C * (4.0 - 4.0 * w)) / D
+        return C, C1, C2
+
+
+def project(c, lo: float, hi: float, X: np.ndarray, n: int = 33, iters: int = 3):
+    """Exact closest points on the curve c (a Track or a Conic) over [lo, hi] to the points X (N, 2):
+    the nearest of n samples, then Newton steps on (c - X) . c' = 0 kept inside the samples'
+    neighbouring interval.  Returns (parameters, distances)."""
+    X = np.atleast_2d(X)
+    if hi <= lo:
+        x = np.full(X.shape[0], float(lo))
+        return x, np.linalg.norm(c(x) - X, axis=1)
+    t = np.linspace(lo, hi, n)
+    d2 = ((X[:, None, :] - c(t)[None]) ** 2).sum(axis=2)
+    k = np.argmin(d2, axis=1)
+    x0 = t[k]
+    a, b = t[np.maximum(k - 1, 0)], t[np.minimum(k + 1, n - 1)]
+    x = x0
+    for _ in range(iters):
+        P, d1, d2_ = c.all3(x)
+        r = P - X
+        g = (r * d1).sum(axis=1)
+        gp = (d1 * d1).sum(axis=1) + (r * d2_).sum(axis=1)
+        ok = gp > 0
+        x = np.minimum(np.maximum(x - np.where(ok, g / np.where(ok, gp, 1.0), 0.0), a), b)
+    dist = np.sqrt(((c(x) - X) ** 2).sum(axis=1))
+    d0 = np.sqrt(d2[np.arange(X.shape[0]), k])
+    worse = dist > d0
+    return np.where(worse, x0, x), np.where(worse, d0, dist)
+
+
+def one_sided(src, lo: float, hi: float, dst, dlo: float, dhi: float, n: int = 33):
+    """max over s in [lo, hi] of the distance from src(s) to dst over [dlo, dhi] (one side of eq. 6):
+    n samples, exact projections, then two steps of successive parabolic interpolation about the
+    largest sample (the sampled maximum alone can fall short of the true one by the curvature of the
+    distance between samples).  Returns (max, sample parameters, their closest parameters on dst)."""
+    s = np.linspace(lo, hi, n)
+    if hi <= lo:
+        s = s[:1]
+    x, d = project(dst, dlo, dhi, src(s))
+    best = float(d.max())
+    if len(s) >= 3:
+        k = int(np.clip(np.argmax(d), 1, len(s) - 2))
+        pts = [(s[k - 1], d[k - 1]), (s[k], d[k]), (s[k + 1], d[k + 1])]
+        for _ in range(2):
+            (a, fa), (b, fb), (c, fc) = sorted(pts)
+            den = (b - a) * (fb - fc) - (b - c) * (fb - fa)
+            if den == 0:
+                break
+            t = b - 0.5 * ((b - a) ** 2 * (fb - fc) - (b - c) ** 2 * (fb - fa)) / den
+            if not (a < t < c):
+                break
+            ft = float(project(dst, dlo, dhi, src(t))[1][0])
+            best = max(best, ft)
+            pts = sorted(pts + [(t, ft)], key=lambda p: -p[1])[:3]
+    return best, s, x
+
+
 def _crossing(b, X, c, lo, hi, n=64):
     """The smallest v in (lo, hi] where the curve b crosses the line through X with direction c."""
+    nrm = np.array([-c[1], c[0]])
     v = np.linspace(lo, hi, n + 1)
-    g = (b(v) - X) @ np.array([-c[1], c[0]])      # b(lo) is on the line itself: only later crossings count
+    g = (b(v) - X) @ nrm                            # b(lo) is on the line itself: only later crossings count
     for k in range(n):
         if g[k + 1] == 0.0:
             return float(v[k + 1])
         if (g[k] < 0 < g[k + 1]) or (g[k] > 0 > g[k + 1]):
-            from scipy.optimize import brentq
-            nrm = np.array([-c[1], c[0]])
-            return float(brentq(lambda x: float((b(np.array([x]))[0] - X) @ nrm), v[k], v[k + 1], xtol=1e-15))
+            x0, x1, g0, g1 = v[k], v[k + 1], g[k], g[k + 1]
+            for _ in range(60):                    # Illinois (regula falsi), on the tabulated curve
+                x = x1 - g1 * (x1 - x0) / (g1 - g0)
+                gx = float((b(x)[0] - X) @ nrm)
+                if gx == 0.0 or abs(x1 - x0) <= 1e-15:
+                    return float(x)
+                if (gx > 0) == (g1 > 0):
+                    g0 *= 0.5
+                else:
+                    x0, g0 = x1, g1
+                x1, g1 = x, gx
+            return float(x1)
     return None
 
 
@@ -187,27 +330,22 @@ def generators_concurrent(P: np.ndarray, Q: np.ndarray, rel: float = 1e-9) -> bo
 @dataclass
 class FatArc:
     """One fat conic arc: control triangles on both boundaries (a collapsed side repeats its point),
-    the shared middle weight, the boundary parameters it covers and its boundary error (eq. 6)."""
+    the shared middle weight, the boundary parameters it covers, its boundary error (eq. 6) and its
+    total error bound (eq. 9: boundary + skew)."""
 
     A: np.ndarray       # (3, 2): L_{i-1}, R_i, L_i on the b0 side
     B: np.ndarray       # (3, 2) on the b1 side
     w: float
     v: tuple            # (v_{i-1}, v_i) on b0
     vb: tuple           # on b1
-    err: float
+    err: float          # eq. 9
+    boundary: float = 0.0
+    skew: float = 0.0
 
 
 def _unit(x) -> np.ndarray:
     x = np.asarray(x, float)
     return x / np.linalg.norm(x)
-
-
-def _side(b, a: float, z: float, L, R, N, samples: int):
-    """Control triangle (or a collapsed point), the boundary samples and the boundary error of one side."""
-    pts = b(np.linspace(a, z, samples))
-    if z <= a or np.linalg.norm(N - L) == 0:
-        return np.array([L, L, L]), pts, float(np.linalg.norm(pts - L, axis=1).max())
-    return np.array([L, R, N]), pts, None
 
 
 def _line_distances(P, D, Q, E) -> np.ndarray:
@@ -221,135 +359,150 @@ def _line_distances(P, D, Q, E) -> np.ndarray:
     return np.where(small, par, skew)
 
 
-def _second(f, x, eps=1e-5):
-    """Numerical second derivatives of f at x (N,) (central differences)."""
-    return (f(x + eps) - 2 * f(x) + f(x - eps)) / eps ** 2
+def _up(X, h):
+    return np.concatenate([X, np.full((X.shape[0], 1), float(h))], axis=1)
 
 
-def _nearest_params(f, lo, hi, X, n=400):
-    """For each point of X, the parameter in [lo, hi] of the nearest of n samples of f."""
-    if hi <= lo:
-        return np.full(X.shape[0], lo)
-    t = np.linspace(lo, hi, n)
-    F = f(t)
-    k = np.argmin(((X[:, None, :] - F[None]) ** 2).sum(axis=2), axis=1)
-    return t[k]
+def _quad_error(c0, c1, x, y, h0, h1) -> np.ndarray:
+    """Eqs. 7 and 8 for the segments c0(x) -> c1(y) against the ruled surface c0(s) c1(s) between the
+    generators at s = x and s = y: the quadrangle's thickness plus the chord heights
+    (y - x)^2 / 8 sup |c''| of both curves (the sup over [x, y], sampled).  The thickness is the
+    distance between the quadrangle's diagonals (the paper) or a quarter of its twist vector, which
+    bounds the distance from the diagonal x -> y to the bilinear patch exactly, whichever is smaller."""
+    P00, P11 = _up(c0(x), h0), _up(c1(y), h1)
+    P10, P01 = _up(c1(x), h1), _up(c0(y), h0)
+    thick = np.minimum(_line_distances(P00, P11 - P00, P10, P01 - P10),
+                       0.25 * np.linalg.norm(P00 + P11 - P10 - P01, axis=1))
+    s = x[:, None] + (y - x)[:, None] * np.linspace(0.0, 1.0, 9)[None]
+    sup = np.maximum(np.linalg.norm(c0.dd(s.ravel()), axis=1), np.linalg.norm(c1.dd(s.ravel()), axis=1))
+    return 0.125 * (y - x) ** 2 * sup.reshape(s.shape).max(axis=1) + thick
 
 
-def skew_error(arc: "FatArc", b0, b1, h0: float, h1: float, m: int = 25) -> float:
-    """Eqs. 7–8: max(d0, d1), the bound of the distance between the rulings of the two surfaces once
-    the boundaries agree: for a cone generator A(t)B(t), the nearest boundary parameters v_A, v_B,
-    the bilinear quadrangle of the ruled surface between them (its thickness: the distance between
-    its diagonals) plus the chord heights dv^2/8 sup|b''|; and the same from every ruled generator
-    b0(v)b1(v) to the cone."""
-    (v0, v1), (w0, w1) = arc.v, arc.vb
-    t = np.linspace(0.0, 1.0, m)
-
-    def A(x):
-        return conic(*arc.A, arc.w, x)
-
-    def B(x):
-        return conic(*arc.B, arc.w, x)
-
-    def up(X, h):
-        return np.concatenate([X, np.full((X.shape[0], 1), h)], axis=1)
-    lo, hi = min(v0, w0), max(v1, w1)
-    vs = np.linspace(lo, hi, 200)
-    edge = np.clip(np.concatenate([vs, [lo + 1e-5, hi - 1e-5]]), lo + 1e-5, hi - 1e-5) if hi - lo > 3e-5 else vs
-    sup_b = max(np.linalg.norm(_second(b0, edge), axis=1).max(), np.linalg.norm(_second(b1, edge), axis=1).max())
-    vA = _nearest_params(b0, v0, v1, A(t))
-    vB = _nearest_params(b1, w0, w1, B(t))
-    P0, Q1, P1, Q0 = up(b0(vA), h0), up(b1(vB), h1), up(b1(vA), h1), up(b0(vB), h0)
-    d0 = float((0.125 * (vB - vA) ** 2 * sup_b + _line_distances(P0, Q1 - P0, P1, Q0 - P1)).max())
-    tc = np.clip(t, 1e-5, 1 - 1e-5)
-    sup_c = max(np.linalg.norm(_second(A, tc), axis=1).max(), np.linalg.norm(_second(B, tc), axis=1).max())
-    d1 = 0.0
-    a_, z_ = max(v0, w0), min(v1, w1)
-    if z_ > a_:
-        vv = np.linspace(a_, z_, m)
-        tA = _nearest_params(A, 0.0, 1.0, b0(vv))
-        tB = _nearest_params(B, 0.0, 1.0, b1(vv))
-        P0, Q1, P1, Q0 = up(A(tB), h0), up(B(tA), h1), up(A(tA), h0), up(B(tB), h1)
-        d1 = float((0.125 * (tA - tB) ** 2 * sup_c + _line_distances(P0, Q1 - P0, P1, Q0 - P1)).max())
-    return float(max(d0, d1))
-
-
-def _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta, kf, samples, h0, h1):
-    """One candidate fat arc from (v, vb) with step delta: (arc, its end state) or None when no locally
-    convex tangent exists for this step."""
-    st = parallel_step(b0, b1, v, vb, delta, kf)
-    N, Nb = b0(np.array([st.v]))[0], b1(np.array([st.vb]))[0]
-    V = _unit(db0(np.array([st.v]))[0] + db1(np.array([st.vb]))[0])
+def _try_arc(tr0: Track, tr1: Track, state, delta, tol, kf, samples, h0, h1):
+    """One candidate fat arc from the state (v, vb, L, Lb, T) with step delta: (arc, its end state), or
+    None when no locally convex tangent exists for this step.  The skew error is only computed when
+    the boundary error leaves room for it."""
+    v, vb, L, Lb, T = state
+    st = parallel_step(tr0, tr1, v, vb, delta, kf)
+    N, Nb = tr0(st.v)[0], tr1(st.vb)[0]
+    V = _unit(tr0.d(st.v)[0] + tr1.d(st.vb)[0])
     a, z = (L, N) if np.linalg.norm(N - L) >= np.linalg.norm(Nb - Lb) else (Lb, Nb)
     Tn = choose_tangent(a, T, z, V)
     if Tn is None:
         return None
-    R = tangent_lines_meet(L, T, N, Tn)
-    Rb = tangent_lines_meet(Lb, T, Nb, Tn)
-    triA, ptsA, eA = _side(b0, v, st.v, L, None if R is None else R[0], N, samples)
-    triB, ptsB, eB = _side(b1, vb, st.vb, Lb, None if Rb is None else Rb[0], Nb, samples)
-    w = shared_weight(None if eA is not None else tuple(triA), ptsA, None if eB is not None else tuple(triB), ptsB)
-    t = np.linspace(0.0, 1.0, 4 * samples)
-    if eA is None:
-        eA = hausdorff_2d(conic(*triA, w, t), ptsA)
-    if eB is None:
-        eB = hausdorff_2d(conic(*triB, w, t), ptsB)
-    arc = FatArc(triA, triB, w, (v, st.v), (vb, st.vb), max(eA, eB))
-    arc.err = arc.err + skew_error(arc, b0, b1, h0, h1)          # eq. 9
+    tris, pts = [], []
+    for tr, lo, hi, P, Q in ((tr0, v, st.v, L, N), (tr1, vb, st.vb, Lb, Nb)):
+        R = tangent_lines_meet(P, T, Q, Tn) if hi > lo and np.linalg.norm(Q - P) > 0 else None
+        tris.append(np.array([P, R[0], Q]) if R is not None else np.array([P, P, P]))
+        pts.append(tr(np.linspace(lo, hi, samples)) if R is not None else np.zeros((0, 2)))
+    w = shared_weight(tuple(tris[0]) if len(pts[0]) else None, pts[0], tuple(tris[1]) if len(pts[1]) else None,
+                      pts[1])
+    arc = FatArc(tris[0], tris[1], w, (v, st.v), (vb, st.vb), 0.0)
+    A, B = Conic(*arc.A, w), Conic(*arc.B, w)
+    eA, _, vA = one_sided(A, 0.0, 1.0, tr0, v, st.v, samples)          # eq. 6, both ways
+    eB, _, vB = one_sided(B, 0.0, 1.0, tr1, vb, st.vb, samples)
+    err = max(eA, eB, one_sided(tr0, v, st.v, A, 0.0, 1.0, samples)[0] if len(pts[0]) else 0.0,
+              one_sided(tr1, vb, st.vb, B, 0.0, 1.0, samples)[0] if len(pts[1]) else 0.0)
+    arc.boundary = arc.err = float(err)
+    if err <= tol:
+        d0 = _quad_error(tr0, tr1, vA, vB, h0, h1).max()          # eq. 7: cone generators -> ruled surface
+        d1 = 0.0
+        lo, hi = max(v, vb), min(st.v, st.vb)
+        if hi > lo:                                                # eq. 8: rulings -> cone
+            vv = np.linspace(lo, hi, samples)
+            tA = project(A, 0.0, 1.0, tr0(vv))[0]
+            tB = project(B, 0.0, 1.0, tr1(vv))[0]
+            d1 = _quad_error(A, B, tA, tB, h0, h1).max()
+        arc.skew = float(max(d0, d1))
+        arc.err = arc.boundary + arc.skew                          # eq. 9
     return arc, (st.v, st.vb, N, Nb, Tn)
 
 
-def _sequential(b0, db0, b1, db1, tol, delta0, target, args, ks, grow, max_arcs):
+def _next_arc(tr0, tr1, state, delta, tol, args, search, ks):
+    """The next accepted arc from state, starting with the step delta: the paper's loop (shrink by ks
+    until accepted) or, with search = "longest", also grow an accepted step (x 1.6) and bisect (in log
+    scale, 5 rounds) between the longest accepted and the shortest refused step."""
+    def attempt(d):
+        got = _try_arc(tr0, tr1, state, d, tol, *args)
+        return got if got is not None and got[0].err <= tol else None
+    remaining = 1.0 - min(state[0], state[1])
+    good = bad = None
+    d = delta
+    while good is None:
+        got = attempt(d)
+        if got is not None:
+            good = (d, got)
+        else:
+            bad = d
+            d *= ks if search == "paper" else 0.5
+            if d < 1e-9:
+                return None
+    if search == "paper":
+        return good[1]
+    while bad is None and good[0] < remaining:
+        d = min(good[0] * 1.6, remaining)
+        got = attempt(d)
+        if got is None:
+            bad = d
+        else:
+            good = (d, got)
+    if bad is not None:
+        for _ in range(5):
+            d = np.sqrt(good[0] * bad)
+            got = attempt(d)
+            if got is None:
+                bad = d
+            else:
+                good = (d, got)
+    return good[1]
+
+
+def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progress=None):
     """One pass of the §3.3 loop; with a target count, each arc's first step is the remaining range
     spread over the arcs left (None when the pass would need more arcs than the target)."""
     arcs = []
-    v = vb = 0.0
-    L, Lb = b0(np.array([0.0]))[0], b1(np.array([0.0]))[0]
-    T = _unit(db0(np.array([0.0]))[0] + db1(np.array([0.0]))[0])
-    while v < 1.0 or vb < 1.0:
+    state = (0.0, 0.0, tr0(0.0)[0], tr1(0.0)[0], _unit(tr0.d(0.0)[0] + tr1.d(0.0)[0]))
+    while state[0] < 1.0 or state[1] < 1.0:
         if target is not None:
             if len(arcs) >= target:
                 return None
-            delta = max(1.05 * (1.0 - min(v, vb)) / (target - len(arcs)), 1e-6)
+            delta = max(1.05 * (1.0 - min(state[0], state[1])) / (target - len(arcs)), 1e-6)
         else:
             delta = delta0
-        while True:
-            got = _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta, *args)
-            if got is not None and got[0].err <= tol:
-                break
-            delta *= ks
-            if delta < 1e-9:
-                if target is not None:
-                    return None
-                raise BadInputError(f"no fat conic arc within {tol:g} from v = {v:.6g}, {vb:.6g}; the boundaries "
-                                    f"have a corner there or the tolerance is too small")
-        while grow and max(got[0].v[1], got[0].vb[1]) < 1.0:
-            nxt = _try_arc(b0, db0, b1, db1, v, vb, L, Lb, T, delta / ks, *args)
-            if nxt is None or nxt[0].err > tol:
-                break
-            got, delta = nxt, delta / ks
-        arc, (v, vb, L, Lb, T) = got
+        got = _next_arc(tr0, tr1, state, delta, tol, args, search, ks)
+        if got is None:
+            if target is not None:
+                return None
+            raise BadInputError(f"no fat conic arc within {tol:g} from v = {state[0]:.6g}, {state[1]:.6g}; the "
+                                f"boundaries have a corner there or the tolerance is too small")
+        arc, state = got
         arcs.append(arc)
+        if progress is not None:
+            progress(min(state[0], state[1]))
         if len(arcs) > max_arcs:
             raise BadInputError(f"more than {max_arcs} arcs needed; raise the tolerance")
     return arcs
 
 
 def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.0, h1: float = 1.0,
-                  ks: float = 0.9, kf: float = 1.5, samples: int = 41, grow: bool = True, balance: bool = True,
-                  max_arcs: int = 10_000) -> list:
-    """The sequential fitting loop of §3.3: from the start, a parallel step of delta, the common
-    tangent, the control triangles, the shared weight; the error of eq. 9 (boundary + skew, with the
-    boundaries' planes at heights h0 and h1); accept within tol, else shrink delta by ks.  Beyond the
-    paper: with grow an accepted arc is lengthened by 1 / ks steps for as long as it stays within tol;
-    with balance the fit is repeated with one arc fewer (the remaining range spread over the arcs
-    left) for as long as that succeeds, so a short leftover arc at the end disappears."""
+                  ks: float = 0.9, kf: float = 1.5, samples: int = 33, search: str = "longest",
+                  balance: bool = True, breaks=(), max_arcs: int = 10_000, progress=None) -> list:
+    """The sequential fitting loop of §3.3 on the fat curve between b0 and b1 (callables v -> (N, 2)
+    with their derivatives db0, db1, v in [0, 1]; breaks: parameters where they are not smooth): from
+    the start, a parallel step of delta, the common tangent, the control triangles, the shared weight;
+    the error of eq. 9 (boundary + skew, with the boundaries' planes at heights h0 and h1); accept within
+    tol, else shrink delta by ks (search = "paper").  Beyond the paper: search = "longest" grows an
+    accepted step and bisects for the longest accepted one; with balance the fit is repeated with one
+    arc fewer (the remaining range spread over the arcs left) for as long as that succeeds."""
     if not (tol > 0 and delta0 > 0):
         raise BadInputError("the tolerance and the step must be positive")
+    if search not in ("longest", "paper"):
+        raise BadInputError(f"unknown search {search!r}: use 'longest' or 'paper'")
+    tr0, tr1 = Track(b0, db0, breaks), Track(b1, db1, breaks)
     args = (kf, samples, h0, h1)
-    arcs = _sequential(b0, db0, b1, db1, tol, delta0, None, args, ks, grow, max_arcs)
+    arcs = _sequential(tr0, tr1, tol, delta0, None, args, search, ks, max_arcs, progress)
     while balance and len(arcs) > 1:
-        fewer = _sequential(b0, db0, b1, db1, tol, delta0, len(arcs) - 1, args, ks, grow, max_arcs)
+        fewer = _sequential(tr0, tr1, tol, delta0, len(arcs) - 1, args, search, ks, max_arcs)
         if fewer is None:
             break
         arcs = fewer

@@ -149,7 +149,7 @@ def test_fat_conic_fit_of_the_spiral_boundaries():
         dense0 = b0(np.linspace(*arc.v, 2001))
         dense1 = b1(np.linspace(*arc.vb, 2001))
         e = max(hausdorff_2d(conic(*arc.A, arc.w, t), dense0), hausdorff_2d(conic(*arc.B, arc.w, t), dense1))
-        assert e <= arc.err <= 1e-3
+        assert e <= arc.err + 2e-7 and arc.err <= 1e-3     # 2001-point polylines sag by up to 1.2e-7 here
         # Theorem 1 on the lifted patch: the three generator lines meet at one point
         S = patch_surface(arc, 0.0, 1.0)
         assert generators_concurrent(S.poles[0], S.poles[1])
@@ -217,8 +217,7 @@ def test_paper_examples_2_and_3_stay_within_the_error_estimate(case):
     arcs = fit_fat_conic(b0, db0, b1, db1, tol, step, h1=height)
     assert arcs[-1].v[1] == 1.0 and arcs[-1].vb[1] == 1.0
     assert max(a.err for a in arcs) <= tol
-    if name != "3b":                                   # 3b: 17 against the paper's 15 (open)
-        assert len(arcs) <= paper
+    assert len(arcs) <= paper
     for arc in arcs:
         S = patch_surface(arc, 0.0, height)
         assert generators_concurrent(S.poles[0], S.poles[1])
