@@ -273,6 +273,9 @@ def _crossing(b, X, c, lo, hi, n=64):
                     x0, g0 = x1, g1
                 x1, g1 = x, gx
             return float(x1)
+    scale = np.linalg.norm(c) * max(float(np.abs(b(v) - X).max()), 1e-300)
+    if abs(g[-1]) <= 1e-10 * scale:                # the window's end is on the line, to round-off
+        return float(v[-1])
     return None
 
 
@@ -287,16 +290,18 @@ def parallel_step(b0, b1, v: float, vb: float, delta: float, kf: float = 1.5) ->
     """§3.1: advance the boundary with the smaller parameter by delta, then find the other boundary's
     point on the line through its current point parallel to the new chord, within (its parameter,
     its parameter + kf delta]; the smallest solution, or no move (that side collapses)."""
+    def snap(x):
+        return None if x is None else (1.0 if x >= 1.0 - 1e-10 else x)
     if v <= vb:
         nv = min(1.0, v + delta)
         L0, L1 = b0(np.array([v, nv]))
         X = b1(np.array([vb]))[0]
-        hit = _crossing(b1, X, L1 - L0, vb, min(1.0, vb + kf * delta))
+        hit = snap(_crossing(b1, X, L1 - L0, vb, min(1.0, vb + kf * delta)))
         return ParallelStep(nv, vb if hit is None else hit, 1 if hit is None else -1)
     nvb = min(1.0, vb + delta)
     M0, M1 = b1(np.array([vb, nvb]))
     X = b0(np.array([v]))[0]
-    hit = _crossing(b0, X, M1 - M0, v, min(1.0, v + kf * delta))
+    hit = snap(_crossing(b0, X, M1 - M0, v, min(1.0, v + kf * delta)))
     return ParallelStep(v if hit is None else hit, nvb, 0 if hit is None else -1)
 
 
@@ -418,14 +423,16 @@ def _try_arc(tr0: Track, tr1: Track, state, delta, tol, kf, samples, h0, h1):
     return arc, (st.v, st.vb, N, Nb, Tn)
 
 
-def _next_arc(tr0, tr1, state, delta, tol, args, search, ks):
+def _next_arc(tr0, tr1, state, delta, tol, args, search, ks, cap=None):
     """The next accepted arc from state, starting with the step delta: the paper's loop (shrink by ks
     until accepted) or, with search = "longest", also grow an accepted step (x 1.6) and bisect (in log
-    scale, 5 rounds) between the longest accepted and the shortest refused step."""
+    scale, 5 rounds) between the longest accepted and the shortest refused step (at most cap)."""
     def attempt(d):
         got = _try_arc(tr0, tr1, state, d, tol, *args)
         return got if got is not None and got[0].err <= tol else None
     remaining = 1.0 - min(state[0], state[1])
+    if cap is not None:
+        remaining = min(remaining, cap)
     good = bad = None
     d = delta
     while good is None:
@@ -457,19 +464,20 @@ def _next_arc(tr0, tr1, state, delta, tol, args, search, ks):
     return good[1]
 
 
-def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progress=None):
+def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progress=None, even=False):
     """One pass of the §3.3 loop; with a target count, each arc's first step is the remaining range
-    spread over the arcs left (None when the pass would need more arcs than the target)."""
+    spread over the arcs left (None when the pass would need more arcs than the target); with even, that
+    spread is also the longest step tried, so the arcs come out of similar lengths."""
     arcs = []
     state = (0.0, 0.0, tr0(0.0)[0], tr1(0.0)[0], _unit(tr0.d(0.0)[0] + tr1.d(0.0)[0]))
     while state[0] < 1.0 or state[1] < 1.0:
         if target is not None:
             if len(arcs) >= target:
                 return None
-            delta = max(1.05 * (1.0 - min(state[0], state[1])) / (target - len(arcs)), 1e-6)
+            delta = max((1.0 if even else 1.05) * (1.0 - min(state[0], state[1])) / (target - len(arcs)), 1e-6)
         else:
             delta = delta0
-        got = _next_arc(tr0, tr1, state, delta, tol, args, search, ks)
+        got = _next_arc(tr0, tr1, state, delta, tol, args, search, ks, delta if even else None)
         if got is None:
             if target is not None:
                 return None
@@ -478,7 +486,7 @@ def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progr
         arc, state = got
         arcs.append(arc)
         if progress is not None:
-            progress(min(state[0], state[1]))
+            progress("fitting fat conic arcs", min(state[0], state[1]))
         if len(arcs) > max_arcs:
             raise BadInputError(f"more than {max_arcs} arcs needed; raise the tolerance")
     return arcs
@@ -506,6 +514,10 @@ def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.
         if fewer is None:
             break
         arcs = fewer
+    if balance and len(arcs) > 1:                      # the same count, spread evenly, when that fits too
+        even = _sequential(tr0, tr1, tol, delta0, len(arcs), args, search, ks, max_arcs, even=True)
+        if even is not None:
+            arcs = even
     return arcs
 
 

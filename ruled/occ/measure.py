@@ -175,21 +175,21 @@ def _seeded(curve, ts, pts, x, iters: int = 60) -> float:
     return min(_golden_min(f, a, b, iters), float(np.linalg.norm(pts[k] - x)))
 
 
-def _golden_min(f, a: float, b: float, iters: int) -> float:
-    """The smallest value golden-section search finds for f on [a, b]."""
+def _golden_min(f, a, b, iters: int):
+    """The smallest value golden-section search finds for f on [a, b]; elementwise when a, b are arrays
+    (f then maps arrays of parameters to arrays of values)."""
     g = 0.5 * (np.sqrt(5) - 1)
+    a, b = np.asarray(a, float), np.asarray(b, float)
     c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = f(c), f(d)
+    fc, fd = np.asarray(f(c), float), np.asarray(f(d), float)
     for _ in range(iters):
-        if fc < fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = f(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = f(d)
-    return float(min(fc, fd))
+        left = fc < fd
+        a, b = np.where(left, a, c), np.where(left, d, b)
+        c, d = np.where(left, b - g * (b - a), d), np.where(left, c, a + g * (b - a))
+        fn = np.asarray(f(np.where(left, c, d)), float)
+        fc, fd = np.where(left, fn, fd), np.where(left, fc, fn)
+    m = np.minimum(fc, fd)
+    return float(m) if m.ndim == 0 else m
 
 
 def _angle(a: gp_Vec, b: gp_Vec) -> float:
@@ -289,3 +289,61 @@ def curve_on_surface_measure(surface, domain, result, n: int = 2000, pcurve=None
     if result.IsClosed() and nk > 2:
         joints.append((r1, _result_angle(result, r1, nk - 1, nk, r0, 1, 2), _exact_angle(surface, domain, e1, e0)))
     return CurveMeasure(max(d_re, d_er), d_re, d_er, d_surf, joints, int(tr.size + te.size))
+
+
+# ------------------------------------------------------------------------------ several faces
+class FaceSet:
+    """Distances from points to the nearest of several faces: each face's projector, tried on the faces
+    whose coarse sample cloud comes near the point."""
+
+    def __init__(self, faces, n: int = 24):
+        from scipy.spatial import cKDTree
+
+        self.proj = [_Projector(f) for f in faces]
+        clouds = [_grid(f, n) for f in faces]
+        self.owner = np.concatenate([np.full(len(c), i) for i, c in enumerate(clouds)])
+        pts = np.concatenate(clouds)
+        self.tree = cKDTree(pts)
+        # half the largest spacing of any cloud: a face can be this much nearer than its cloud
+        self.slack = max(float(np.linalg.norm(np.diff(c.reshape(n, n, 3), axis=ax), axis=2).max())
+                         for c in clouds for ax in (0, 1))
+
+    def distance(self, x) -> float:
+        d, idx = self.tree.query(x, k=min(64, self.owner.size))
+        cand = np.unique(self.owner[idx[d <= d[0] + 2 * self.slack]])
+        return min(self.proj[i].distance(x) for i in cand)
+
+
+def sample_faces(faces, n: int) -> np.ndarray:
+    """n x n samples of each face (OCCT evaluation), stacked."""
+    return np.concatenate([_grid(f, n) for f in faces])
+
+
+def to_lines(points: np.ndarray, ends, m: int = 2049, iters: int = 40) -> np.ndarray:
+    """Distances from points to the ruled surface swept by the segments ends(v) = (A(v), B(v)), v in
+    [0, 1] (each (N, 3)): the nearest of m segments, then a golden-section search over v between its
+    neighbours, exact segment distances throughout."""
+    def seg(X, A, B):
+        D = B - A
+        s = np.clip(((X - A) * D).sum(axis=-1) / np.maximum((D * D).sum(axis=-1), 1e-300), 0, 1)
+        return np.linalg.norm(X - (A + s[..., None] * D), axis=-1)
+    vs = np.linspace(0.0, 1.0, m)
+    A, B = ends(vs)
+    size = float(np.ptp(np.vstack([A, B]), axis=0).max())
+    closed = max(np.linalg.norm(A[0] - A[-1]), np.linalg.norm(B[0] - B[-1])) <= 1e-12 * max(size, 1e-300)
+    out = np.empty(len(points))
+    for i in range(0, len(points), 256):
+        X = points[i:i + 256]
+        d = seg(X[:, None, :], A[None], B[None])
+        k = np.argmin(d, axis=1)
+
+        def f(v, X=X):
+            a, b = ends(v)
+            return seg(X, a, b)
+        best = np.minimum(d[np.arange(len(X)), k],
+                          _golden_min(f, vs[np.maximum(k - 1, 0)], vs[np.minimum(k + 1, m - 1)], iters))
+        if closed:            # v = 0 and v = 1 are one ruling: search the other side of the seam too
+            k2 = np.where(k == 0, m - 1, np.where(k == m - 1, 0, k))
+            best = np.minimum(best, _golden_min(f, vs[np.maximum(k2 - 1, 0)], vs[np.minimum(k2 + 1, m - 1)], iters))
+        out[i:i + 256] = best
+    return out

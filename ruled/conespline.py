@@ -1,0 +1,361 @@
+"""Cone splines of ruled surfaces in space (Yang & Yang 2006, §§3–6), on top of the planar fat conic
+fitting of cone.py.
+
+A ruled surface r(u, v) = (1 - u) c0(v) + u c1(v) is cut by two parallel planes crossed by every
+ruling: when both boundaries already lie in parallel planes those are the planes; otherwise the
+planes are perpendicular to the rulings' mean direction at the surface's lowest and highest points,
+and every ruling line is extended to meet them (the original surface is part of the extended one).
+If no single direction is crossed by every ruling at a usable angle, the surface is divided along v
+into pieces that each have one (§6).  The planar fat curve is the projection of the extended
+boundaries; it is fitted by a fat conic spline on planes a further third of the height outside
+(§5, the paper's h0 -> 4/3 h0 - 1/3 h1), and the cone patches are trimmed back to the surface's own
+planes, which keeps them tangent continuous across collapsed joints.
+
+Curves are callables v -> (N, 3) with their derivatives, v in [0, 1].  Nothing here knows a CAD host.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+
+from .cone import FatArc, fit_fat_conic, generators_concurrent, patch_surface, trim_arc
+from .errors import BadInputError
+from .nurbs import Curve, Surface
+
+Progress = Optional[Callable[[str, float], None]]
+
+MAX_TILT_DEG = 60.0          # a ruling may lean at most this much from the planes' normal
+EXTEND = 1.0 / 3.0           # §5: the fit runs on planes this fraction of the height outside
+
+
+@dataclass
+class ConePatch:
+    """One cone (or cylinder) patch in space, between the surface's two planes."""
+
+    surface: Surface             # rational, linear in u (c0 side -> c1 side), quadratic in v
+    weight: float
+    kind: str                    # "cone" or "cylinder"
+    apex: Optional[np.ndarray]   # the cone's apex (world coordinates)
+    direction: Optional[np.ndarray]  # the cylinder's generator direction (unit)
+    development: float           # cone: the developed angle (degrees); cylinder: the developed width
+    developable: bool            # Theorem 1: the three generator lines meet at one point or are parallel
+    bound: float                 # eq. 9 for the fat arc it comes from
+    v: tuple                     # boundary parameters covered on c0 (of its piece)
+    vb: tuple                    # on c1
+    piece: int = 0
+
+
+@dataclass
+class Piece:
+    """One part of the surface between one pair of parallel planes."""
+
+    v_range: tuple               # the part of the surface's v (0..1)
+    origin: np.ndarray
+    axes: np.ndarray             # rows: x, y, z of the frame (z: the planes' normal)
+    heights: tuple               # the surface's own planes (z in the frame)
+    fit_heights: tuple           # the planes of the fit (extended, §5)
+    planar_boundaries: bool      # both boundaries lay in the planes already
+    arcs: list                   # FatArc, planar, on the fit planes
+    c0: Callable = None          # the piece's (extended) boundaries in the frame's plane, for plots
+    c1: Callable = None
+    orig0: Callable = None       # the surface's own boundaries, projected
+    orig1: Callable = None
+    line_ends: Callable = None   # v (0..1 of the piece) -> (N, 3), (N, 3): the rulings between the planes
+
+    def rulings(self, v):
+        """The surface's rulings between its two planes, in space: (ends on h0, ends on h1)."""
+        return self.line_ends(v)
+
+
+@dataclass
+class ConeSpline:
+    patches: list
+    pieces: list
+    tol: float
+    step: float
+    bound: float                 # the largest eq. 9 bound
+    max_g1_deg: float            # the largest angle between the normals of neighbouring patches
+    timings: dict = field(default_factory=dict)
+    notes: list = field(default_factory=list)
+
+    def surfaces(self) -> list:
+        return [p.surface for p in self.patches]
+
+
+# ---------------------------------------------------------------------------------------- curves
+def curve_callables(c: Curve):
+    """(f, df, breaks) of a B-spline curve on v in [0, 1]."""
+    a, b = c.domain
+    span = b - a
+
+    def f(v):
+        return c.evaluate(a + span * np.clip(np.atleast_1d(v), 0, 1), 0)[0]
+
+    def df(v):
+        return span * c.evaluate(a + span * np.clip(np.atleast_1d(v), 0, 1), 1)[1]
+    kk = np.unique(c.knots)
+    return f, df, (kk[(kk > a) & (kk < b)] - a) / span
+
+
+def _row_curve(S: Surface, i: int) -> Curve:
+    w = None if S.weights is None else S.weights[i]
+    return Curve(S.poles[i], S.knots_v, S.degree_v, w, S.periodic_v)
+
+
+def iso_deviation(S: Surface, n: int = 25) -> float:
+    """The largest distance (sampled) between S and the ruled surface between its u-boundaries
+    joining equal v: how far S is from being ruled that way."""
+    u0, u1, v0, v1 = S.domain
+    u, v = np.meshgrid(np.linspace(u0, u1, n), np.linspace(v0, v1, n), indexing="ij")
+    X = S(u.ravel(), v.ravel()).reshape(n, n, 3)
+    s = ((u - u0) / (u1 - u0))[..., None]
+    R = (1 - s) * X[:1] + s * X[-1:]
+    return float(np.linalg.norm(X - R, axis=2).max())
+
+
+def ruled_boundaries(S: Surface, direction: str = "auto", rel: float = 1e-9):
+    """The boundary pairs (c0, c1) of the ruled strips of S, as curves: S linear in u (or v) with k + 1
+    rows of poles is k ruled strips.  A face that is not ruled is refused with its distance from the
+    ruled surface between its boundaries."""
+    opts = []
+    if direction in ("auto", "u"):
+        opts.append(("u", S))
+    if direction in ("auto", "v"):
+        opts.append(("v", S.transposed()))
+    for name, T in opts:
+        if T.degree_u == 1:
+            return name, [(_row_curve(T, i), _row_curve(T, i + 1)) for i in range(T.poles.shape[0] - 1)]
+    devs = [(iso_deviation(T), name) for name, T in opts]
+    dev, name = min(devs)
+    size = S.diagonal()
+    if dev <= rel * size:
+        T = S if name == "u" else S.transposed()
+        u0, u1, _, _ = T.domain
+        return name, [(T.iso_curve("v", u0), T.iso_curve("v", u1))]
+    raise BadInputError(f"the face is not ruled: it is {dev:.4g} from the ruled surface between its {name}-boundaries "
+                        f"({dev / size:.2%} of its size); run 'ruled fit' first, or 'ruled cone --fit'")
+
+
+# ---------------------------------------------------------------------------------------- frames
+def _dirs(c0, c1, v):
+    D = c1(v) - c0(v)
+    n = np.linalg.norm(D, axis=1)
+    if np.any(n <= 1e-12 * max(n.max(), 1e-300)):
+        raise BadInputError("a ruling has zero length (the two boundaries touch); the surface has no pair of "
+                            "parallel planes across it there - fit the part away from the touching point")
+    return D / n[:, None]
+
+
+def _plane_normal(c0, c1, v):
+    """Normal of the parallel planes holding both boundaries, and the largest out-of-plane distance."""
+    P0, P1 = c0(v), c1(v)
+    C = np.cov((P0 - P0.mean(axis=0)).T) + np.cov((P1 - P1.mean(axis=0)).T)
+    _, vecs = np.linalg.eigh(C)
+    n = vecs[:, 0]
+    dev = max(np.abs((P0 - P0.mean(axis=0)) @ n).max(), np.abs((P1 - P1.mean(axis=0)) @ n).max())
+    return n, float(dev)
+
+
+def _frame(z: np.ndarray):
+    z = z / np.linalg.norm(z)
+    a = np.eye(3)[int(np.argmin(np.abs(z)))]
+    x = np.cross(a, z)
+    x /= np.linalg.norm(x)
+    return np.array([x, np.cross(z, x), z])
+
+
+def split_by_tilt(c0, c1, max_tilt_deg: float = MAX_TILT_DEG, n: int = 257) -> list:
+    """§6: the v ranges (0..1) of pieces that each have a direction all their rulings lean from by at
+    most max_tilt_deg (greedy, longest first piece); one range when the whole surface has one."""
+    v = np.linspace(0.0, 1.0, n)
+    U = _dirs(c0, c1, v)
+    cmin = np.cos(np.radians(max_tilt_deg))
+    out, i = [], 0
+    while i < n - 1:
+        j = i + 1
+        while j < n - 1:
+            m = U[i:j + 2].sum(axis=0)
+            m /= np.linalg.norm(m)
+            if (U[i:j + 2] @ m).min() < cmin:
+                break
+            j += 1
+        out.append((v[i], v[j]))
+        i = j
+    return out
+
+
+# ---------------------------------------------------------------------------------------- fitting
+def _sub(f, a, b, scale=False):
+    if scale:
+        return lambda v: (b - a) * f(a + (b - a) * np.clip(np.atleast_1d(v), 0, 1))
+    return lambda v: f(a + (b - a) * np.clip(np.atleast_1d(v), 0, 1))
+
+
+def _on_plane(c0, dc0, c1, dc1, origin, E, H):
+    """Where the ruling lines of the surface meet the plane z = H (frame E), and the derivative:
+    P + s D with s = (H - z(P)) / z(D), relative to origin, in space."""
+    def parts(v):
+        v = np.atleast_1d(v)
+        P, Q = c0(v) - origin, c1(v) - origin
+        dP, dQ = dc0(v), dc1(v)
+        D, dD = Q - P, dQ - dP
+        zP, zD, zdP, zdD = P @ E[2], D @ E[2], dP @ E[2], dD @ E[2]
+        s = (H - zP) / zD
+        ds = (-zdP * zD - (H - zP) * zdD) / zD ** 2
+        return P + s[:, None] * D, dP + ds[:, None] * D + s[:, None] * dD
+    return parts
+
+
+def _extended(c0, dc0, c1, dc1, origin, E, H):
+    """The boundary of the extended ruled surface in the plane z = H, as a planar curve (frame
+    coordinates) with its derivative."""
+    parts = _on_plane(c0, dc0, c1, dc1, origin, E, H)
+    return (lambda v: parts(v)[0] @ E[:2].T), (lambda v: parts(v)[1] @ E[:2].T)
+
+
+def _to_world(P, origin, E):
+    return origin + P @ E
+
+
+def _patch_info(arc: FatArc, h0, h1, origin, E, piece: int) -> ConePatch:
+    S = patch_surface(arc, h0, h1)
+    poles = _to_world(S.poles.reshape(-1, 3), origin, E).reshape(S.poles.shape)
+    W = S.weights
+    S = Surface(poles, S.knots_u, S.knots_v, 1, 2, W)
+    P, Q = poles[0], poles[1]
+    dev = generators_concurrent(P, Q)
+    # the ratio of the similar triangles: Q - X = k (P - X) about the apex X
+    a = P[2] - P[0] if np.linalg.norm(P[2] - P[0]) >= np.linalg.norm(P[1] - P[0]) else P[1] - P[0]
+    b = Q[2] - Q[0] if np.linalg.norm(P[2] - P[0]) >= np.linalg.norm(P[1] - P[0]) else Q[1] - Q[0]
+    la = float(a @ a)
+    k = float(b @ a) / la if la > 0 else np.inf
+    t = np.linspace(0.0, 1.0, 401)
+    side = S(np.zeros_like(t), t) if np.isfinite(k) and la > 0 else S(np.ones_like(t), t)
+    if np.isfinite(k) and abs(1.0 - k) <= 1e-9:
+        d = Q[0] - P[0]
+        d /= np.linalg.norm(d)
+        flat = side - np.outer(side @ d, d)
+        return ConePatch(S, arc.w, "cylinder", None, d, float(np.linalg.norm(np.diff(flat, axis=0), axis=1).sum()),
+                         dev, arc.err, arc.v, arc.vb, piece)
+    apex = P[0] if not np.isfinite(k) else (Q[0] - k * P[0]) / (1.0 - k)
+    U = side - apex
+    U /= np.maximum(np.linalg.norm(U, axis=1), 1e-300)[:, None]
+    ang = np.arctan2(np.linalg.norm(np.cross(U[:-1], U[1:]), axis=1), (U[:-1] * U[1:]).sum(axis=1)).sum()
+    return ConePatch(S, arc.w, "cone", apex, None, float(np.degrees(ang)), dev, arc.err, arc.v, arc.vb, piece)
+
+
+def _g1(patches) -> float:
+    """The largest angle (degrees) between the normals of neighbouring patches of one piece along their
+    common ruling."""
+    worst = 0.0
+    u = np.linspace(0.0, 1.0, 9)
+    for a, b in zip(patches[:-1], patches[1:]):
+        if a.piece != b.piece:
+            continue
+        na = a.surface.normals(u, np.ones_like(u))
+        nb = b.surface.normals(u, np.zeros_like(u))
+        ang = np.arctan2(np.linalg.norm(np.cross(na, nb), axis=1), (na * nb).sum(axis=1))
+        worst = max(worst, float(np.degrees(ang).max()))
+    return worst
+
+
+def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), extend: float = EXTEND,
+                max_tilt_deg: float = MAX_TILT_DEG, progress: Progress = None, **fit_kw) -> ConeSpline:
+    """Cone spline of the ruled surface between the space curves c0 and c1 (callables v -> (N, 3), with
+    derivatives, v in [0, 1], rulings joining equal v) within tol (eq. 9 on every patch)."""
+    if not (np.isfinite(tol) and tol > 0):
+        raise BadInputError(f"the tolerance must be positive (got {tol}); give --tol in model units, e.g. 0.01")
+    if not (np.isfinite(step) and 0 < step <= 1):
+        raise BadInputError(f"the step must be in (0, 1] (got {step}); it is a fraction of the boundary's parameter")
+    t0 = time.perf_counter()
+    vs = np.linspace(0.0, 1.0, 257)
+    n, dev = _plane_normal(c0, c1, vs)
+    size = float(np.ptp(np.vstack([c0(vs), c1(vs)]), axis=0).max())
+    planar = dev <= 1e-9 * max(size, 1e-300)
+    U = _dirs(c0, c1, vs)
+    ranges = [(0.0, 1.0)]
+    if planar:
+        if np.abs(U @ n).min() <= 1e-9:
+            raise BadInputError("a ruling lies in the planes of the boundaries; the surface cannot be cut by them")
+    else:
+        ranges = split_by_tilt(c0, c1, max_tilt_deg)
+    notes = []
+    if len(ranges) > 1:
+        notes.append(f"the rulings turn by more than {2 * max_tilt_deg:.0f} degrees: the surface is divided into "
+                     f"{len(ranges)} pieces, each between its own pair of parallel planes (§6)")
+    pieces, patches = [], []
+    brk = np.asarray(breaks, float)
+    for k, (a, b) in enumerate(ranges):
+        f0, g0, f1, g1 = _sub(c0, a, b), _sub(dc0, a, b, True), _sub(c1, a, b), _sub(dc1, a, b, True)
+        vv = np.linspace(0.0, 1.0, 257)
+        if planar:
+            z = n if (U @ n).mean() > 0 else -n
+        else:
+            Uk = _dirs(f0, f1, vv)
+            z = Uk.sum(axis=0)
+        E = _frame(z)
+        P0, P1 = f0(vv), f1(vv)
+        origin = P0.mean(axis=0)
+        if ((P1 - P0) @ E[2]).min() <= 0:
+            raise BadInputError("the rulings do not all cross the planes in one sense; split the face (ruled split) "
+                                "or fit a part of it")
+        zs = np.concatenate([(P0 - origin) @ E[2], (P1 - origin) @ E[2]])
+        h0, h1 = (float(zs.min()), float(zs.max())) if not planar else \
+            (float(((P0 - origin) @ E[2]).mean()), float(((P1 - origin) @ E[2]).mean()))
+        H0, H1 = h0 - extend * (h1 - h0), h1 + extend * (h1 - h0)
+        e0, de0 = _extended(f0, g0, f1, g1, origin, E, H0)
+        e1, de1 = _extended(f0, g0, f1, g1, origin, E, H1)
+        o0 = _extended(f0, g0, f1, g1, origin, E, h0)[0]
+        o1 = _extended(f0, g0, f1, g1, origin, E, h1)[0]
+        span = (k / len(ranges), (k + 1) / len(ranges))
+        prog = None if progress is None else \
+            (lambda stage, frac, s=span: progress(stage, s[0] + (s[1] - s[0]) * frac))
+        pb = (brk[(brk > a) & (brk < b)] - a) / (b - a)
+        arcs = fit_fat_conic(e0, de0, e1, de1, tol, step, h0=H0, h1=H1, breaks=pb, progress=prog, **fit_kw)
+        s0, s1 = (h0 - H0) / (H1 - H0), (h1 - H0) / (H1 - H0)
+        for arc in arcs:
+            cut = trim_arc(arc, s0, s1)
+            cut.v = tuple(a + (b - a) * x for x in arc.v)
+            cut.vb = tuple(a + (b - a) * x for x in arc.vb)
+            patches.append(_patch_info(cut, h0, h1, origin, E, k))
+        lo_, hi_ = _on_plane(f0, g0, f1, g1, origin, E, h0), _on_plane(f0, g0, f1, g1, origin, E, h1)
+
+        def ends(v, lo_=lo_, hi_=hi_, o=origin):
+            return o + lo_(v)[0], o + hi_(v)[0]
+        pieces.append(Piece((a, b), origin, E, (h0, h1), (H0, H1), planar, arcs, e0, e1, o0, o1, ends))
+    res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches), _g1(patches), notes=notes)
+    res.timings["fit"] = time.perf_counter() - t0
+    return res
+
+
+def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, direction: str = "auto",
+                           progress: Progress = None, **kw) -> ConeSpline:
+    """Cone spline of a ruled B-spline surface (linear in u or v; k + 1 rows of poles: k strips)."""
+    name, strips = ruled_boundaries(S, direction)
+    out = None
+    for i, (C0, C1) in enumerate(strips):
+        f0, df0, br0 = curve_callables(C0)
+        f1, df1, br1 = curve_callables(C1)
+        prog = None if progress is None else \
+            (lambda stage, frac, i=i: progress(stage, (i + frac) / len(strips)))
+        res = cone_spline(f0, df0, f1, df1, tol, step, breaks=np.union1d(br0, br1), progress=prog, **kw)
+        if out is None:
+            out = res
+            continue
+        base = len(out.pieces)
+        for p in res.patches:
+            p.piece += base
+        out.patches += res.patches
+        out.pieces += res.pieces
+        out.notes += res.notes
+        out.bound = max(out.bound, res.bound)
+        out.max_g1_deg = max(out.max_g1_deg, res.max_g1_deg)
+        out.timings["fit"] += res.timings["fit"]
+    if len(strips) > 1:
+        out.notes.append(f"the face is {len(strips)} ruled strips (degree 1 with {len(strips) + 1} rows of poles "
+                         f"along {name}); each has its own cone spline")
+    return out

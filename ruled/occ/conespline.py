@@ -1,0 +1,125 @@
+"""Cone splines of faces with OCCT: the engine's cone spline of a ruled face (or of a ruled fit of any
+face), as rational B-spline faces sewn into one shell, measured independently (OCCT projections onto
+the patches and onto the design face; brute-force distances to the ruling segments)."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any, Optional
+
+import numpy as np
+from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
+from OCP.BRepCheck import BRepCheck_Analyzer
+
+from ..conespline import ConeSpline, Progress, cone_spline_of_surface
+from ..errors import BadInputError
+from .convert import container_to_face, face_surface_type, face_to_container
+from .measure import FaceSet, sample_faces, to_lines
+
+
+@dataclass
+class FaceCone:
+    result: ConeSpline
+    faces: list                    # one TopoDS_Face per patch
+    shell: Any                     # the patches sewn (a shell, or a compound of shells for several pieces)
+    measure: Optional[dict]        # see measure_cone
+    fit: Any = None                # the ruled fit (FitResult) when the face was fitted first
+    warnings: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+
+
+def cone_faces(res: ConeSpline) -> list:
+    return [container_to_face(p.surface) for p in res.patches]
+
+
+def sew(faces, tol: float = 1e-7):
+    """The faces sewn into one shape (shared edges), and whether OCCT finds it valid."""
+    sw = BRepBuilderAPI_Sewing(tol)
+    for f in faces:
+        sw.Add(f)
+    sw.Perform()
+    shape = sw.SewedShape()
+    return shape, bool(BRepCheck_Analyzer(shape).IsValid())
+
+
+def _ruling_points(res: ConeSpline, n: int) -> np.ndarray:
+    """n x n points of the ruled surface between its planes, piece by piece."""
+    s = np.linspace(0.0, 1.0, n)
+    pts = []
+    for p in res.pieces:
+        A, B = p.rulings(np.linspace(0.0, 1.0, n))
+        pts.append((A[:, None, :] + s[None, :, None] * (B - A)[:, None, :]).reshape(-1, 3))
+    return np.concatenate(pts)
+
+
+def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_face: bool = False) -> dict:
+    """Independent distances (no fitting code is used):
+    design_to_cone: samples of the design face (OCCT; the ruled surface's rulings when no face is
+    given) to the nearest patch by OCCT projection; cone_to_ruled: samples of the patches to the ruled
+    surface between the planes, by exact distances to its ruling segments; cone_to_design: samples of
+    the patches projected onto the design face (only when exact_face: the cone spans the face exactly,
+    i.e. the face is the ruled surface and its boundaries lie in the planes)."""
+    t0 = time.perf_counter()
+    fs = FaceSet(faces)
+    design = sample_faces([design_face], n) if design_face is not None else _ruling_points(res, n)
+    d_dc = np.array([fs.distance(x) for x in design])
+    cone_pts = sample_faces(faces, max(8, n // 2))
+    d_cr = np.min([to_lines(cone_pts, p.rulings) for p in res.pieces], axis=0)
+    out = {"design_to_cone": float(d_dc.max()), "cone_to_ruled": float(d_cr.max()), "cone_to_design": None,
+           "samples": int(design.shape[0] + cone_pts.shape[0])}
+    if exact_face and design_face is not None:
+        fd = FaceSet([design_face])
+        out["cone_to_design"] = float(max(fd.distance(x) for x in cone_pts))
+    out["hausdorff"] = max(out["design_to_cone"], out["cone_to_design"] if out["cone_to_design"] is not None
+                           else out["cone_to_ruled"])
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto", fit: bool = False,
+                 fit_options=None, progress: Progress = None, measure_samples: Optional[int] = 24,
+                 **kw) -> FaceCone:
+    """The cone spline of a ruled face within tol; with fit, the face is first fitted by a ruled
+    surface (ruled.fit) and the cone spline approximates that fit (its error adds to the fit's)."""
+    t0 = time.perf_counter()
+    S = face_to_container(face)
+    warnings = []
+    kind = face_surface_type(face)
+    if kind != "bspline":
+        warnings.append(f"the face is a {kind}; it is taken as its exact B-spline conversion")
+    fitted = None
+    if fit:
+        from ..fit import FitOptions, fit_surface
+        fitted = fit_surface(S, fit_options or FitOptions(), progress)
+        S = fitted.surface
+    res = cone_spline_of_surface(S, tol, step, direction=direction, progress=progress, **kw)
+    t1 = time.perf_counter()
+    faces = cone_faces(res)
+    shell, valid = sew(faces)
+    if not valid:
+        warnings.append("OCCT reports the sewn shell as not valid; the faces are exported as they are")
+    meas = None
+    if measure_samples:
+        if progress is not None:
+            progress("measuring (OCCT)", 0.0)
+        exact = (not fit) and all(p.planar_boundaries for p in res.pieces)
+        meas = measure_cone(res, faces, face, measure_samples, exact_face=exact)
+    if fitted is not None:
+        warnings.append(f"the cone spline approximates the ruled fit (certified {fitted.error_bound:.4g}); "
+                        f"its distance to the design face is measured, not certified")
+    if res.notes:
+        warnings += res.notes
+    return FaceCone(res, faces, shell, meas, fitted, warnings,
+                    {"fit": res.timings["fit"], "build": time.perf_counter() - t1,
+                     "measure": meas["seconds"] if meas else 0.0, "total": time.perf_counter() - t0})
+
+
+def check_tolerance(tol) -> float:
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError):
+        raise BadInputError(f"the tolerance must be a number (got {tol!r})") from None
+    if not (np.isfinite(tol) and tol > 0):
+        raise BadInputError(f"the tolerance must be positive (got {tol:g}); give it in model units, e.g. --tol 0.01")
+    return tol
