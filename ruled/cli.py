@@ -6,6 +6,8 @@
               [--metric lsad|sshb] [--memory-cap MB] -o OUTPUT.step [--report R.json] [--plot P.png]
     ruled curve-on-surface INPUT --face K (--uv "u0,v0;u1,v1;..." | --uv-curve CURVE.json)
               [--tol EPS] [--angle DEG] -o OUTPUT.step [--report R.json]
+    ruled cone INPUT --face K --tol T [--step D] [--fit] [--direction auto|u|v] -o OUTPUT.step
+              [--report R.json] [--plot P.png]
     ruled demo
 
 Every error a user can cause ends in one line on stderr and exit code 2.
@@ -33,7 +35,8 @@ def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="ruled", description="Optimal ruled-surface fitting for CAD faces "
                                 "(wire EDM, flank milling, hot-wire cutting).")
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
-    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser, metavar="{faces,fit,curve-on-surface,demo}")
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser,
+                           metavar="{faces,fit,curve-on-surface,cone,demo}")
     f = sub.add_parser("faces", help="list the faces of a STEP/BREP file")
     f.add_argument("input")
     g = sub.add_parser("fit", help="fit the best ruled surface to one face")
@@ -81,9 +84,36 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--report", help="JSON report")
     c.add_argument("--measure-samples", type=int, default=2000, help="samples of each curve for the measure")
     c.add_argument("--quiet", action="store_true", help="no progress bars")
+    k = sub.add_parser("cone", help="a tangent-smooth cone spline (developable) within a tolerance of a ruled "
+                       "face (Yang & Yang)")
+    k.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    k.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    k.add_argument("--tol", type=float, required=True, help="distance tolerance, model units")
+    k.add_argument("--step", type=float, default=0.1,
+                   help="first forward step along the boundaries, a fraction of their parameter (default 0.1)")
+    k.add_argument("--fit", action="store_true",
+                   help="fit the face by a ruled surface first ('ruled fit' defaults), then cone-spline that")
+    k.add_argument("--direction", choices=["auto", "u", "v"], default="auto",
+                   help="which parameter runs across the rulings' ends (auto: the linear one)")
+    k.add_argument("--paper-search", action="store_true",
+                   help="the paper's step search only (shrink by 0.9 until accepted; more patches)")
+    k.add_argument("-o", "--output", required=True, help="STEP file for the patches (one sewn shell)")
+    k.add_argument("--report", help="JSON report")
+    k.add_argument("--plot", help="PNG plot of the fat curve and the fitted fat conic spline")
+    k.add_argument("--measure-samples", type=int, default=24, help="n x n samples per face for the measure")
+    k.add_argument("--quiet", action="store_true", help="no progress bars")
     d = sub.add_parser("demo", help="fit a bundled example; files go to ./ruled-demo/")
     d.add_argument("--quiet", action="store_true")
     return p
+
+
+def _check_outputs(*paths) -> None:
+    """Refuse before any work when an output's folder does not exist."""
+    for path in paths:
+        if path:
+            d = os.path.dirname(os.path.abspath(path))
+            if not os.path.isdir(d):
+                raise RuledError(f"cannot write {path}: folder {d} does not exist")
 
 
 def cmd_faces(args) -> int:
@@ -111,11 +141,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
                       memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
-    for path in (output, report, plot):
-        if path:
-            d = os.path.dirname(os.path.abspath(path))
-            if not os.path.isdir(d):
-                raise RuledError(f"cannot write {path}: folder {d} does not exist")
+    _check_outputs(output, report, plot)
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
     S = face_to_container(face)
@@ -217,11 +243,7 @@ def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=No
 
     if measure_samples < 2:
         raise RuledError("--measure-samples must be at least 2")
-    for path in (output, report):
-        if path:
-            d = os.path.dirname(os.path.abspath(path))
-            if not os.path.isdir(d):
-                raise RuledError(f"cannot write {path}: folder {d} does not exist")
+    _check_outputs(output, report)
     D, dom = _load_domain_curve(uv, uv_curve)
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
@@ -272,6 +294,63 @@ def cmd_curve_on_surface(args) -> int:
     return 0
 
 
+def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step: float = 0.1, fit: bool = False,
+             direction: str = "auto", paper_search: bool = False, report=None, plot=None, measure_samples=24,
+             quiet=False) -> dict:
+    """Read a face, build its cone spline, sew and write the patches, measure them with OCCT."""
+    from .cone_report import cone_report, plot as cone_plot
+    from .occ.conespline import check_tolerance, cone_of_face
+    from .occ.io import get_face, write_step
+    from .progress import Bar
+    from .report import write_report
+
+    tol = check_tolerance(tol)
+    if measure_samples < 4:
+        raise RuledError("--measure-samples must be at least 4")
+    _check_outputs(output, report, plot)
+    t0 = time.perf_counter()
+    face = get_face(input_path, face_index)
+    bar = Bar(enabled=not quiet and sys.stderr.isatty())
+    try:
+        fc = cone_of_face(face, tol, step, direction=direction, fit=fit, progress=bar,
+                          measure_samples=measure_samples, search="paper" if paper_search else "longest")
+    finally:
+        bar.done()
+    for w in fc.warnings:
+        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    t1 = time.perf_counter()
+    write_step([fc.shell], output)
+    rep = {"version": __version__, "input": os.path.abspath(input_path), "face": face_index,
+           **cone_report(fc.result), "measure": fc.measure,
+           "hausdorff": fc.measure["hausdorff"] if fc.measure else None,
+           "fit": None if fc.fit is None else {"error_bound": fc.fit.error_bound, "direction": fc.fit.direction},
+           "timings": {"total": time.perf_counter() - t0, **fc.timings, "write": time.perf_counter() - t1},
+           "warnings": fc.warnings}
+    if plot:
+        cone_plot(fc.result, plot)
+    if report:
+        write_report(rep, report)
+    return rep
+
+
+def cmd_cone(args) -> int:
+    rep = run_cone(args.input, args.face, args.output, tol=args.tol, step=args.step, fit=args.fit,
+                   direction=args.direction, paper_search=args.paper_search, report=args.report, plot=args.plot,
+                   measure_samples=args.measure_samples, quiet=args.quiet)
+    kinds = sorted({p["kind"] for p in rep["patch_detail"]})
+    print(f"face {rep['face']}: {rep['patches']} {'/'.join(kinds)} patches in {len(rep['pieces'])} piece(s), "
+          f"all developable: {rep['all_developable']}, largest G1 angle {rep['max_g1_angle_deg']:.2g} deg")
+    m = rep["measure"]
+    meas = "" if m is None else (f"   measured: design to cone {m['design_to_cone']:.6g}, cone to ruled surface "
+                                 f"{m['cone_to_ruled']:.6g}")
+    print(f"error bound (eq. 9) {rep['error_bound']:.6g} (tolerance {rep['tol']:.6g}){meas}")
+    print(f"STEP:   {os.path.abspath(args.output)}")
+    for k, v in (("report", args.report), ("plot", args.plot)):
+        if v:
+            print(f"{k}: {' ' * (6 - len(k))}{os.path.abspath(v)}")
+    return 0
+
+
 def cmd_demo(args) -> int:
     from .examples import elber_ex2
     from .occ.convert import container_to_face
@@ -291,7 +370,7 @@ def cmd_demo(args) -> int:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
-        return {"faces": cmd_faces, "fit": cmd_fit, "curve-on-surface": cmd_curve_on_surface,
+        return {"faces": cmd_faces, "fit": cmd_fit, "curve-on-surface": cmd_curve_on_surface, "cone": cmd_cone,
                 "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:
         print(f"ruled: error: {exc}", file=sys.stderr)

@@ -481,8 +481,11 @@ def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progr
         if got is None:
             if target is not None:
                 return None
-            raise BadInputError(f"no fat conic arc within {tol:g} from v = {state[0]:.6g}, {state[1]:.6g}; the "
-                                f"boundaries have a corner there or the tolerance is too small")
+            a, b = tr0.d(state[0])[0], tr1.d(state[1])[0]
+            turn = float(np.degrees(np.arctan2(abs(_cross(a, b)), a @ b)))
+            raise BadInputError(f"no fat conic arc within {tol:g} from v = {state[0]:.6g}, {state[1]:.6g}: the two "
+                                f"boundaries' tangents differ by {turn:.1f} deg there (the surface twists, or has a "
+                                f"corner); raise the tolerance or split the face there")
         arc, state = got
         arcs.append(arc)
         if progress is not None:

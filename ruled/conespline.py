@@ -29,6 +29,7 @@ from .nurbs import Curve, Surface
 Progress = Optional[Callable[[str, float], None]]
 
 MAX_TILT_DEG = 60.0          # a ruling may lean at most this much from the planes' normal
+MAX_PIECES = 16             # §6 splits beyond this many pieces are refused
 EXTEND = 1.0 / 3.0           # §5: the fit runs on planes this fraction of the height outside
 
 
@@ -263,6 +264,58 @@ def _g1(patches) -> float:
     return worst
 
 
+def _heights(P0, P1, origin, z, planar: bool, extend: float):
+    """The surface's planes (its boundaries' planes, or its lowest and highest points) and the fit's
+    planes, extend x the height further out."""
+    if planar:
+        h0, h1 = float(((P0 - origin) @ z).mean()), float(((P1 - origin) @ z).mean())
+    else:
+        zs = np.concatenate([(P0 - origin) @ z, (P1 - origin) @ z])
+        h0, h1 = float(zs.min()), float(zs.max())
+    return h0, h1, h0 - extend * (h1 - h0), h1 + extend * (h1 - h0)
+
+
+def _fold_score(f0, g0, f1, g1, z, extend: float, planar: bool = False, n: int = 65):
+    """How far the fat curve on the fit's planes (normal z) is from folding: the smallest cosine
+    between the two extended boundaries' tangents, and where (v)."""
+    v = np.linspace(0.0, 1.0, n)
+    P0, P1 = f0(v), f1(v)
+    origin = P0.mean(axis=0)
+    E = _frame(z)
+    _, _, H0, H1 = _heights(P0, P1, origin, E[2], planar, extend)
+    t0 = _on_plane(f0, g0, f1, g1, origin, E, H0)(v)[1] @ E[:2].T
+    t1 = _on_plane(f0, g0, f1, g1, origin, E, H1)(v)[1] @ E[:2].T
+    n0, n1 = np.linalg.norm(t0, axis=1), np.linalg.norm(t1, axis=1)
+    c = (t0 * t1).sum(axis=1) / np.maximum(n0 * n1, 1e-300)
+    c[(n0 <= 1e-9 * n0.max()) | (n1 <= 1e-9 * n1.max())] = 1.0      # a boundary at rest (a cone's apex) is no fold
+    k = int(np.argmin(c))
+    return float(c[k]), float(v[k])
+
+
+def _best_direction(f0, g0, f1, g1, extend: float, max_tilt_deg: float):
+    """The planes' normal for boundaries that are not planar: of the rulings' mean direction and
+    directions tilted from it (up to 50 deg, every 30 deg around), the one whose fat curve is furthest
+    from folding (_fold_score), among those every ruling crosses at most max_tilt_deg from the
+    normal.  (normal, score, where)."""
+    U = _dirs(f0, f1, np.linspace(0.0, 1.0, 65))
+    z0 = U.sum(axis=0)
+    z0 /= np.linalg.norm(z0)
+    F = _frame(z0)
+    cands = [z0]
+    for tilt in np.radians([10.0, 20.0, 30.0, 40.0, 50.0]):
+        for az in np.radians(np.arange(0.0, 360.0, 30.0)):
+            cands.append(np.cos(tilt) * z0 + np.sin(tilt) * (np.cos(az) * F[0] + np.sin(az) * F[1]))
+    cmin = np.cos(np.radians(max_tilt_deg))
+    best = (-np.inf, z0, 0.0)
+    for z in cands:
+        if (U @ z).min() < cmin:
+            continue
+        score, at = _fold_score(f0, g0, f1, g1, z, extend)
+        if score > best[0] + 1e-9:
+            best = (score, z, at)
+    return best[1], best[0], best[2]
+
+
 def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), extend: float = EXTEND,
                 max_tilt_deg: float = MAX_TILT_DEG, progress: Progress = None, **fit_kw) -> ConeSpline:
     """Cone spline of the ruled surface between the space curves c0 and c1 (callables v -> (N, 3), with
@@ -283,6 +336,9 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
             raise BadInputError("a ruling lies in the planes of the boundaries; the surface cannot be cut by them")
     else:
         ranges = split_by_tilt(c0, c1, max_tilt_deg)
+        if len(ranges) > MAX_PIECES:
+            raise BadInputError(f"the rulings turn too far to split the surface into pieces between parallel planes: "
+                                f"{len(ranges)} pieces would be needed (at most {MAX_PIECES}); fit a part of it")
     notes = []
     if len(ranges) > 1:
         notes.append(f"the rulings turn by more than {2 * max_tilt_deg:.0f} degrees: the surface is divided into "
@@ -292,21 +348,32 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     for k, (a, b) in enumerate(ranges):
         f0, g0, f1, g1 = _sub(c0, a, b), _sub(dc0, a, b, True), _sub(c1, a, b), _sub(dc1, a, b, True)
         vv = np.linspace(0.0, 1.0, 257)
-        if planar:
-            z = n if (U @ n).mean() > 0 else -n
-        else:
-            Uk = _dirs(f0, f1, vv)
-            z = Uk.sum(axis=0)
+        for ext in (extend, extend / 3, 0.0):          # §5's extension may cross a fan's apex: less
+            if planar:
+                z = n if (U @ n).mean() > 0 else -n
+                score, at = _fold_score(f0, g0, f1, g1, z, ext, True)
+            else:
+                z, score, at = _best_direction(f0, g0, f1, g1, ext, max_tilt_deg)
+            if score > 0.0:
+                break
+        if score <= 0.0:
+            raise BadInputError(
+                f"{'the' if planar else 'the boundaries are not in parallel planes, and no'} pair of parallel "
+                f"planes across the rulings gives a fat curve that does not fold: between them the two boundaries "
+                f"run against each other (their tangents {np.degrees(np.arccos(np.clip(score, -1, 1))):.0f} deg "
+                f"apart near v = {a + (b - a) * at:.3g}; a fan of rulings through one boundary point, as ruled "
+                f"fits make near corners, does this); use a part of the surface between two parallel planes")
+        if ext < extend:
+            notes.append(f"piece {k}: the extension beyond the surface's planes is {ext:.3g} of the height "
+                         f"(not {extend:.3g}): further out the rulings would cross each other")
+        extend_k = ext
         E = _frame(z)
         P0, P1 = f0(vv), f1(vv)
         origin = P0.mean(axis=0)
         if ((P1 - P0) @ E[2]).min() <= 0:
             raise BadInputError("the rulings do not all cross the planes in one sense; split the face (ruled split) "
                                 "or fit a part of it")
-        zs = np.concatenate([(P0 - origin) @ E[2], (P1 - origin) @ E[2]])
-        h0, h1 = (float(zs.min()), float(zs.max())) if not planar else \
-            (float(((P0 - origin) @ E[2]).mean()), float(((P1 - origin) @ E[2]).mean()))
-        H0, H1 = h0 - extend * (h1 - h0), h1 + extend * (h1 - h0)
+        h0, h1, H0, H1 = _heights(P0, P1, origin, E[2], planar, extend_k)
         e0, de0 = _extended(f0, g0, f1, g1, origin, E, H0)
         e1, de1 = _extended(f0, g0, f1, g1, origin, E, H1)
         o0 = _extended(f0, g0, f1, g1, origin, E, h0)[0]

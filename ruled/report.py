@@ -63,9 +63,18 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
     return out
 
 
+def _plain(o):
+    """numpy scalars and arrays as JSON values."""
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(f"{type(o).__name__} is not JSON serializable")
+
+
 def write_report(d: dict, path: str) -> None:
     with open(path, "w") as fh:
-        json.dump(d, fh, indent=1)
+        json.dump(d, fh, indent=1, default=_plain)
 
 
 def plot(res: FitResult, path: str, measured: Optional[float] = None) -> None:

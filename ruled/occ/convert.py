@@ -94,6 +94,16 @@ def face_uv_bounds(face: TopoDS_Face) -> tuple[float, float, float, float]:
     return BRepTools.UVBounds_s(face)
 
 
+def _snap_period(a: float, b: float, start: float, period: float) -> tuple:
+    """Bounds within 1e-9 of the period's start (and of a whole period) snapped to them exactly."""
+    eps = 1e-9 * max(1.0, period)
+    if abs(a - start) <= eps:
+        a = start
+    if abs((b - a) - period) <= eps:
+        b = a + period
+    return a, b
+
+
 def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
     """The face's surface as a Geom_BSplineSurface restricted to the face's UV bounds."""
     u0, u1, v0, v1 = face_uv_bounds(face)
@@ -102,6 +112,11 @@ def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
     if ad.GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
         bs = ad.BSpline().Copy()
     else:
+        a0, a1, b0, b1 = surf.Bounds()
+        if surf.IsUPeriodic():      # a full turn whose bounds overhang the period by round-off
+            u0, u1 = _snap_period(u0, u1, a0, surf.UPeriod())
+        if surf.IsVPeriodic():
+            v0, v1 = _snap_period(v0, v1, b0, surf.VPeriod())
         try:
             trimmed = Geom_RectangularTrimmedSurface(surf, u0, u1, v0, v1)
             bs = GeomConvert.SurfaceToBSplineSurface_s(trimmed)
