@@ -116,6 +116,19 @@ def _check_outputs(*paths) -> None:
                 raise RuledError(f"cannot write {path}: folder {d} does not exist")
 
 
+def _with_bar(quiet: bool, face_index: int, work):
+    """work(progress) under a progress bar (on a terminal); its warnings printed, one line each."""
+    from .progress import Bar
+    bar = Bar(enabled=not quiet and sys.stderr.isatty())
+    try:
+        out = work(bar)
+    finally:
+        bar.done()
+    for w in out.warnings:
+        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    return out
+
+
 def cmd_faces(args) -> int:
     from .occ.io import list_faces
     infos = list_faces(args.input)
@@ -238,7 +251,6 @@ def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=No
     the edge (3D curve and pcurve), measure it with OCCT, write STEP. Returns the report dict."""
     from .occ.cos import curve_on_face
     from .occ.io import get_face, write_step
-    from .progress import Bar
     from .report import write_report
 
     if measure_samples < 2:
@@ -247,13 +259,8 @@ def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=No
     D, dom = _load_domain_curve(uv, uv_curve)
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
-    bar = Bar(enabled=not quiet and sys.stderr.isatty())
-    try:
-        fc = curve_on_face(face, D, tol, angle, bound=bound, progress=bar, measure_samples=measure_samples)
-    finally:
-        bar.done()
-    for w in fc.warnings:
-        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    fc = _with_bar(quiet, face_index, lambda bar: curve_on_face(face, D, tol, angle, bound=bound, progress=bar,
+                                                                 measure_samples=measure_samples))
     t1 = time.perf_counter()
     write_step([fc.edge], output)
     res, m = fc.result, fc.measure
@@ -301,7 +308,6 @@ def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step:
     from .cone_report import cone_report, plot as cone_plot
     from .occ.conespline import check_tolerance, cone_of_face
     from .occ.io import get_face, write_step
-    from .progress import Bar
     from .report import write_report
 
     tol = check_tolerance(tol)
@@ -310,14 +316,9 @@ def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step:
     _check_outputs(output, report, plot)
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
-    bar = Bar(enabled=not quiet and sys.stderr.isatty())
-    try:
-        fc = cone_of_face(face, tol, step, direction=direction, fit=fit, progress=bar,
-                          measure_samples=measure_samples, search="paper" if paper_search else "longest")
-    finally:
-        bar.done()
-    for w in fc.warnings:
-        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    fc = _with_bar(quiet, face_index, lambda bar: cone_of_face(
+        face, tol, step, direction=direction, fit=fit, progress=bar, measure_samples=measure_samples,
+        search="paper" if paper_search else "longest"))
     t1 = time.perf_counter()
     write_step([fc.shell], output)
     rep = {"version": __version__, "input": os.path.abspath(input_path), "face": face_index,
