@@ -8,9 +8,11 @@ polygons (§3.1), the common tangents by local convexity and reflection (eqs. 3�
 triangles and the shared weight by the discrete form of eq. 5 (§3.2), the boundary error (eq. 6),
 the check of Theorem 1 on a patch's generator lines, the skew error (eqs. 7–8), the sequential
 fitting loop (§3.3) with the total of eq. 9, the cone patches as rational surfaces and the trim of
-§5.  Still to come (issue 5): input from faces, the independent 3D measure, the shell, the CLI.
+§5.  Surfaces in space, faces and the shell: conespline.py and occ/conespline.py.
 
-Boundary curves are callables v -> (N, 2) points with a derivative callable, v in [0, 1].
+Boundary curves are callables v -> (N, 2) points with a derivative callable, v in [0, 1]; the fit
+tabulates them once (Track) and evaluates the table.  Closest points are numba kernels
+(kernels_cone.py) with NumPy twins here (Track, Conic, project), bit-identical.
 """
 
 from __future__ import annotations
@@ -19,8 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import kernels, kernels_cone
 from .distance import to_polyline
 from .errors import BadInputError
+
+_NOT, _NOP, _NOQ = np.zeros(2), np.zeros((2, 2)), np.zeros((3, 2))     # unused arguments of the kernel
 
 
 def conic(P0, R, P2, w: float, t) -> np.ndarray:
@@ -119,6 +124,23 @@ def shared_weight(tri0, pts0, tri1, pts1, default: float = 2.0) -> float:
     return float(np.sqrt(num / den))
 
 
+_UNIT = {}
+
+
+def _unit_grid(n: int) -> np.ndarray:
+    g = _UNIT.get(n)
+    if g is None:
+        g = _UNIT[n] = np.linspace(0.0, 1.0, n)
+    return g
+
+
+def _grid(lo: float, hi: float, n: int) -> np.ndarray:
+    """n points from lo to hi (both included), without np.linspace's overhead."""
+    g = lo + (hi - lo) * _unit_grid(n)
+    g[-1] = hi
+    return g
+
+
 class Track:
     """A planar boundary curve v -> (x, y), v in [0, 1], tabulated once (points and first derivatives at
     a uniform grid plus the curve's own breaks) and evaluated by piecewise cubic Hermite interpolation:
@@ -130,9 +152,10 @@ class Track:
         t = np.linspace(0.0, 1.0, m + 1)
         br = np.asarray([b for b in np.ravel(breaks) if 0.0 < b < 1.0], float)
         t = np.unique(np.concatenate([t, br]))
+        self.fast = kernels.enabled()              # numba kernels (decided once: the env lookup is not free)
         self.t = t
-        self.P = np.asarray(f(t), float)
-        self.D = np.asarray(df(t), float)
+        self.P = np.ascontiguousarray(f(t), dtype=float)
+        self.D = np.ascontiguousarray(df(t), dtype=float)
         self.h = np.diff(t)
 
     def _at(self, v):
@@ -142,6 +165,8 @@ class Track:
         return i, h[:, None], ((v - self.t[i]) / h)[:, None]
 
     def __call__(self, v) -> np.ndarray:
+        if self.fast:
+            return kernels_cone.evaluate(0, self.t, self.P, self.D, self.h, _NOQ, 0.0, v, 0)[0]
         i, h, s = self._at(v)
         s2, s3 = s * s, s * s * s
         return ((2 * s3 - 3 * s2 + 1) * self.P[i] + (s3 - 2 * s2 + s) * h * self.D[i]
@@ -155,6 +180,8 @@ class Track:
 
     def all3(self, v):
         """Point, first and second derivative at v."""
+        if self.fast:
+            return tuple(kernels_cone.evaluate(0, self.t, self.P, self.D, self.h, _NOQ, 0.0, v, 2))
         i, h, s = self._at(v)
         s2, s3 = s * s, s * s * s
         P0, P1, D0, D1 = self.P[i], self.P[i + 1], h * self.D[i], h * self.D[i + 1]
@@ -170,9 +197,13 @@ class Conic:
 
     def __init__(self, P0, R, P2, w: float):
         self.P0, self.R, self.P2 = (np.asarray(x, float) for x in (P0, R, P2))
+        self.Q = np.ascontiguousarray(np.array([self.P0, self.R, self.P2]))
         self.w = float(w)
+        self.fast = kernels.enabled()
 
     def __call__(self, t) -> np.ndarray:
+        if self.fast:
+            return kernels_cone.evaluate(1, _NOT, _NOP, _NOP, _NOT, self.Q, self.w, t, 0)[0]
         t = np.atleast_1d(np.asarray(t, float))[:, None]
         a, b, c = (1 - t) ** 2, 2 * self.w * t * (1 - t), t * t
         return (a * self.P0 + b * self.R + c * self.P2) / (a + b + c)
@@ -185,6 +216,8 @@ class Conic:
 
     def all3(self, t):
         """Point, first and second derivative at t."""
+        if self.fast:
+            return tuple(kernels_cone.evaluate(1, _NOT, _NOP, _NOP, _NOT, self.Q, self.w, t, 2))
         t = np.atleast_1d(np.asarray(t, float))[:, None]
         w, P0, R, P2 = self.w, self.P0, self.R, self.P2
         u = 1 - t
@@ -206,7 +239,11 @@ def project(c, lo: float, hi: float, X: np.ndarray, n: int = 33, iters: int = 3)
     if hi <= lo:
         x = np.full(X.shape[0], float(lo))
         return x, np.linalg.norm(c(x) - X, axis=1)
-    t = np.linspace(lo, hi, n)
+    t = _grid(lo, hi, n)
+    if c.fast:
+        if isinstance(c, Track):
+            return kernels_cone.project(0, c.t, c.P, c.D, c.h, _NOQ, 0.0, t, X, iters)
+        return kernels_cone.project(1, _NOT, _NOP, _NOP, _NOT, c.Q, c.w, t, X, iters)
     d2 = ((X[:, None, :] - c(t)[None]) ** 2).sum(axis=2)
     k = np.argmin(d2, axis=1)
     x0 = t[k]
@@ -230,7 +267,7 @@ def one_sided(src, lo: float, hi: float, dst, dlo: float, dhi: float, n: int = 3
     n samples, exact projections, then two steps of successive parabolic interpolation about the
     largest sample (the sampled maximum alone can fall short of the true one by the curvature of the
     distance between samples).  Returns (max, sample parameters, their closest parameters on dst)."""
-    s = np.linspace(lo, hi, n)
+    s = _grid(lo, hi, n)
     if hi <= lo:
         s = s[:1]
     x, d = project(dst, dlo, dhi, src(s))
@@ -378,7 +415,7 @@ def _quad_error(c0, c1, x, y, h0, h1) -> np.ndarray:
     P10, P01 = _up(c1(x), h1), _up(c0(y), h0)
     thick = np.minimum(_line_distances(P00, P11 - P00, P10, P01 - P10),
                        0.25 * np.linalg.norm(P00 + P11 - P10 - P01, axis=1))
-    s = x[:, None] + (y - x)[:, None] * np.linspace(0.0, 1.0, 9)[None]
+    s = x[:, None] + (y - x)[:, None] * _unit_grid(9)[None]
     sup = np.maximum(np.linalg.norm(c0.dd(s.ravel()), axis=1), np.linalg.norm(c1.dd(s.ravel()), axis=1))
     return 0.125 * (y - x) ** 2 * sup.reshape(s.shape).max(axis=1) + thick
 
@@ -399,7 +436,7 @@ def _try_arc(tr0: Track, tr1: Track, state, delta, tol, kf, samples, h0, h1):
     for tr, lo, hi, P, Q in ((tr0, v, st.v, L, N), (tr1, vb, st.vb, Lb, Nb)):
         R = tangent_lines_meet(P, T, Q, Tn) if hi > lo and np.linalg.norm(Q - P) > 0 else None
         tris.append(np.array([P, R[0], Q]) if R is not None else np.array([P, P, P]))
-        pts.append(tr(np.linspace(lo, hi, samples)) if R is not None else np.zeros((0, 2)))
+        pts.append(tr(_grid(lo, hi, samples)) if R is not None else np.zeros((0, 2)))
     w = shared_weight(tuple(tris[0]) if len(pts[0]) else None, pts[0], tuple(tris[1]) if len(pts[1]) else None,
                       pts[1])
     arc = FatArc(tris[0], tris[1], w, (v, st.v), (vb, st.vb), 0.0)
@@ -414,7 +451,7 @@ def _try_arc(tr0: Track, tr1: Track, state, delta, tol, kf, samples, h0, h1):
         d1 = 0.0
         lo, hi = max(v, vb), min(st.v, st.vb)
         if hi > lo:                                                # eq. 8: rulings -> cone
-            vv = np.linspace(lo, hi, samples)
+            vv = _grid(lo, hi, samples)
             tA = project(A, 0.0, 1.0, tr0(vv))[0]
             tB = project(B, 0.0, 1.0, tr1(vv))[0]
             d1 = _quad_error(A, B, tA, tB, h0, h1).max()
@@ -464,10 +501,12 @@ def _next_arc(tr0, tr1, state, delta, tol, args, search, ks, cap=None):
     return good[1]
 
 
-def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progress=None, even=False):
+def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progress=None, even=False, pace=None):
     """One pass of the §3.3 loop; with a target count, each arc's first step is the remaining range
     spread over the arcs left (None when the pass would need more arcs than the target); with even, that
-    spread is also the longest step tried, so the arcs come out of similar lengths."""
+    spread is also the longest step tried, so the arcs come out of similar lengths (None as soon as an arc
+    falls short of it).  pace: the progress of an earlier pass after each arc; a pass that falls behind it
+    gives up (the earlier pass took the longest arc at every step)."""
     arcs = []
     state = (0.0, 0.0, tr0(0.0)[0], tr1(0.0)[0], _unit(tr0.d(0.0)[0] + tr1.d(0.0)[0]))
     while state[0] < 1.0 or state[1] < 1.0:
@@ -488,6 +527,10 @@ def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progr
                                 f"corner); raise the tolerance or split the face there")
         arc, state = got
         arcs.append(arc)
+        if even and max(arc.v[1] - arc.v[0], arc.vb[1] - arc.vb[0]) < 0.98 * delta and min(state[:2]) < 1.0:
+            return None
+        if pace is not None and len(arcs) <= len(pace) and min(state[:2]) < pace[len(arcs) - 1] - 1e-12:
+            return None
         if progress is not None:
             progress("fitting fat conic arcs", min(state[0], state[1]))
         if len(arcs) > max_arcs:
@@ -513,7 +556,8 @@ def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.
     args = (kf, samples, h0, h1)
     arcs = _sequential(tr0, tr1, tol, delta0, None, args, search, ks, max_arcs, progress)
     while balance and len(arcs) > 1:
-        fewer = _sequential(tr0, tr1, tol, delta0, len(arcs) - 1, args, search, ks, max_arcs)
+        pace = [min(a.v[1], a.vb[1]) for a in arcs]
+        fewer = _sequential(tr0, tr1, tol, delta0, len(arcs) - 1, args, search, ks, max_arcs, pace=pace)
         if fewer is None:
             break
         arcs = fewer

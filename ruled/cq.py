@@ -13,6 +13,11 @@
     print(c.result.segments, c.result.error_bound, c.measure.hausdorff)
     cq.exporters.export(cq.Workplane().add(c.edge), "curve.step")
 
+    from ruled.cq import cone_spline_face
+    cs = cone_spline_face(face, tol=0.01, fit=True)      # fit a ruled surface, then a cone spline of it
+    print(len(cs.faces), cs.result.bound, cs.measure["design_to_cone"])
+    cq.exporters.export(cq.Workplane().add(cs.shell), "cones.step")
+
 The face may be a ``cadquery.Face``, an OCP ``TopoDS_Face`` or a
 :class:`ruled.Surface` container.  OCP is reached only through ``ruled.occ``.
 """
@@ -43,6 +48,12 @@ class RuledFit:
 def _topods(face):
     wrapped = getattr(face, "wrapped", None)
     return wrapped if wrapped is not None else face
+
+
+def _face_of(face):
+    """An OCP face for a cadquery.Face, a TopoDS_Face or a Surface container."""
+    from .occ.convert import container_to_face
+    return container_to_face(face) if isinstance(face, Surface) else _topods(face)
 
 
 def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optional[float] = None,
@@ -92,10 +103,9 @@ def curve_on_face(face, uv, tol: float = 1e-3, angle: float = 1.0, bound: str = 
     al. 2008), within tol of the exact image and G1 within angle degrees at its joints."""
     from .curve_on_surface import polyline_curve
     from .nurbs import Curve
-    from .occ.convert import container_to_face
     from .occ.cos import curve_on_face as _on_face
 
-    src = container_to_face(face) if isinstance(face, Surface) else _topods(face)
+    src = _face_of(face)
     D = uv if isinstance(uv, Curve) else polyline_curve(uv)
     fc = _on_face(src, D, tol, angle, bound=bound, progress=progress,
                   measure_samples=measure_samples if measure else None)
@@ -105,3 +115,32 @@ def curve_on_face(face, uv, tol: float = 1e-3, angle: float = 1.0, bound: str = 
     except ImportError:  # plain OCP
         edge = fc.edge
     return CurveOnFace(edge, fc.result, fc.measure, tuple(fc.warnings))
+
+
+@dataclass(frozen=True)
+class ConeSplineFace:
+    """A tangent-smooth cone spline (developable) within a tolerance of a ruled face."""
+
+    shell: Any                # cadquery.Shape (the sewn patches) when CadQuery is installed, else the OCP shape
+    faces: tuple              # one face per cone patch
+    result: Any               # ruled.conespline.ConeSpline: patches (weight, apex, development), bound, pieces
+    measure: Optional[dict]   # independent distances (OCCT), or None when not asked
+    fit: Any = None           # the ruled fit when fit=True
+    warnings: tuple = ()
+
+
+def cone_spline_face(face, tol: float, step: float = 0.1, fit: bool = False, direction: str = "auto",
+                     measure: bool = True, measure_samples: int = 24, progress=None) -> ConeSplineFace:
+    """The cone spline of a ruled face within tol (Yang & Yang 2006); with fit=True the face is first
+    fitted by a ruled surface (fit_face's defaults) and that fit is cone-splined, in one call."""
+    from .occ.conespline import check_tolerance, cone_of_face
+
+    src = _face_of(face)
+    fc = cone_of_face(src, check_tolerance(tol), step, direction=direction, fit=fit, progress=progress,
+                      measure_samples=measure_samples if measure else None)
+    try:
+        import cadquery as cq
+        shell, faces = cq.Shape.cast(fc.shell), tuple(cq.Face(f) for f in fc.faces)
+    except ImportError:  # plain OCP
+        shell, faces = fc.shell, tuple(fc.faces)
+    return ConeSplineFace(shell, faces, fc.result, fc.measure, fc.fit, tuple(fc.warnings))

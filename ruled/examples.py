@@ -57,3 +57,67 @@ def yang_surface() -> Surface:
 
 def yang_curve() -> Curve:
     return Curve(np.array(YANG_CURVE, dtype=float), [0, 0, 0, 1, 1, 1], 2)
+
+
+# Yang & Yang 2006: the three examples' extended boundaries (planar curves v -> (N, 2) with their
+# derivatives), in closed form (Bernstein sums), so that they evaluate the same with or without numba
+def _bezier2d(P):
+    from math import comb
+    P = np.asarray(P, float)
+    n = len(P) - 1
+    B = [comb(n, i) for i in range(n + 1)]
+    dP = n * np.diff(P, axis=0)
+
+    def f(v):
+        v = np.clip(np.atleast_1d(np.asarray(v, float)), 0, 1)[:, None]
+        return sum(B[i] * v ** i * (1 - v) ** (n - i) * P[i] for i in range(n + 1))
+
+    def df(v):
+        v = np.clip(np.atleast_1d(np.asarray(v, float)), 0, 1)[:, None]
+        return sum(comb(n - 1, i) * v ** i * (1 - v) ** (n - 1 - i) * dP[i] for i in range(n))
+    return f, df
+
+
+def _spiral():
+    k = 3.5 * np.pi
+
+    def b0(v):
+        v = np.atleast_1d(v)
+        return np.stack([(0.2 + v) * np.cos(k * v), (0.2 + v) * np.sin(k * v)], axis=1)
+
+    def db0(v):
+        v = np.atleast_1d(v)
+        a = k * v
+        return np.stack([np.cos(a) - (0.2 + v) * k * np.sin(a), np.sin(a) + (0.2 + v) * k * np.cos(a)], axis=1)
+    return b0, db0, (lambda v: 1.5 * b0(v)), (lambda v: 1.5 * db0(v))
+
+
+def cone_examples() -> list:
+    """(name, b0, db0, b1, db1, tolerance, step, height, the paper's patch count) of Yang & Yang's
+    examples 1, 2, 3a and 3b, in their extended form (the original surface lies between
+    0.8 b0 + 0.2 b1 and 0.2 b0 + 0.8 b1)."""
+    b0, db0 = _bezier2d([(0, 1.5), (0, 1.5), (0, 0), (0, 0), (1, -0.075), (1, -0.075), (3, 0), (3, 0), (3, 1.5),
+                         (3, 1.5)])
+    b1, db1 = _bezier2d([(0, 1.5), (0, 0.5), (0, 0), (0, 0), (0.5, 0), (2.5, 0), (3, 0), (3, 0), (3, 0.5), (3, 1.5)])
+    c0, dc0 = _bezier2d([(-2, -2), (4, 8), (5, -8), (12, 1)])
+
+    def p(v):
+        v = np.atleast_1d(v)
+        a, b = np.tan(np.pi / 8 * np.cos(np.pi * v)), np.pi / 2 + 0.1 * np.sin(np.pi * v)
+        return 3 * np.stack([a * np.cos(b), a * np.sin(b)], axis=1)
+
+    def dp(v):
+        v = np.atleast_1d(v)
+        x = np.pi / 8 * np.cos(np.pi * v)
+        a, da = np.tan(x), -(np.pi ** 2 / 8) * np.sin(np.pi * v) / np.cos(x) ** 2
+        b, db = np.pi / 2 + 0.1 * np.sin(np.pi * v), 0.1 * np.pi * np.cos(np.pi * v)
+        return 3 * np.stack([da * np.cos(b) - a * np.sin(b) * db, da * np.sin(b) + a * np.cos(b) * db], axis=1)
+
+    def c1(v):
+        return c0(v) + p(v)
+
+    def dc1(v):
+        return dc0(v) + dp(v)
+    s0, ds0, s1, ds1 = _spiral()
+    return [("1", s0, ds0, s1, ds1, 1e-3, 0.5, 1.0, 7), ("2", b0, db0, b1, db1, 0.06, 0.1, 1.0, 16),
+            ("3a", c0, dc0, c1, dc1, 0.2, 0.3, 3.0, 7), ("3b", c0, dc0, c1, dc1, 0.1, 0.1, 3.0, 15)]

@@ -3,6 +3,8 @@ tangent rules, parallel polygons and Theorem 1, checked against closed-form geom
 import numpy as np
 import pytest
 
+from ruled.examples import cone_examples
+
 from ruled.cone import (barycentric, choose_tangent, conic, generators_concurrent, hausdorff_2d, locally_convex,
                         parallel_step, reflect, shared_weight, tangent_lines_meet)
 
@@ -119,17 +121,7 @@ def test_fat_conic_arc_of_a_true_cone_is_developable():
 
 
 def _spiral():
-    def b0(v):
-        v = np.atleast_1d(v)
-        a = 3.5 * np.pi * v
-        return np.stack([(0.2 + v) * np.cos(a), (0.2 + v) * np.sin(a)], axis=1)
-
-    def db0(v):
-        v = np.atleast_1d(v)
-        a = 3.5 * np.pi * v
-        k = 3.5 * np.pi
-        return np.stack([np.cos(a) - (0.2 + v) * k * np.sin(a), np.sin(a) + (0.2 + v) * k * np.cos(a)], axis=1)
-    return b0, db0, (lambda v: 1.5 * b0(v)), (lambda v: 1.5 * db0(v))
+    return cone_examples()[0][1:5]
 
 
 def test_fat_conic_fit_of_the_spiral_boundaries():
@@ -179,35 +171,10 @@ def test_trimmed_arc_is_the_patch_between_the_inner_planes():
         assert np.linalg.norm(cut.poles[row, 1] - cut.poles[row, 0]) > 0
 
 
-def _bezier(P):
-    from ruled.nurbs import Curve
-    P = np.array(P, float)
-    n = len(P) - 1
-    C = Curve(P, [0] * (n + 1) + [1] * (n + 1), n)
-    return (lambda v: C.evaluate(np.clip(np.atleast_1d(v), 0, 1), 1)[0],
-            lambda v: C.evaluate(np.clip(np.atleast_1d(v), 0, 1), 1)[1])
-
-
 def paper_examples():
     """The paper's examples 2 and 3 (extended boundaries, heights 1 and 3): (name, b0, db0, b1, db1,
     tol, step, height, the paper's count)."""
-    b0, db0 = _bezier([(0, 1.5), (0, 1.5), (0, 0), (0, 0), (1, -0.075), (1, -0.075), (3, 0), (3, 0), (3, 1.5),
-                       (3, 1.5)])
-    b1, db1 = _bezier([(0, 1.5), (0, 0.5), (0, 0), (0, 0), (0.5, 0), (2.5, 0), (3, 0), (3, 0), (3, 0.5), (3, 1.5)])
-    c0, dc0 = _bezier([(-2, -2), (4, 8), (5, -8), (12, 1)])
-
-    def p(v):
-        v = np.atleast_1d(v)
-        a, b = np.tan(np.pi / 8 * np.cos(np.pi * v)), np.pi / 2 + 0.1 * np.sin(np.pi * v)
-        return 3 * np.stack([a * np.cos(b), a * np.sin(b)], axis=1)
-
-    def c1(v):
-        return c0(v) + p(v)
-
-    def dc1(v, e=1e-6):
-        return dc0(v) + (p(np.atleast_1d(v) + e) - p(np.atleast_1d(v) - e)) / (2 * e)
-    return [("2", b0, db0, b1, db1, 0.06, 0.1, 1.0, 16), ("3a", c0, dc0, c1, dc1, 0.2, 0.3, 3.0, 7),
-            ("3b", c0, dc0, c1, dc1, 0.1, 0.1, 3.0, 15)]
+    return cone_examples()[1:]
 
 
 @pytest.mark.parametrize("case", paper_examples(), ids=lambda c: "example " + c[0])
@@ -223,3 +190,19 @@ def test_paper_examples_2_and_3_stay_within_the_error_estimate(case):
         assert generators_concurrent(S.poles[0], S.poles[1])
     print(f"example {name}: {len(arcs)} fat arcs (the paper: {paper}), largest eq. 9 error "
           f"{max(a.err for a in arcs):.4g} for tolerance {tol}")
+
+
+@pytest.mark.skipif(not __import__("ruled.kernels", fromlist=["AVAILABLE"]).AVAILABLE, reason="numba not installed")
+@pytest.mark.parametrize("case", cone_examples(), ids=lambda c: "example " + c[0])
+def test_numba_and_numpy_twins_fit_the_same_arcs(case, monkeypatch):
+    """The kernels (kernels_cone) and their NumPy twins in cone.py give bit-identical fits."""
+    from ruled import kernels
+    from ruled.cone import fit_fat_conic
+    name, b0, db0, b1, db1, tol, step, height, _ = case
+    fast = fit_fat_conic(b0, db0, b1, db1, tol, step, h1=height)
+    monkeypatch.setattr(kernels, "enabled", lambda: False)
+    slow = fit_fat_conic(b0, db0, b1, db1, tol, step, h1=height)
+    assert len(fast) == len(slow)
+    for a, b in zip(fast, slow):
+        assert np.array_equal(a.A, b.A) and np.array_equal(a.B, b.B)
+        assert (a.w, a.v, a.vb, a.err) == (b.w, b.v, b.vb, b.err)

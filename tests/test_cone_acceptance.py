@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 
-from test_cone import paper_examples, _spiral
+from test_cone import _spiral, paper_examples
 from ruled.conespline import cone_spline
 from ruled.errors import BadInputError
 
@@ -307,3 +307,16 @@ def test_fit_then_cone_in_one_call():
     d = max(FaceSet(fc.faces).distance(x) for x in sample_faces([face], 24))
     assert d <= fc.fit.error_bound + 0.01
     assert fc.measure["design_to_cone"] == pytest.approx(d, rel=0.05, abs=1e-6)
+
+
+def test_cadquery_entry_returns_cadquery_shapes():
+    cq = pytest.importorskip("cadquery")
+    from ruled.cq import cone_spline_face
+    face = [f for f in cq.Solid.makeCylinder(5, 12).Faces() if f.geomType() == "CYLINDER"][0]
+    cs = cone_spline_face(face, 1e-6, measure_samples=8)
+    assert isinstance(cs.faces[0], cq.Face) and len(cs.faces) == 3
+    assert cs.measure["hausdorff"] <= 1e-9 * 12
+    # the patches cover the cylinder: the same area
+    assert sum(f.Area() for f in cs.faces) == pytest.approx(face.Area(), rel=1e-7)   # OCCT integrates to ~1e-9
+    with pytest.raises(BadInputError):
+        cone_spline_face(face, 0.0)

@@ -30,7 +30,12 @@ SCRIPT = textwrap.dedent("""
         from ruled.curve_on_surface import approximate
         from ruled.examples import yang_surface, yang_curve
         c = approximate(yang_surface(), yang_curve(), 1e-3, 1.0)
+        from ruled.cone import fit_fat_conic
+        from ruled.examples import cone_examples
+        e = cone_examples()[3]
+        arcs = fit_fat_conic(*e[1:7], h1=e[7])
         out = {{"cos": [c.segments, c.error_bound, c.max_joint_angle_deg, c.curve.poles.tolist()],
+               "cone": [[a.A.tolist(), a.B.tolist(), a.w, a.err] for a in arcs],
                "np": np.__version__, "scipy": scipy.__version__, "numba": kernels.AVAILABLE,
                "P": D.P.tolist(), "Suu": D.Suu.tolist(), "pairs": r.best.pairs.tolist(),
                "bound": r.error_bound, "direction": r.direction,
@@ -85,3 +90,12 @@ def test_same_numbers_in_freecad_python(tmp_path):
     assert segs == c.segments
     assert abs(bound - c.error_bound) <= 1e-9 * c.error_bound and abs(angle - c.max_joint_angle_deg) <= 1e-9
     assert np.abs(np.array(poles) - c.curve.poles).max() <= 1e-12
+    # cone splines (example 3b): the same arcs with numpy 1.24 and without numba
+    from ruled.cone import fit_fat_conic
+    from ruled.examples import cone_examples
+    e = cone_examples()[3]
+    arcs = fit_fat_conic(*e[1:7], h1=e[7])
+    assert len(fc["cone"]) == len(arcs)
+    for (A, B, w, err), a in zip(fc["cone"], arcs):
+        assert np.abs(np.array(A) - a.A).max() <= 1e-9 and np.abs(np.array(B) - a.B).max() <= 1e-9
+        assert abs(w - a.w) <= 1e-9 * a.w and abs(err - a.err) <= 1e-9
