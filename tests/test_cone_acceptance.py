@@ -320,3 +320,17 @@ def test_cadquery_entry_returns_cadquery_shapes():
     assert sum(f.Area() for f in cs.faces) == pytest.approx(face.Area(), rel=1e-7)   # OCCT integrates to ~1e-9
     with pytest.raises(BadInputError):
         cone_spline_face(face, 0.0)
+
+
+def test_cli_refuses_a_folding_face(tmp_path):
+    """A ruled face whose boundaries lie in parallel planes but run against each other (a twisted
+    strip): one line naming the fold, exit 2, nothing written."""
+    from ruled.nurbs import Surface
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import write_step
+    P = np.array([[(-1, 0, 0), (1, 0, 0)], [(1, 0.2, 1), (-1, 0.2, 1)]], float)
+    src, out = str(tmp_path / "twist.step"), str(tmp_path / "x.step")
+    write_step(container_to_face(Surface(P, [0, 0, 1, 1], [0, 0, 1, 1], 1, 1)), src)
+    r = _run("cone", src, "--face", "0", "--tol", "0.01", "-o", out)
+    assert r.returncode == 2 and "fold" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert not os.path.exists(out)
