@@ -68,8 +68,12 @@ def plot(res: ConeSpline, path: str) -> None:
                     label="parallel chords" if i == 0 else None)
             ax.plot([a.B[0, 0], a.B[2, 0]], [a.B[0, 1], a.B[2, 1]], color="#31a354", lw=0.8)
         ax.set_aspect("equal")
-        ax.set_title(f"{len(q.arcs)} fat conic arcs, planes {q.heights[0]:.4g} .. {q.heights[1]:.4g} "
-                     f"(fitted on {q.fit_heights[0]:.4g} .. {q.fit_heights[1]:.4g})", fontsize=9)
+        h0, h1, H0, H1 = (0.0 if abs(x) <= 1e-12 * (abs(q.heights[1] - q.heights[0]) + 1e-300) else x
+                          for x in (*q.heights, *q.fit_heights))
+        ax.set_title(f"{len(q.arcs)} fat conic arcs, planes {h0:.4g} .. {h1:.4g} (fitted on {H0:.4g} .. {H1:.4g}), "
+                     f"{'the boundaries' if q.planar_boundaries else 'rulings extended'}", fontsize=9)
+        ax.set_xlabel("frame x")
+        ax.set_ylabel("frame y")
         ax.legend(loc="best", fontsize=7)
     fig.suptitle(f"cone spline: {len(res.patches)} patches, tolerance {res.tol:g}, bound (eq. 9) {res.bound:.4g}")
     fig.tight_layout()

@@ -127,9 +127,10 @@ def ruled_boundaries(S: Surface, direction: str = "auto", rel: float = 1e-9):
         opts.append(("u", S))
     if direction in ("auto", "v"):
         opts.append(("v", S.transposed()))
-    for name, T in opts:
-        if T.degree_u == 1:
-            return name, [(_row_curve(T, i), _row_curve(T, i + 1)) for i in range(T.poles.shape[0] - 1)]
+    lin = sorted(((T.poles.shape[0], name, T) for name, T in opts if T.degree_u == 1), key=lambda x: x[0])
+    if lin:                                           # the fewest strips (bilinear faces: the single one)
+        _, name, T = lin[0]
+        return name, [(_row_curve(T, i), _row_curve(T, i + 1)) for i in range(T.poles.shape[0] - 1)]
     devs = [(iso_deviation(T), name) for name, T in opts]
     dev, name = min(devs)
     size = S.diagonal()
@@ -162,9 +163,11 @@ def _plane_normal(c0, c1, v):
 
 
 def _frame(z: np.ndarray):
+    """Rows x, y, z: z the planes' normal, x the world x axis projected onto the planes (the world y
+    axis when z is near x), so plots keep the model's orientation."""
     z = z / np.linalg.norm(z)
-    a = np.eye(3)[int(np.argmin(np.abs(z)))]
-    x = np.cross(a, z)
+    a = np.eye(3)[0] if abs(z[0]) < 0.9 else np.eye(3)[1]
+    x = a - (a @ z) * z
     x /= np.linalg.norm(x)
     return np.array([x, np.cross(z, x), z])
 
@@ -186,6 +189,22 @@ def split_by_tilt(c0, c1, max_tilt_deg: float = MAX_TILT_DEG, n: int = 257) -> l
             j += 1
         out.append((v[i], v[j]))
         i = j
+    return out
+
+
+def split_fans(c0, dc0, c1, dc1, ranges, n: int = 513, rel: float = 0.1) -> list:
+    """Cut the v ranges where one boundary nearly stands still while the other moves (a fan of
+    rulings through one point: a cone with its apex on that boundary, which planes below or above
+    the apex would cross) from the rest, so each gets its own planes."""
+    v = np.linspace(0.0, 1.0, n)
+    s0, s1 = np.linalg.norm(dc0(v), axis=1), np.linalg.norm(dc1(v), axis=1)
+    fan = (s0 <= rel * (s0 + s1)) | (s1 <= rel * (s0 + s1))
+    cuts = [0.5 * (v[i - 1] + v[i]) for i in range(1, n) if fan[i] != fan[i - 1]]
+    out = []
+    for a, b in ranges:
+        inner = [c for c in cuts if a + 2.0 / n < c < b - 2.0 / n]
+        edges = [a] + inner + [b]
+        out += list(zip(edges[:-1], edges[1:]))
     return out
 
 
@@ -335,19 +354,19 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
         if np.abs(U @ n).min() <= 1e-9:
             raise BadInputError("a ruling lies in the planes of the boundaries; the surface cannot be cut by them")
     else:
-        ranges = split_by_tilt(c0, c1, max_tilt_deg)
+        ranges = split_fans(c0, dc0, c1, dc1, split_by_tilt(c0, c1, max_tilt_deg))
         if len(ranges) > MAX_PIECES:
             raise BadInputError(f"the rulings turn too far to split the surface into pieces between parallel planes: "
                                 f"{len(ranges)} pieces would be needed (at most {MAX_PIECES}); fit a part of it")
     notes = []
     if len(ranges) > 1:
-        notes.append(f"the rulings turn by more than {2 * max_tilt_deg:.0f} degrees: the surface is divided into "
-                     f"{len(ranges)} pieces, each between its own pair of parallel planes (§6)")
-    pieces, patches = [], []
-    brk = np.asarray(breaks, float)
-    for k, (a, b) in enumerate(ranges):
+        notes.append(f"the surface is divided into {len(ranges)} pieces, each between its own pair of parallel planes "
+                     f"(§6): its rulings turn by more than {2 * max_tilt_deg:.0f} degrees, or fan out from one point "
+                     f"of a boundary (a cone whose apex the planes must not cross)")
+    plan, queue, folds = [], list(ranges), 0
+    while queue:                                   # planes per piece; a piece whose fat curve folds is cut there
+        a, b = queue.pop(0)
         f0, g0, f1, g1 = _sub(c0, a, b), _sub(dc0, a, b, True), _sub(c1, a, b), _sub(dc1, a, b, True)
-        vv = np.linspace(0.0, 1.0, 257)
         for ext in (extend, extend / 3, 0.0):          # §5's extension may cross a fan's apex: less
             if planar:
                 z = n if (U @ n).mean() > 0 else -n
@@ -356,13 +375,27 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
                 z, score, at = _best_direction(f0, g0, f1, g1, ext, max_tilt_deg)
             if score > 0.0:
                 break
-        if score <= 0.0:
+        if score > 0.0:
+            plan.append((a, b, z, ext))
+            continue
+        if planar or b - a < 1.0 / 128 or len(plan) + len(queue) + 2 > MAX_PIECES:
             raise BadInputError(
                 f"{'the' if planar else 'the boundaries are not in parallel planes, and no'} pair of parallel "
                 f"planes across the rulings gives a fat curve that does not fold: between them the two boundaries "
                 f"run against each other (their tangents {np.degrees(np.arccos(np.clip(score, -1, 1))):.0f} deg "
-                f"apart near v = {a + (b - a) * at:.3g}; a fan of rulings through one boundary point, as ruled "
-                f"fits make near corners, does this); use a part of the surface between two parallel planes")
+                f"apart near v = {a + (b - a) * at:.3g}; the surface twists too much there, or a fan of rulings "
+                f"goes through one boundary point); use a part of the surface between two parallel planes")
+        cut = a + (b - a) * min(max(at, 0.1), 0.9)
+        queue[0:0] = [(a, cut), (cut, b)]
+        folds += 1
+    if folds:
+        notes.append(f"{folds} more cut(s) where the fat curve of a piece would fold (§6): {len(plan)} pieces")
+    pieces, patches = [], []
+    brk = np.asarray(breaks, float)
+    ranges = [(a, b) for a, b, _, _ in plan]
+    for k, (a, b, z, ext) in enumerate(plan):
+        f0, g0, f1, g1 = _sub(c0, a, b), _sub(dc0, a, b, True), _sub(c1, a, b), _sub(dc1, a, b, True)
+        vv = np.linspace(0.0, 1.0, 257)
         if ext < extend:
             notes.append(f"piece {k}: the extension beyond the surface's planes is {ext:.3g} of the height "
                          f"(not {extend:.3g}): further out the rulings would cross each other")

@@ -61,7 +61,8 @@ def _normal(face, u, v):
     p, du, dv = gp_Pnt(), gp_Vec(), gp_Vec()
     s.D1(float(u), float(v), p, du, dv)
     n = np.cross(du.Coord(), dv.Coord())
-    return n / np.linalg.norm(n)
+    ln = np.linalg.norm(n)
+    return None if ln <= 1e-12 * (np.linalg.norm(du.Coord()) + np.linalg.norm(dv.Coord())) ** 2 else n / ln
 
 
 def _check_patches(faces, pieces_of):
@@ -76,6 +77,8 @@ def _check_patches(faces, pieces_of):
             continue
         for u in np.linspace(0, 1, 7):
             na, nb = _normal(faces[i], u, 1.0), _normal(faces[i + 1], u, 0.0)
+            if na is None or nb is None:                  # a cone's apex: no tangent plane there
+                continue
             worst = max(worst, float(np.arctan2(np.linalg.norm(np.cross(na, nb)), na @ nb)))
     return worst
 
@@ -334,3 +337,19 @@ def test_cli_refuses_a_folding_face(tmp_path):
     r = _run("cone", src, "--face", "0", "--tol", "0.01", "-o", out)
     assert r.returncode == 2 and "fold" in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not os.path.exists(out)
+
+
+def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
+    """Elber's ex2 fitted (2D, 40 samples) gives fans of rulings at both ends and a strong twist: the
+    surface is cut into pieces (§6) and every point of the face is within the fit's bound plus the
+    tolerance of the patches."""
+    from ruled.examples import elber_ex2
+    from ruled.occ.conespline import cone_of_face
+    from ruled.occ.convert import container_to_face
+    face = container_to_face(elber_ex2())
+    fc = cone_of_face(face, 0.05, fit=True, measure_samples=None)
+    assert len(fc.result.pieces) >= 2 and fc.result.bound <= 0.05
+    _check_patches(fc.faces, [p.piece for p in fc.result.patches])
+    d = max(FaceSet(fc.faces).distance(x) for x in sample_faces([face], 12))
+    assert d <= fc.fit.error_bound + 0.05
+    assert any("tangent continuous" in w for w in fc.warnings) == (fc.result.max_g1_deg > 1.0)

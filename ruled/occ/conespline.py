@@ -110,6 +110,9 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
                         f"its distance to the design face is measured, not certified")
     if res.notes:
         warnings += res.notes
+    if res.max_g1_deg > 1.0:
+        warnings.append(f"neighbouring patches meet at up to {res.max_g1_deg:.3g} deg (not tangent continuous): the "
+                        f"surface twists so much that patches collapse to triangles without the §5 extension")
     return FaceCone(res, faces, shell, meas, fitted, warnings,
                     {"fit": res.timings["fit"], "build": time.perf_counter() - t1,
                      "measure": meas["seconds"] if meas else 0.0, "total": time.perf_counter() - t0})
