@@ -6,7 +6,7 @@
               [--metric lsad|sshb] [--memory-cap MB] -o OUTPUT.step [--report R.json] [--plot P.png]
     ruled curve-on-surface INPUT --face K (--uv "u0,v0;u1,v1;..." | --uv-curve CURVE.json)
               [--tol EPS] [--angle DEG] -o OUTPUT.step [--report R.json]
-    ruled cone INPUT --face K --tol T [--step D] [--fit] [--direction auto|u|v] -o OUTPUT.step
+    ruled cone INPUT --face K --tol T [--step D] [--fit] [--direction auto|u|v] [--allow-creases] -o OUTPUT.step
               [--report R.json] [--plot P.png]
     ruled demo
 
@@ -95,6 +95,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="fit the face by a ruled surface first ('ruled fit' defaults), then cone-spline that")
     k.add_argument("--direction", choices=["auto", "u", "v"], default="auto",
                    help="which parameter runs across the rulings' ends (auto: the linear one)")
+    k.add_argument("--allow-creases", action="store_true",
+                   help="keep a result whose neighbouring patches are not tangent continuous (strongly twisted "
+                        "faces); without it such a face is refused")
     k.add_argument("--paper-search", action="store_true",
                    help="the paper's step search only (shrink by 0.9 until accepted; more patches)")
     k.add_argument("-o", "--output", required=True, help="STEP file for the patches (one sewn shell)")
@@ -302,8 +305,8 @@ def cmd_curve_on_surface(args) -> int:
 
 
 def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step: float = 0.1, fit: bool = False,
-             direction: str = "auto", paper_search: bool = False, report=None, plot=None, measure_samples=24,
-             quiet=False) -> dict:
+             direction: str = "auto", paper_search: bool = False, allow_creases: bool = False, report=None,
+             plot=None, measure_samples=24, quiet=False) -> dict:
     """Read a face, build its cone spline, sew and write the patches, measure them with OCCT."""
     from .cone_report import cone_report, plot as cone_plot
     from .occ.conespline import check_tolerance, cone_of_face
@@ -318,7 +321,7 @@ def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step:
     face = get_face(input_path, face_index)
     fc = _with_bar(quiet, face_index, lambda bar: cone_of_face(
         face, tol, step, direction=direction, fit=fit, progress=bar, measure_samples=measure_samples,
-        search="paper" if paper_search else "longest"))
+        search="paper" if paper_search else "longest", allow_creases=allow_creases))
     t1 = time.perf_counter()
     write_step([fc.shell], output)
     rep = {"version": __version__, "input": os.path.abspath(input_path), "face": face_index,
@@ -336,7 +339,8 @@ def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step:
 
 def cmd_cone(args) -> int:
     rep = run_cone(args.input, args.face, args.output, tol=args.tol, step=args.step, fit=args.fit,
-                   direction=args.direction, paper_search=args.paper_search, report=args.report, plot=args.plot,
+                   direction=args.direction, paper_search=args.paper_search, allow_creases=args.allow_creases,
+                   report=args.report, plot=args.plot,
                    measure_samples=args.measure_samples, quiet=args.quiet)
     kinds = sorted({p["kind"] for p in rep["patch_detail"]})
     print(f"face {rep['face']}: {rep['patches']} {'/'.join(kinds)} patches in {len(rep['pieces'])} piece(s), "

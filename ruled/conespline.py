@@ -29,6 +29,7 @@ from .nurbs import Curve, Surface
 Progress = Optional[Callable[[str, float], None]]
 
 MAX_TILT_DEG = 60.0          # a ruling may lean at most this much from the planes' normal
+G1_DEG = float(np.degrees(1e-6))   # neighbouring patches' normals agree to 1e-6 rad
 MAX_PIECES = 16             # §6 splits beyond this many pieces are refused
 EXTEND = 1.0 / 3.0           # §5: the fit runs on planes this fraction of the height outside
 
@@ -336,9 +337,12 @@ def _best_direction(f0, g0, f1, g1, extend: float, max_tilt_deg: float):
 
 
 def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), extend: float = EXTEND,
-                max_tilt_deg: float = MAX_TILT_DEG, progress: Progress = None, **fit_kw) -> ConeSpline:
+                max_tilt_deg: float = MAX_TILT_DEG, allow_creases: bool = False, progress: Progress = None,
+                **fit_kw) -> ConeSpline:
     """Cone spline of the ruled surface between the space curves c0 and c1 (callables v -> (N, 3), with
-    derivatives, v in [0, 1], rulings joining equal v) within tol (eq. 9 on every patch)."""
+    derivatives, v in [0, 1], rulings joining equal v) within tol (eq. 9 on every patch).  Neighbouring
+    patches of one piece are tangent continuous (to 1e-6 rad) or the surface is refused, unless
+    allow_creases (pieces of §6 meet at creases in any case)."""
     if not (np.isfinite(tol) and tol > 0):
         raise BadInputError(f"the tolerance must be positive (got {tol}); give --tol in model units, e.g. 0.01")
     if not (np.isfinite(step) and 0 < step <= 1):
@@ -429,6 +433,11 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
         pieces.append(Piece((a, b), origin, E, (h0, h1), (H0, H1), planar, arcs, e0, e1, o0, o1, ends))
     res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches), _g1(patches), notes=notes)
     res.timings["fit"] = time.perf_counter() - t0
+    if res.max_g1_deg > G1_DEG and not allow_creases:
+        raise BadInputError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "
+                            f"{res.max_g1_deg:.3g} deg (the surface twists so much that patches collapse to triangles "
+                            f"and the §5 extension cannot be used); raise the tolerance, or pass --allow-creases "
+                            f"(allow_creases=True) to keep it")
     return res
 
 

@@ -130,14 +130,15 @@ class ConeSplineFace:
 
 
 def cone_spline_face(face, tol: float, step: float = 0.1, fit: bool = False, direction: str = "auto",
-                     measure: bool = True, measure_samples: int = 24, progress=None) -> ConeSplineFace:
+                     measure: bool = True, measure_samples: int = 24, allow_creases: bool = False,
+                     progress=None) -> ConeSplineFace:
     """The cone spline of a ruled face within tol (Yang & Yang 2006); with fit=True the face is first
     fitted by a ruled surface (fit_face's defaults) and that fit is cone-splined, in one call."""
     from .occ.conespline import check_tolerance, cone_of_face
 
     src = _face_of(face)
     fc = cone_of_face(src, check_tolerance(tol), step, direction=direction, fit=fit, progress=progress,
-                      measure_samples=measure_samples if measure else None)
+                      measure_samples=measure_samples if measure else None, allow_creases=allow_creases)
     try:
         import cadquery as cq
         shell, faces = cq.Shape.cast(fc.shell), tuple(cq.Face(f) for f in fc.faces)

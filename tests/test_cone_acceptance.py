@@ -341,15 +341,18 @@ def test_cli_refuses_a_folding_face(tmp_path):
 
 def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
     """Elber's ex2 fitted (2D, 40 samples) gives fans of rulings at both ends and a strong twist: the
-    surface is cut into pieces (§6) and every point of the face is within the fit's bound plus the
-    tolerance of the patches."""
+    surface is cut into pieces (§6); its patches collapse and are not tangent continuous, so it is
+    refused unless creases are allowed; then every point of the face is within the fit's bound plus
+    the tolerance of the patches."""
     from ruled.examples import elber_ex2
     from ruled.occ.conespline import cone_of_face
     from ruled.occ.convert import container_to_face
     face = container_to_face(elber_ex2())
-    fc = cone_of_face(face, 0.05, fit=True, measure_samples=None)
+    with pytest.raises(BadInputError, match="allow-creases"):
+        cone_of_face(face, 0.05, fit=True, measure_samples=None)
+    fc = cone_of_face(face, 0.05, fit=True, measure_samples=None, allow_creases=True)
     assert len(fc.result.pieces) >= 2 and fc.result.bound <= 0.05
     _check_patches(fc.faces, [p.piece for p in fc.result.patches])
     d = max(FaceSet(fc.faces).distance(x) for x in sample_faces([face], 12))
     assert d <= fc.fit.error_bound + 0.05
-    assert any("tangent continuous" in w for w in fc.warnings) == (fc.result.max_g1_deg > 1.0)
+    assert fc.result.max_g1_deg > 1.0 and any("tangent continuous" in w for w in fc.warnings)
