@@ -441,17 +441,23 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     return res
 
 
+def cone_spline_of_curves(C0: Curve, C1: Curve, tol: float, step: float = 0.1, **kw) -> ConeSpline:
+    """Cone spline of the ruled surface between two B-spline curves in space (rulings join equal
+    normalized parameters), the boundary curves given directly."""
+    f0, df0, br0 = curve_callables(C0)
+    f1, df1, br1 = curve_callables(C1)
+    return cone_spline(f0, df0, f1, df1, tol, step, breaks=np.union1d(br0, br1), **kw)
+
+
 def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, direction: str = "auto",
                            progress: Progress = None, **kw) -> ConeSpline:
     """Cone spline of a ruled B-spline surface (linear in u or v; k + 1 rows of poles: k strips)."""
     name, strips = ruled_boundaries(S, direction)
     out = None
     for i, (C0, C1) in enumerate(strips):
-        f0, df0, br0 = curve_callables(C0)
-        f1, df1, br1 = curve_callables(C1)
         prog = None if progress is None else \
             (lambda stage, frac, i=i: progress(stage, (i + frac) / len(strips)))
-        res = cone_spline(f0, df0, f1, df1, tol, step, breaks=np.union1d(br0, br1), progress=prog, **kw)
+        res = cone_spline_of_curves(C0, C1, tol, step, progress=prog, **kw)
         if out is None:
             out = res
             continue

@@ -206,3 +206,27 @@ def test_numba_and_numpy_twins_fit_the_same_arcs(case, monkeypatch):
     for a, b in zip(fast, slow):
         assert np.array_equal(a.A, b.A) and np.array_equal(a.B, b.B)
         assert (a.w, a.v, a.vb, a.err) == (b.w, b.v, b.vb, b.err)
+
+
+def test_cone_spline_of_two_boundary_curves_given_directly():
+    """Two rational B-spline half circles in parallel planes (radii 3 and 2, centres offset): an oblique
+    circular cone; the cone spline reproduces it, apex where the similar triangles put it."""
+    from ruled.conespline import cone_spline_of_curves
+    from ruled.nurbs import Curve
+    c = np.array([(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0)], float)
+    w = np.array([1, np.sqrt(0.5), 1, np.sqrt(0.5), 1])
+    k = [0, 0, 0, .5, .5, 1, 1, 1]
+    C0 = Curve(np.column_stack([3 * c, np.zeros(5)]), k, 2, w)
+    C1 = Curve(np.column_stack([2 * c + [1.0, 0.5], np.full(5, 4.0)]), k, 2, w)
+    res = cone_spline_of_curves(C0, C1, 1e-7)
+    assert len(res.patches) <= 2 and res.bound <= 1e-7
+    apex = np.array([3.0, 1.5, 12.0])                  # X with C1 - X = (2/3)(C0 - X)
+    for p in res.patches:
+        assert p.kind == "cone" and np.abs(p.apex - apex).max() <= 1e-6
+        # the patch lies on the cone: the section at height z is the circle of the similar triangles
+        u, v = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 9), indexing="ij")
+        X = p.surface(u.ravel(), v.ravel())
+        z = X[:, 2]
+        r_expected = 3 * (12 - z) / 12                 # radius of the section at height z about the axis line
+        centre = np.column_stack([3 - 3 * (12 - z) / 12, 1.5 - 1.5 * (12 - z) / 12])
+        assert np.abs(np.linalg.norm(X[:, :2] - centre, axis=1) - r_expected).max() <= 1e-7
