@@ -45,3 +45,17 @@ def test_no_host_imports_in_engine_sources():
                 if f"import {mod}" in text or f"from {mod}" in text:
                     bad.append((f, mod))
     assert not bad
+
+
+def test_no_occ_or_cadquery_in_the_workbench():
+    """FreeCAD's Python has neither: the workbench reaches geometry through FreeCAD's Part only."""
+    paths = [os.path.join(ROOT, "InitGui.py")]
+    for dirpath, _, files in os.walk(os.path.join(ROOT, "workbench")):
+        paths += [os.path.join(dirpath, f) for f in files if f.endswith(".py")]
+    bad = []
+    for p in paths:
+        text = open(p).read()
+        for mod in ("OCP", "cadquery", "ruled.occ", "ruled.cq"):
+            if f"import {mod}" in text or f"from {mod}" in text:
+                bad.append((os.path.relpath(p, ROOT), mod))
+    assert len(paths) > 2 and not bad

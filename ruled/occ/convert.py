@@ -22,6 +22,7 @@ from OCP.TColStd import (TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_
 from OCP.TopoDS import TopoDS_Face
 
 from ..errors import BadInputError
+from ..hostform import compress, from_kernel_form, kernel_form
 from ..nurbs import Curve, Surface
 
 SURFACE_TYPE_NAMES = {
@@ -39,26 +40,11 @@ SURFACE_TYPE_NAMES = {
 }
 
 
-def _full_knots(knots, mults) -> np.ndarray:
-    return np.repeat(np.asarray(knots, float), np.asarray(mults, int))
-
-
 def _arr1(values, cls=TColStd_Array1OfReal):
     a = cls(1, len(values))
     for i, x in enumerate(values):
         a.SetValue(i + 1, float(x) if cls is TColStd_Array1OfReal else int(x))
     return a
-
-
-def _compress(full: np.ndarray):
-    k, m = np.unique(np.round(full, 15), return_counts=True)
-    # keep the exact values of the first occurrence
-    vals = []
-    i = 0
-    for c in m:
-        vals.append(full[i])
-        i += c
-    return np.array(vals), m
 
 
 def bspline_surface_to_container(s: Geom_BSplineSurface) -> Surface:
@@ -78,12 +64,12 @@ def bspline_surface_to_container(s: Geom_BSplineSurface) -> Surface:
             p = s.Pole(i + 1, j + 1)
             poles[i, j] = (p.X(), p.Y(), p.Z())
             weights[i, j] = s.Weight(i + 1, j + 1)
-    ku = _full_knots([s.UKnot(i) for i in range(1, s.NbUKnots() + 1)],
-                     [s.UMultiplicity(i) for i in range(1, s.NbUKnots() + 1)])
-    kv = _full_knots([s.VKnot(i) for i in range(1, s.NbVKnots() + 1)],
-                     [s.VMultiplicity(i) for i in range(1, s.NbVKnots() + 1)])
-    rational = s.IsURational() or s.IsVRational()
-    return Surface(poles, ku, kv, s.UDegree(), s.VDegree(), weights if rational else None, per_u, per_v)
+    ku = [s.UKnot(i) for i in range(1, s.NbUKnots() + 1)]
+    mu = [s.UMultiplicity(i) for i in range(1, s.NbUKnots() + 1)]
+    kv = [s.VKnot(i) for i in range(1, s.NbVKnots() + 1)]
+    mv = [s.VMultiplicity(i) for i in range(1, s.NbVKnots() + 1)]
+    return from_kernel_form(poles, weights, ku, mu, kv, mv, s.UDegree(), s.VDegree(),
+                            s.IsURational() or s.IsVRational(), per_u, per_v)
 
 
 def face_surface_type(face: TopoDS_Face) -> str:
@@ -163,16 +149,8 @@ def conversion_slack(face: TopoDS_Face, S: Surface) -> float:
 
 def container_to_bspline(s: Surface) -> Geom_BSplineSurface:
     """Build a Geom_BSplineSurface from a container (periodic ones become OCCT-periodic)."""
-    poles, weights = s.poles, s.weights
-    pu, pv = s.degree_u, s.degree_v
-    ku, mu = _compress(s.knots_u)
-    kv, mv = _compress(s.knots_v)
-    per_u = s.periodic_u and _is_unwrapped_periodic(s.knots_u, pu) and _wraps(poles, weights, pu, 0)
-    per_v = s.periodic_v and _is_unwrapped_periodic(s.knots_v, pv) and _wraps(poles, weights, pv, 1)
-    if per_u:
-        poles, weights, ku, mu = _to_occt_periodic(poles, weights, s.knots_u, pu, axis=0)
-    if per_v:
-        poles, weights, kv, mv = _to_occt_periodic(poles, weights, s.knots_v, pv, axis=1)
+    f = kernel_form(s)
+    poles, weights = f["poles"], f["weights"]
     nu, nv = poles.shape[:2]
     P = TColgp_Array2OfPnt(1, nu, 1, nv)
     W = TColStd_Array2OfReal(1, nu, 1, nv)
@@ -180,45 +158,9 @@ def container_to_bspline(s: Surface) -> Geom_BSplineSurface:
         for j in range(nv):
             P.SetValue(i + 1, j + 1, gp_Pnt(*map(float, poles[i, j])))
             W.SetValue(i + 1, j + 1, 1.0 if weights is None else float(weights[i, j]))
-    return Geom_BSplineSurface(P, W, _arr1(ku), _arr1(kv), _arr1(mu, TColStd_Array1OfInteger),
-                               _arr1(mv, TColStd_Array1OfInteger), pu, pv, per_u, per_v)
-
-
-def _is_unwrapped_periodic(knots: np.ndarray, p: int) -> bool:
-    # clamped containers (read from OCCT) are evaluated as they are
-    return not (np.all(knots[: p + 1] == knots[0]) and np.all(knots[-p - 1:] == knots[-1]))
-
-
-def _wraps(poles, weights, p, axis) -> bool:
-    """Our unwrapped periodic storage repeats the first p poles at the end.  OCCT's own non-periodic
-    form of a periodic surface (SetNotPeriodic, also unclamped) does not: it is kept as it is."""
-    n = poles.shape[axis]
-    if p == 0 or n <= p:
-        return False
-    head, tail = np.take(poles, np.arange(p), axis=axis), np.take(poles, np.arange(n - p, n), axis=axis)
-    if weights is not None:
-        hw, tw = np.take(weights, np.arange(p), axis=axis), np.take(weights, np.arange(n - p, n), axis=axis)
-        if not np.array_equal(hw, tw):
-            return False
-    return bool(np.array_equal(head, tail))
-
-
-def _to_occt_periodic(poles, weights, knots, p, axis):
-    """Unwrapped periodic storage -> OCCT periodic (unique poles, one period of knots)."""
-    n = poles.shape[axis] - p  # unique poles
-    a, b = knots[p], knots[n + p]
-    inner = knots[p: n + p + 1]
-    kk, mm = _compress(inner)
-    mm = mm.copy()
-    mm[-1] = mm[0]
-    uniq = np.take(poles, np.arange(n), axis=axis)
-    w = None if weights is None else np.take(weights, np.arange(n), axis=axis)
-    # OCCT's pole 1 is our pole (m0 - 1), m0 the multiplicity of the first knot (checked in tests)
-    uniq = np.roll(uniq, -(int(mm[0]) - 1), axis=axis)
-    if w is not None:
-        w = np.roll(w, -(int(mm[0]) - 1), axis=axis)
-    assert abs(kk[0] - a) < 1e-15 * max(1, abs(a)) + 1e-300 and abs(kk[-1] - b) <= 1e-12 * max(1, abs(b))
-    return uniq, w, kk, mm
+    ints = TColStd_Array1OfInteger
+    return Geom_BSplineSurface(P, W, _arr1(f["uknots"]), _arr1(f["vknots"]), _arr1(f["umults"], ints),
+                               _arr1(f["vmults"], ints), f["udegree"], f["vdegree"], f["uperiodic"], f["vperiodic"])
 
 
 def container_to_face(s: Surface) -> TopoDS_Face:
@@ -232,7 +174,7 @@ def container_to_face(s: Surface) -> TopoDS_Face:
 
 
 def curve_to_bspline(c: Curve) -> Geom_BSplineCurve:
-    k, m = _compress(c.knots)
+    k, m = compress(c.knots)
     n = c.poles.shape[0]
     P = TColgp_Array1OfPnt(1, n)
     for i in range(n):
@@ -244,7 +186,7 @@ def curve_to_bspline(c: Curve) -> Geom_BSplineCurve:
 
 def curve2d_to_bspline(c: Curve) -> Geom2d_BSplineCurve:
     """A 2D (u, v) curve container as a Geom2d_BSplineCurve (a domain curve or a pcurve)."""
-    k, m = _compress(c.knots)
+    k, m = compress(c.knots)
     n = c.poles.shape[0]
     P = TColgp_Array1OfPnt2d(1, n)
     for i in range(n):

@@ -1,0 +1,85 @@
+"""FreeCAD adapter: Part.BSplineSurface / Part.Face <-> the engine's plain arrays (ruled.nurbs.Surface).
+
+FreeCAD only (no OCP, no CadQuery): Debian's FreeCAD 0.20 has neither.  The array-level form is
+ruled.hostform's, the same the OCP adapter uses, so both hosts see the same surfaces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import FreeCAD
+import Part
+from ruled.errors import BadInputError
+from ruled.hostform import from_kernel_form, kernel_form
+from ruled.nurbs import Surface
+
+
+def surface_to_arrays(bs) -> Surface:
+    """A Part.BSplineSurface as a container (periodic ones unrolled by the kernel, the flags kept)."""
+    per_u, per_v = bool(bs.isUPeriodic()), bool(bs.isVPeriodic())
+    if per_u or per_v:
+        bs = bs.copy()
+        if per_u:
+            bs.setUNotPeriodic()
+        if per_v:
+            bs.setVNotPeriodic()
+    poles = np.array([[(p.x, p.y, p.z) for p in row] for row in bs.getPoles()], float)
+    weights = np.array(bs.getWeights(), float)
+    return from_kernel_form(poles, weights, bs.getUKnots(), bs.getUMultiplicities(), bs.getVKnots(),
+                            bs.getVMultiplicities(), bs.UDegree, bs.VDegree,
+                            bool(bs.isURational() or bs.isVRational()), per_u, per_v)
+
+
+def arrays_to_surface(S: Surface):
+    """A container as a Part.BSplineSurface (periodic ones become kernel-periodic)."""
+    f = kernel_form(S)
+    poles = [[FreeCAD.Vector(*map(float, p)) for p in row] for row in f["poles"]]
+    w = f["weights"]
+    weights = np.ones(f["poles"].shape[:2]) if w is None else w
+    bs = Part.BSplineSurface()
+    bs.buildFromPolesMultsKnots(poles, [int(m) for m in f["umults"]], [int(m) for m in f["vmults"]],
+                                [float(k) for k in f["uknots"]], [float(k) for k in f["vknots"]],
+                                bool(f["uperiodic"]), bool(f["vperiodic"]), int(f["udegree"]), int(f["vdegree"]),
+                                [[float(x) for x in row] for row in weights])
+    # the kernel's own non-periodic form of a periodic surface comes back periodic, as it was
+    for flag, done, make in ((S.periodic_u, f["uperiodic"], bs.setUPeriodic),
+                             (S.periodic_v, f["vperiodic"], bs.setVPeriodic)):
+        if flag and not done:
+            try:
+                make()
+            except Exception:  # Part.OCCError: not closed after all; keep the non-periodic form
+                pass
+    return bs
+
+
+def face_to_arrays(face) -> Surface:
+    """A Part.Face's surface as a container restricted to the face's parameter range (faces that are
+    not B-splines are converted exactly by FreeCAD's toNurbs)."""
+    if not isinstance(face, Part.Face):
+        raise BadInputError(f"a face is needed, not a {type(face).__name__}; select one face of a solid or shell")
+    s = face.Surface
+    if not isinstance(s, Part.BSplineSurface):
+        try:
+            s = face.toNurbs().Faces[0].Surface
+        except Exception as exc:  # FreeCAD raises Part.OCCError and friends
+            raise BadInputError(f"cannot convert this {type(face.Surface).__name__} face to a B-spline surface "
+                                f"({exc}); convert it to NURBS first") from None
+        return surface_to_arrays(s)
+    u0, u1, v0, v1 = face.ParameterRange
+    a0, a1, b0, b1 = s.bounds()
+    tol = 1e-9 * max(1.0, abs(a1 - a0), abs(b1 - b0))
+    if u0 > a0 + tol or u1 < a1 - tol or v0 > b0 + tol or v1 < b1 - tol:
+        s = s.copy()
+        if s.isUPeriodic() and (u1 - u0) < a1 - a0 - tol:
+            s.setUNotPeriodic()
+        if s.isVPeriodic() and (v1 - v0) < b1 - b0 - tol:
+            s.setVNotPeriodic()
+        s.segment(max(u0, a0) if not s.isUPeriodic() else u0, min(u1, a1) if not s.isUPeriodic() else u1,
+                  max(v0, b0) if not s.isVPeriodic() else v0, min(v1, b1) if not s.isVPeriodic() else v1)
+    return surface_to_arrays(s)
+
+
+def surface_to_face(S: Surface):
+    """A container as a Part.Face bounded by its natural boundary."""
+    return arrays_to_surface(S).toShape()
