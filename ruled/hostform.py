@@ -91,3 +91,21 @@ def from_kernel_form(poles, weights, uknots, umults, vknots, vmults, udegree, vd
     kernel's own SetNotPeriodic first and passes the flags it had)."""
     return Surface(np.asarray(poles, float), full_knots(uknots, umults), full_knots(vknots, vmults), int(udegree),
                    int(vdegree), np.asarray(weights, float) if rational else None, bool(uperiodic), bool(vperiodic))
+
+
+def bounds_slack(S: Surface, face_bounds) -> float:
+    """Upper bound of the distance from the container to the face, where the face's UV bounds
+    (u0, u1, v0, v1) lie inside the container's domain by less than the segmentation tolerance (a
+    round-off strip): the strip width times the largest |S_u| or |S_v| there."""
+    fu0, fu1, fv0, fv1 = face_bounds
+    u0, u1, v0, v1 = S.domain
+    if S.periodic_u:
+        fu0, fu1 = u0, u1
+    if S.periodic_v:
+        fv0, fv1 = v0, v1
+    du = max(0.0, fu0 - u0) + max(0.0, u1 - fu1)
+    dv = max(0.0, fv0 - v0) + max(0.0, v1 - fv1)
+    if du == 0.0 and dv == 0.0:
+        return 0.0
+    b = S.derivative_bounds()
+    return float(du * b["Su"].max() + dv * b["Sv"].max())

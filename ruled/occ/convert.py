@@ -22,7 +22,7 @@ from OCP.TColStd import (TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_
 from OCP.TopoDS import TopoDS_Face
 
 from ..errors import BadInputError
-from ..hostform import compress, from_kernel_form, kernel_form
+from ..hostform import bounds_slack, compress, from_kernel_form, kernel_form
 from ..nurbs import Curve, Surface
 
 SURFACE_TYPE_NAMES = {
@@ -130,21 +130,8 @@ def face_to_container(face: TopoDS_Face) -> Surface:
 
 
 def conversion_slack(face: TopoDS_Face, S: Surface) -> float:
-    """Upper bound of the distance from the container to the face, where the face's UV bounds lie
-    inside the container's domain by less than the segmentation tolerance (a round-off strip):
-    the strip width times the largest |S_u| or |S_v| there."""
-    fu0, fu1, fv0, fv1 = face_uv_bounds(face)
-    u0, u1, v0, v1 = S.domain
-    if S.periodic_u:
-        fu0, fu1 = u0, u1
-    if S.periodic_v:
-        fv0, fv1 = v0, v1
-    du = max(0.0, fu0 - u0) + max(0.0, u1 - fu1)
-    dv = max(0.0, fv0 - v0) + max(0.0, v1 - fv1)
-    if du == 0.0 and dv == 0.0:
-        return 0.0
-    b = S.derivative_bounds()
-    return float(du * b["Su"].max() + dv * b["Sv"].max())
+    """Upper bound of the distance from the container to the face (ruled.hostform.bounds_slack)."""
+    return bounds_slack(S, face_uv_bounds(face))
 
 
 def container_to_bspline(s: Surface) -> Geom_BSplineSurface:

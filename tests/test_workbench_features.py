@@ -1,0 +1,126 @@
+"""The parametric RuledFit object, headless in freecadcmd (Debian's FreeCAD 0.20): it fits, it
+recomputes when its parameters or its source change, it survives save and reopen, bad input leaves it
+invalid with a message, and on a face of a STEP read by FreeCAD it gives the command line's bound
+and measured Hausdorff distance."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from conftest import ROOT, data_file
+
+pytestmark = pytest.mark.freecad
+
+LOADER = """
+import sys, os, json, importlib.util
+sys.path.insert(0, {root!r})
+spec = importlib.util.spec_from_file_location("ruled_workbench", os.path.join({root!r}, "workbench", "__init__.py"),
+                                              submodule_search_locations=[os.path.join({root!r}, "workbench")])
+mod = importlib.util.module_from_spec(spec); sys.modules["ruled_workbench"] = mod; spec.loader.exec_module(mod)
+"""
+
+SCRIPT = textwrap.dedent("""
+    code = 1
+    try:
+        import numpy as np, FreeCAD, Part
+        from ruled_workbench.features import make_ruled_fit
+        from ruled_workbench.adapter import surface_to_face, face_to_arrays
+        from ruled.examples import elber_ex2
+        from ruled.nurbs import Surface
+        out = {{}}
+        def props(o):
+            return {{"valid": o.isValid(), "status": o.Status, "bound": o.ErrorBound, "hausdorff": o.Hausdorff,
+                    "rulings": o.Rulings, "faces": len(o.Shape.Faces), "dev": len(o.Deviation)}}
+        doc = FreeCAD.newDocument("T")
+        src = doc.addObject("Part::Feature", "Src")
+        src.Shape = surface_to_face(elber_ex2())
+        fit = make_ruled_fit(doc, src, "Face1", Samples=16, MeasureSamples=10)
+        doc.recompute()
+        out["first"] = props(fit)
+        fit.Samples = 24
+        doc.recompute()
+        out["samples24"] = props(fit)
+        S = elber_ex2()
+        P = S.poles.copy(); P[1, 2] += [0.0, 0.0, 0.15]                  # move one pole of the source
+        src.Shape = surface_to_face(Surface(P, S.knots_u, S.knots_v, S.degree_u, S.degree_v))
+        doc.recompute()
+        out["moved"] = props(fit)
+        bad_edge = make_ruled_fit(doc, src, "Edge1", Samples=16)
+        cone = doc.addObject("Part::Feature", "Cone"); cone.Shape = Part.makeCone(0, 3, 5)
+        bad_apex = make_ruled_fit(doc, cone, "Face1", Samples=16, MeasureSamples=0)
+        bad_none = doc.addObject("Part::FeaturePython", "Empty")
+        from ruled_workbench.features import RuledFit
+        RuledFit(bad_none)
+        doc.recompute()
+        out["bad"] = [props(o) for o in (bad_edge, bad_apex, bad_none)]
+        path = os.path.join({tmp!r}, "t.FCStd")
+        doc.saveAs(path)
+        FreeCAD.closeDocument("T")
+        d2 = FreeCAD.openDocument(path)
+        g = d2.getObject("RuledFit")
+        out["reopened"] = dict(props(g), proxy=type(g.Proxy).__module__ + "." + type(g.Proxy).__name__,
+                               samples=g.Samples)
+        g.Samples = 20
+        d2.recompute()
+        out["reopened_recomputed"] = props(g)
+        # a face of a STEP read by FreeCAD
+        shape = Part.read({step!r})
+        imp = d2.addObject("Part::Feature", "Impeller"); imp.Shape = shape
+        k = make_ruled_fit(d2, imp, "Face7", Samples=16, MeasureSamples=12)
+        d2.recompute()
+        out["step"] = props(k)
+        json.dump(out, open({out!r}, "w"))
+        code = 0
+    except Exception:
+        import traceback; traceback.print_exc()
+    sys.stdout.flush(); sys.stderr.flush()
+    os._exit(code)
+""")
+
+
+def test_ruled_fit_object_in_freecadcmd(tmp_path):
+    exe = shutil.which("freecadcmd")
+    if exe is None:
+        pytest.skip("freecadcmd is not installed (apt-get install -y freecad)")
+    step = data_file("kj66_impeller.step")
+    out = tmp_path / "out.json"
+    script = tmp_path / "features.py"
+    script.write_text(LOADER.format(root=ROOT) + SCRIPT.format(tmp=str(tmp_path), step=step, out=str(out)))
+    run = subprocess.run([exe, str(script)], capture_output=True, text=True, timeout=1200,
+                         env={**os.environ, "HOME": str(tmp_path)})
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    r = json.loads(out.read_text())
+    first = r["first"]
+    assert first["valid"] and first["status"] == "ok" and first["faces"] == 1 and first["dev"] == 100
+    assert first["bound"] >= first["hausdorff"] > 0
+    # the same fit as the engine's in this venv (numba here, NumPy in FreeCAD)
+    from ruled import FitOptions, fit_surface
+    from ruled.examples import elber_ex2
+    ref = fit_surface(elber_ex2(), FitOptions(samples=16))
+    assert first["bound"] == pytest.approx(ref.error_bound, rel=1e-6)
+    assert first["rulings"] == len(ref.best.rulings)
+    assert r["samples24"]["valid"] and r["samples24"]["rulings"] != first["rulings"]
+    assert r["moved"]["valid"] and abs(r["moved"]["bound"] - r["samples24"]["bound"]) > 1e-4
+    edge, apex, none = r["bad"]
+    assert not edge["valid"] and "exactly one face" in edge["status"] and "Edge1" in edge["status"]
+    assert not apex["valid"] and apex["status"] and "\n" not in apex["status"]
+    assert not none["valid"] and "no source face" in none["status"]
+    re = r["reopened"]
+    assert re["proxy"] == "ruled_workbench.features.RuledFit" and re["samples"] == 24
+    assert re["bound"] == pytest.approx(r["moved"]["bound"], rel=1e-12) and re["faces"] == 1   # saved with 16 digits
+    assert r["reopened_recomputed"]["valid"] and r["reopened_recomputed"]["bound"] != re["bound"]
+    # the command line on the same face (index 6 = Face7): the same bound and measured distance
+    rep = tmp_path / "cli.json"
+    cli = subprocess.run([sys.executable, "-m", "ruled.cli", "fit", step, "--face", "6", "--samples", "16",
+                          "--measure-samples", "12", "-o", str(tmp_path / "f.step"), "--report", str(rep), "--quiet"],
+                         capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert cli.returncode == 0, cli.stderr
+    c = json.loads(rep.read_text())
+    st = r["step"]
+    assert st["valid"], st["status"]
+    assert st["bound"] == pytest.approx(c["error_bound"], rel=1e-6)
+    assert st["hausdorff"] == pytest.approx(c["hausdorff"]["max"], rel=1e-6, abs=1e-9)

@@ -1,0 +1,146 @@
+"""Parametric objects of the Ruled workbench (no GUI imports: they recompute in freecadcmd too).
+
+RuledFit: a ruled surface fitted to one face of another object (Source, a LinkSub), its fit
+parameters as properties, its results (certified bound, measured Hausdorff distance, rulings, time)
+as read-only properties, the ruled face as its Shape.  It recomputes when the source changes; bad
+input leaves it invalid with a one-line message in the report view and in its Status property.
+
+Saved documents refer to the proxy as ``ruled_workbench.features.RuledFit``: keep the names.
+"""
+
+from __future__ import annotations
+
+import time
+
+import FreeCAD
+
+RESULT_GROUP = "Result"
+FIT_GROUP = "Fit"
+
+
+def _add(obj, kind, name, group, doc, value=None, readonly=False):
+    if name not in obj.PropertiesList:
+        obj.addProperty(kind, name, group, doc)
+        if value is not None:
+            setattr(obj, name, value)
+    if readonly:
+        obj.setEditorMode(name, 1)
+
+
+def _enum(obj, name, group, doc, values, default):
+    if name not in obj.PropertiesList:
+        obj.addProperty("App::PropertyEnumeration", name, group, doc)
+        setattr(obj, name, values)
+        setattr(obj, name, default)
+
+
+def source_face(obj):
+    """The one face obj.Source names, or a BadInputError saying what is wrong."""
+    from ruled.errors import BadInputError
+    link = obj.Source
+    if link is None or link[0] is None:
+        raise BadInputError("no source face: select one face of a part and run the command again")
+    src, subs = link
+    subs = [s for s in (subs or []) if s]
+    if len(subs) != 1 or not subs[0].startswith("Face"):
+        what = ", ".join(subs) if subs else "the whole object"
+        raise BadInputError(f"the source must be exactly one face, not {what}: select one face of {src.Label}")
+    try:
+        return src.Shape.getElement(subs[0])
+    except Exception:  # Part raises IndexError / OCCError for stale names
+        raise BadInputError(f"{src.Label} has no {subs[0]} any more (its shape changed); pick the face again") \
+            from None
+
+
+class RuledFit:
+    """Proxy of a RuledFit object (Part::FeaturePython)."""
+
+    def __init__(self, obj):
+        self.add_properties(obj)
+        obj.Proxy = self
+
+    @staticmethod
+    def add_properties(obj):
+        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the face to fit (one face of a part)")
+        _enum(obj, "Method", FIT_GROUP, "2d: rulings between boundary samples (Elber); 4d: their ends also "
+              "lifted along the normal (Wang & Elber), never worse than 2d", ["2d", "4d"], "2d")
+        _add(obj, "App::PropertyInteger", "Samples", FIT_GROUP, "samples per boundary", 40)
+        _enum(obj, "Objective", FIT_GROUP, "sum of the ruling distances (Elber) or the largest one",
+              ["sum", "max"], "sum")
+        _add(obj, "App::PropertyFloat", "MaxError", FIT_GROUP, "forbid rulings farther than this from the face "
+             "(0: no limit)", 0.0)
+        _enum(obj, "Direction", FIT_GROUP, "v: rulings join the v-min and v-max boundaries; u: the u ones; auto: "
+              "the better", ["auto", "u", "v"], "auto")
+        _add(obj, "App::PropertyInteger", "Elevations", FIT_GROUP, "4d: elevation levels on each side", 10)
+        _add(obj, "App::PropertyBool", "Refine", FIT_GROUP, "refine the pairing beyond the samples", True)
+        _add(obj, "App::PropertyInteger", "MeasureSamples", FIT_GROUP, "n x n samples per face for the measured "
+             "Hausdorff distance (0: do not measure)", 40)
+        _add(obj, "App::PropertyFloat", "ErrorBound", RESULT_GROUP, "certified upper bound of the distance to the "
+             "source face", 0.0, True)
+        _add(obj, "App::PropertyFloat", "Hausdorff", RESULT_GROUP, "measured Hausdorff distance (OCCT, "
+             "independent of the fit)", 0.0, True)
+        _add(obj, "App::PropertyInteger", "Rulings", RESULT_GROUP, "rulings of the DP path", 0, True)
+        _add(obj, "App::PropertyFloat", "Seconds", RESULT_GROUP, "time of the last recompute", 0.0, True)
+        _add(obj, "App::PropertyString", "Status", RESULT_GROUP, "ok, or what went wrong", "", True)
+        _add(obj, "App::PropertyFloatList", "Deviation", RESULT_GROUP, "measured distance of each sample of the "
+             "source face to the result (MeasureSamples x MeasureSamples, for colouring)", None, True)
+
+    def onDocumentRestored(self, obj):
+        self.add_properties(obj)            # properties added by later versions
+
+    def options(self, obj):
+        from ruled import FitOptions
+        return FitOptions(samples=int(obj.Samples), objective=str(obj.Objective),
+                          max_error=float(obj.MaxError) if obj.MaxError > 0 else None,
+                          direction=str(obj.Direction), refine=bool(obj.Refine), method=str(obj.Method),
+                          elevations=int(obj.Elevations) if obj.Method == "4d" else None).checked()
+
+    def execute(self, obj):
+        from ruled import fit_surface
+        from ruled.errors import RuledError
+        from ruled.hostform import bounds_slack
+
+        from .adapter import face_to_arrays, surface_to_face
+        from .measure import hausdorff
+        t0 = time.perf_counter()
+        try:
+            face = source_face(obj)
+            opts = self.options(obj)
+            S = face_to_arrays(face)
+            res = fit_surface(S, opts)
+            result = surface_to_face(res.surface)
+            obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
+            obj.Rulings = int(len(res.best.rulings))
+            if obj.MeasureSamples > 1:
+                h = hausdorff(face, result, int(obj.MeasureSamples))
+                obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
+            else:
+                obj.Hausdorff, obj.Deviation = 0.0, []
+            obj.Shape = result
+            obj.Status = "ok"
+        except RuledError as exc:
+            obj.Status = str(exc)
+            FreeCAD.Console.PrintError(f"{obj.Label}: {exc}\n")
+            raise RuntimeError(str(exc)) from None        # FreeCAD marks the object invalid with this message
+        finally:
+            obj.Seconds = time.perf_counter() - t0
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    dumps, loads = __getstate__, __setstate__
+
+
+def make_ruled_fit(doc, source, subname: str, **properties):
+    """A RuledFit on source's face subname (e.g. "Face3") with the given fit properties (not recomputed)."""
+    obj = doc.addObject("Part::FeaturePython", "RuledFit")
+    RuledFit(obj)
+    obj.Source = (source, [subname])
+    for k, v in properties.items():
+        setattr(obj, k, v)
+    if FreeCAD.GuiUp:
+        obj.ViewObject.Proxy = 0
+    return obj
