@@ -10,6 +10,8 @@ own non-periodic form of a periodic surface delivers it (then it is evaluated as
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .nurbs import Surface
@@ -109,3 +111,16 @@ def bounds_slack(S: Surface, face_bounds) -> float:
         return 0.0
     b = S.derivative_bounds()
     return float(du * b["Su"].max() + dv * b["Sv"].max())
+
+
+@dataclass(frozen=True)
+class Hausdorff:
+    """Both hosts' independent measure between two faces: the largest and mean sampled distance, each
+    side's largest, the sample count, and the distance of each sample of the first face."""
+
+    max: float
+    mean: float
+    max_a_to_b: float
+    max_b_to_a: float
+    samples: int
+    a_to_b: tuple = ()

@@ -23,3 +23,31 @@ def data_file(name: str) -> str:
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+# the workbench package as FreeCAD loads it (InitGui.py): under its stable unique name
+WORKBENCH_LOADER = f"""
+import sys, os, importlib.util
+sys.path.insert(0, {ROOT!r})
+_spec = importlib.util.spec_from_file_location("ruled_workbench", os.path.join({ROOT!r}, "workbench", "__init__.py"),
+                                               submodule_search_locations=[os.path.join({ROOT!r}, "workbench")])
+_mod = importlib.util.module_from_spec(_spec)
+sys.modules["ruled_workbench"] = _mod
+_spec.loader.exec_module(_mod)
+"""
+
+
+def run_freecadcmd(script: str, tmp_path, timeout: int = 600):
+    """Run a script in Debian's freecadcmd (skip when it is absent); the script must end with
+    os._exit(code) (freecadcmd exits 0 even when a script raises).  Asserts it exited 0."""
+    import shutil
+    import subprocess
+    exe = shutil.which("freecadcmd")
+    if exe is None:
+        pytest.skip("freecadcmd is not installed (apt-get install -y freecad)")
+    path = tmp_path / "fc_script.py"
+    path.write_text(script)
+    run = subprocess.run([exe, str(path)], capture_output=True, text=True, timeout=timeout,   # the script first
+                         env={**os.environ, "HOME": str(tmp_path)})
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    return run

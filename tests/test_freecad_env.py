@@ -1,15 +1,12 @@
 """The engine runs unchanged in FreeCAD 0.20's Python (numpy 1.24, scipy 1.10, no numba, no OCP)
 and gives the same numbers as in the venv."""
 import json
-import os
-import shutil
-import subprocess
 import textwrap
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, run_freecadcmd
 
 pytestmark = pytest.mark.freecad
 
@@ -51,16 +48,8 @@ SCRIPT = textwrap.dedent("""
 
 
 def test_same_numbers_in_freecad_python(tmp_path):
-    exe = shutil.which("freecadcmd")
-    if exe is None:
-        pytest.skip("freecadcmd is not installed (apt-get install -y freecad)")
     out = tmp_path / "fc.json"
-    script = tmp_path / "probe.py"
-    script.write_text(SCRIPT.format(root=ROOT, out=str(out)))
-    # the script must come first on a freecadcmd command line
-    run = subprocess.run([exe, str(script)], capture_output=True, text=True, timeout=600,
-                         env={**os.environ, "HOME": str(tmp_path)})
-    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    run_freecadcmd(SCRIPT.format(root=ROOT, out=str(out)), tmp_path)
     fc = json.loads(out.read_text())
     assert fc["np"].startswith("1.")
     assert fc["numba"] is False

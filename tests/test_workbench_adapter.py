@@ -2,29 +2,21 @@
 the engine's arrays, exactly, for rational and periodic surfaces; FreeCAD evaluates the rebuilt
 surfaces where the engine evaluates the containers."""
 import json
-import os
-import shutil
-import subprocess
 import textwrap
 
 import numpy as np
 import pytest
 
 from cases import random_surface
-from conftest import ROOT
+from conftest import WORKBENCH_LOADER, run_freecadcmd
 from ruled.nurbs import Surface
 
 pytestmark = pytest.mark.freecad
 
 SCRIPT = textwrap.dedent("""
-    import sys, os, json, importlib.util
-    sys.path.insert(0, {root!r})
+    import json
     code = 1
     try:
-        spec = importlib.util.spec_from_file_location("ruled_workbench", os.path.join({root!r}, "workbench",
-                                                      "__init__.py"),
-                                                      submodule_search_locations=[os.path.join({root!r}, "workbench")])
-        mod = importlib.util.module_from_spec(spec); sys.modules["ruled_workbench"] = mod; spec.loader.exec_module(mod)
         import numpy as np, Part, FreeCAD
         from ruled_workbench.adapter import arrays_to_surface, surface_to_arrays, face_to_arrays, surface_to_face
         from ruled.nurbs import Surface
@@ -78,9 +70,6 @@ def _as_dict(S: Surface, uv):
 
 
 def test_adapter_round_trips_exactly_in_freecad(tmp_path, rng):
-    exe = shutil.which("freecadcmd")
-    if exe is None:
-        pytest.skip("freecadcmd is not installed (apt-get install -y freecad)")
     surfaces = [random_surface(rng, rational=True), random_surface(rng, rational=False),
                 random_surface(rng, rational=True, periodic_u=True)]
     uv = []
@@ -89,11 +78,7 @@ def test_adapter_round_trips_exactly_in_freecad(tmp_path, rng):
         uv.append([(u0 + (u1 - u0) * a, v0 + (v1 - v0) * b) for a in (0.05, 0.5, 0.93) for b in (0.1, 0.6, 0.99)])
     inp, out = tmp_path / "in.json", tmp_path / "out.json"
     inp.write_text(json.dumps({"containers": [_as_dict(S, p) for S, p in zip(surfaces, uv)]}))
-    script = tmp_path / "adapter.py"
-    script.write_text(SCRIPT.format(root=ROOT, inp=str(inp), out=str(out)))
-    run = subprocess.run([exe, str(script)], capture_output=True, text=True, timeout=600,
-                         env={**os.environ, "HOME": str(tmp_path)})
-    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    run_freecadcmd(WORKBENCH_LOADER + SCRIPT.format(inp=str(inp), out=str(out)), tmp_path)
     res = json.loads(out.read_text())
     # engine containers -> Part.BSplineSurface: FreeCAD evaluates them where the engine does
     for S, p, r in zip(surfaces, uv, res["containers"]):

@@ -3,29 +3,20 @@ recomputes when its parameters or its source change, it survives save and reopen
 invalid with a message, and on a face of a STEP read by FreeCAD it gives the command line's bound
 and measured Hausdorff distance."""
 import json
-import os
-import shutil
 import subprocess
 import sys
 import textwrap
 
 import pytest
 
-from conftest import ROOT, data_file
+from conftest import ROOT, WORKBENCH_LOADER, data_file, run_freecadcmd
 
 pytestmark = pytest.mark.freecad
-
-LOADER = """
-import sys, os, json, importlib.util
-sys.path.insert(0, {root!r})
-spec = importlib.util.spec_from_file_location("ruled_workbench", os.path.join({root!r}, "workbench", "__init__.py"),
-                                              submodule_search_locations=[os.path.join({root!r}, "workbench")])
-mod = importlib.util.module_from_spec(spec); sys.modules["ruled_workbench"] = mod; spec.loader.exec_module(mod)
-"""
 
 SCRIPT = textwrap.dedent("""
     code = 1
     try:
+        import json
         import numpy as np, FreeCAD, Part
         from ruled_workbench.features import make_ruled_fit
         from ruled_workbench.adapter import surface_to_face, face_to_arrays
@@ -83,16 +74,9 @@ SCRIPT = textwrap.dedent("""
 
 
 def test_ruled_fit_object_in_freecadcmd(tmp_path):
-    exe = shutil.which("freecadcmd")
-    if exe is None:
-        pytest.skip("freecadcmd is not installed (apt-get install -y freecad)")
     step = data_file("kj66_impeller.step")
     out = tmp_path / "out.json"
-    script = tmp_path / "features.py"
-    script.write_text(LOADER.format(root=ROOT) + SCRIPT.format(tmp=str(tmp_path), step=step, out=str(out)))
-    run = subprocess.run([exe, str(script)], capture_output=True, text=True, timeout=1200,
-                         env={**os.environ, "HOME": str(tmp_path)})
-    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    run_freecadcmd(WORKBENCH_LOADER + SCRIPT.format(tmp=str(tmp_path), step=step, out=str(out)), tmp_path, 1200)
     r = json.loads(out.read_text())
     first = r["first"]
     assert first["valid"] and first["status"] == "ok" and first["faces"] == 1 and first["dev"] == 100

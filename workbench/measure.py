@@ -5,22 +5,11 @@ command line's measure (ruled.occ.measure), so both agree."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 import FreeCAD
 import Part
-
-
-@dataclass(frozen=True)
-class Hausdorff:
-    max: float
-    mean: float
-    max_a_to_b: float
-    max_b_to_a: float
-    samples: int
-    a_to_b: tuple = ()           # per sample of face a: its distance to face b (for colouring)
+from ruled.hostform import Hausdorff
 
 
 def face_bounds(face):

@@ -16,14 +16,7 @@ from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
 from OCP.ShapeAnalysis import ShapeAnalysis_Surface
 from OCP.gp import gp_Pnt, gp_Vec
 
-
-@dataclass(frozen=True)
-class Hausdorff:
-    max: float
-    mean: float
-    max_a_to_b: float
-    max_b_to_a: float
-    samples: int
+from ..hostform import Hausdorff
 
 
 def face_bounds(face):
