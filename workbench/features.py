@@ -52,6 +52,29 @@ def source_face(obj):
             from None
 
 
+class _Progress:
+    """The engine's progress(stage, fraction) on FreeCAD's progress indicator (the status bar in the GUI,
+    where it can be cancelled: the engine then stops with a CancelledError)."""
+
+    def __init__(self, text: str, steps: int = 100):
+        self.bar = FreeCAD.Base.ProgressIndicator()
+        self.bar.start(text, steps)
+        self.steps, self.done = steps, 0
+
+    def __call__(self, stage: str, frac: float) -> None:
+        from ruled.errors import CancelledError
+        want = int(round(frac * self.steps * 0.999))
+        while self.done < want:
+            self.done += 1
+            try:
+                self.bar.next(True)
+            except Exception:  # FreeCAD raises when the user pressed cancel
+                raise CancelledError("cancelled by the user") from None
+
+    def stop(self) -> None:
+        self.bar.stop()
+
+
 class RuledFit:
     """Proxy of a RuledFit object (Part::FeaturePython)."""
 
@@ -83,7 +106,10 @@ class RuledFit:
         _add(obj, "App::PropertyFloat", "Seconds", RESULT_GROUP, "time of the last recompute", 0.0, True)
         _add(obj, "App::PropertyString", "Status", RESULT_GROUP, "ok, or what went wrong", "", True)
         _add(obj, "App::PropertyFloatList", "Deviation", RESULT_GROUP, "measured distance of each sample of the "
-             "source face to the result (MeasureSamples x MeasureSamples, for colouring)", None, True)
+             "result to the source face (MeasureSamples x MeasureSamples over its parameters, for colouring)",
+             None, True)
+        _add(obj, "App::PropertyVectorList", "RulingLines", RESULT_GROUP, "end points of the DP rulings on the "
+             "source face, two per ruling", None, True)
 
     def onDocumentRestored(self, obj):
         self.add_properties(obj)            # properties added by later versions
@@ -107,15 +133,21 @@ class RuledFit:
             face = source_face(obj)
             opts = self.options(obj)
             S = face_to_arrays(face)
-            res = fit_surface(S, opts)
-            result = surface_to_face(res.surface)
-            obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
-            obj.Rulings = int(len(res.best.rulings))
-            if obj.MeasureSamples > 1:
-                h = hausdorff(face, result, int(obj.MeasureSamples))
-                obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
-            else:
-                obj.Hausdorff, obj.Deviation = 0.0, []
+            progress = _Progress("Ruled: fitting " + obj.Label)
+            try:
+                res = fit_surface(S, opts, progress)
+                result = surface_to_face(res.surface)
+                obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
+                obj.Rulings = int(len(res.best.rulings))
+                obj.RulingLines = [FreeCAD.Vector(*map(float, p)) for p in res.best.rulings.reshape(-1, 3)]
+                if obj.MeasureSamples > 1:
+                    h = hausdorff(result, face, int(obj.MeasureSamples),
+                                  lambda f: progress("measuring (distances to the source)", f))
+                    obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
+                else:
+                    obj.Hausdorff, obj.Deviation = 0.0, []
+            finally:
+                progress.stop()
             obj.Shape = result
             obj.Status = "ok"
         except RuledError as exc:
@@ -142,5 +174,6 @@ def make_ruled_fit(doc, source, subname: str, **properties):
     for k, v in properties.items():
         setattr(obj, k, v)
     if FreeCAD.GuiUp:
-        obj.ViewObject.Proxy = 0
+        from .viewproviders import attach_view_provider
+        attach_view_provider(obj)
     return obj

@@ -1,0 +1,46 @@
+"""The workbench in FreeCAD's GUI under Xvfb (Debian's FreeCAD 0.20, installed by .ci/run): the
+repository linked into a fresh user Mod folder, a face of kj66_impeller.step selected, the command run
+through its task panel, the result object and its properties, bad selections refused with a
+message, and a screenshot of the coloured result with its rulings in artifacts/gui/ (look at it)."""
+import json
+import os
+import shutil
+import subprocess
+
+import pytest
+
+from conftest import ROOT, data_file
+
+pytestmark = [pytest.mark.freecad, pytest.mark.gui]
+
+
+def test_fit_through_the_task_panel(tmp_path):
+    if shutil.which("freecad") is None or shutil.which("xvfb-run") is None:
+        pytest.skip("the FreeCAD GUI or xvfb-run is not installed (apt-get install -y freecad xvfb)")
+    step = data_file("kj66_impeller.step")
+    home = tmp_path / "home"
+    (home / "Mod").mkdir(parents=True)
+    os.symlink(ROOT, home / "Mod" / "Ruled")                 # the README's install: a link into the Mod folder
+    out = os.path.join(ROOT, "artifacts", "gui")
+    shutil.rmtree(out, ignore_errors=True)
+    env = {**os.environ, "QTWEBENGINE_DISABLE_SANDBOX": "1", "FREECAD_USER_HOME": str(home),
+           "RULED_STEP": step, "RULED_GUI_OUT": out}
+    env.pop("QT_QPA_PLATFORM", None)
+    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
+                          os.path.join(ROOT, "tests", "gui", "fit_face_gui.py")],
+                         capture_output=True, text=True, timeout=900, env=env)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    r = json.load(open(os.path.join(out, "result.json")))
+    assert r["commands"] == ["Ruled_Fit", "Ruled_Export"]
+    for sub, active, msg in r["bad"]:
+        assert not active and msg and "\n" not in msg
+        assert ("nothing is selected" in msg) if sub is None else (sub in msg and "not a face" in msg)
+    assert r["active_on_face"] and r["panel"] and r["preview"] and r["accept"]
+    o = r["object"]
+    assert o["valid"] and o["status"] == "ok" and o["proxy"] == "ViewProviderRuledFit" and o["mode"] == "Deviation"
+    assert o["bound"] >= o["hausdorff"] > 0 and o["lines"] == 2 * o["rulings"] and o["dev"] == 24 * 24
+    assert "certified bound" in r["panel_text"] and "red" in r["panel_text"]
+    assert os.path.getsize(r["shot"]) > 20_000 and r["step_size"] > 1000
+    # a face the engine refuses: the panel stays open with the reason; Cancel removes the object again
+    assert not r["bad_face"]["accepted"] and r["bad_face"]["text"].startswith("Cannot fit:")
+    assert sorted(r["after_cancel"]) == ["Cone", "Impeller", "RuledFit"]

@@ -1,0 +1,101 @@
+"""Task panel of "Fit ruled surface": the fit parameters, Preview (recompute and show the rulings and
+the coloured deviation), OK / Cancel inside one undo transaction."""
+
+from __future__ import annotations
+
+import FreeCAD
+import FreeCADGui
+from PySide import QtGui
+
+from .features import make_ruled_fit
+
+ACTIVE = None            # the open panel (for scripts and tests)
+
+
+class FitTaskPanel:
+    def __init__(self, source, subname: str):
+        global ACTIVE
+        self.doc = source.Document
+        self.doc.openTransaction("Fit ruled surface")
+        self.obj = make_ruled_fit(self.doc, source, subname)
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("Fit ruled surface")
+        lay = QtGui.QFormLayout(self.form)
+        self.method = QtGui.QComboBox()
+        self.method.addItems(["2d", "4d"])
+        self.samples = QtGui.QSpinBox()
+        self.samples.setRange(3, 2000)
+        self.samples.setValue(40)
+        self.objective = QtGui.QComboBox()
+        self.objective.addItems(["sum", "max"])
+        self.max_error = QtGui.QDoubleSpinBox()
+        self.max_error.setDecimals(6)
+        self.max_error.setRange(0.0, 1e9)
+        self.max_error.setSpecialValueText("no limit")
+        self.direction = QtGui.QComboBox()
+        self.direction.addItems(["auto", "u", "v"])
+        self.elevations = QtGui.QSpinBox()
+        self.elevations.setRange(1, 200)
+        self.elevations.setValue(10)
+        self.measure = QtGui.QSpinBox()
+        self.measure.setRange(0, 400)
+        self.measure.setValue(40)
+        self.rulings = QtGui.QCheckBox("show the rulings")
+        self.rulings.setChecked(True)
+        self.preview_button = QtGui.QPushButton("Preview")
+        self.result = QtGui.QLabel("Preview fits the face with these parameters.")
+        self.result.setWordWrap(True)
+        for label, w in (("Method", self.method), ("Samples per boundary", self.samples),
+                         ("Objective", self.objective), ("Max error", self.max_error), ("Direction", self.direction),
+                         ("4d elevations", self.elevations), ("Measure samples", self.measure)):
+            lay.addRow(label, w)
+        lay.addRow(self.rulings)
+        lay.addRow(self.preview_button)
+        lay.addRow(self.result)
+        self.preview_button.clicked.connect(self.preview)
+        self.rulings.toggled.connect(self._show_rulings)
+        ACTIVE = self
+
+    def _apply(self):
+        o = self.obj
+        o.Method, o.Samples, o.Objective = self.method.currentText(), self.samples.value(), self.objective.currentText()
+        o.MaxError, o.Direction = self.max_error.value(), self.direction.currentText()
+        o.Elevations, o.MeasureSamples = self.elevations.value(), self.measure.value()
+
+    def _show_rulings(self, on):
+        if FreeCAD.GuiUp and hasattr(self.obj.ViewObject, "ShowRulings"):
+            self.obj.ViewObject.ShowRulings = bool(on)
+
+    def preview(self) -> bool:
+        """Recompute with the panel's parameters; the outcome (or the error) in the panel."""
+        self._apply()
+        self.obj.touch()
+        self.doc.recompute()
+        o = self.obj
+        if o.isValid() and o.Status == "ok":
+            self.result.setText(f"{o.Rulings} rulings, certified bound {o.ErrorBound:.6g}, measured Hausdorff "
+                                f"{o.Hausdorff:.6g} ({o.Seconds:.2f} s).\nColours: distance to the face, "
+                                f"blue 0 ... red {o.Hausdorff:.4g}.")
+            return True
+        self.result.setText(f"Cannot fit: {o.Status}")
+        return False
+
+    def accept(self):
+        global ACTIVE
+        if not self.preview():
+            return False                 # the panel stays open with the message
+        self.doc.commitTransaction()
+        FreeCADGui.Control.closeDialog()
+        ACTIVE = None
+        return True
+
+    def reject(self):
+        global ACTIVE
+        self.doc.abortTransaction()
+        FreeCADGui.Control.closeDialog()
+        self.doc.recompute()
+        ACTIVE = None
+        return True
+
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
