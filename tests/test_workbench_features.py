@@ -48,6 +48,7 @@ SCRIPT = textwrap.dedent("""
         RuledFit(bad_none)
         doc.recompute()
         out["bad"] = [props(o) for o in (bad_edge, bad_apex, bad_none)]
+        out["limit_after"] = getattr(sys, "tracebacklimit", "unset")
         path = os.path.join({tmp!r}, "t.FCStd")
         doc.saveAs(path)
         FreeCAD.closeDocument("T")
@@ -76,7 +77,11 @@ SCRIPT = textwrap.dedent("""
 def test_ruled_fit_object_in_freecadcmd(tmp_path):
     step = data_file("kj66_impeller.step")
     out = tmp_path / "out.json"
-    run_freecadcmd(WORKBENCH_LOADER + SCRIPT.format(tmp=str(tmp_path), step=step, out=str(out)), tmp_path, 1200)
+    run = run_freecadcmd(WORKBENCH_LOADER + SCRIPT.format(tmp=str(tmp_path), step=step, out=str(out)), tmp_path,
+                         1200)
+    # refusals are messages in the report view, not Python tracebacks; the limit is restored afterwards
+    assert "Traceback" not in run.stdout + run.stderr
+    assert "the source must be exactly one face" in run.stdout + run.stderr
     r = json.loads(out.read_text())
     first = r["first"]
     assert first["valid"] and first["status"] == "ok" and first["faces"] == 1 and first["dev"] == 100
@@ -93,6 +98,7 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert not edge["valid"] and "exactly one face" in edge["status"] and "Edge1" in edge["status"]
     assert not apex["valid"] and apex["status"] and "\n" not in apex["status"]
     assert not none["valid"] and "no source face" in none["status"]
+    assert r["limit_after"] == "unset"
     re = r["reopened"]
     assert re["proxy"] == "ruled_workbench.features.RuledFit" and re["samples"] == 24
     assert re["bound"] == pytest.approx(r["moved"]["bound"], rel=1e-12) and re["faces"] == 1   # saved with 16 digits

@@ -52,6 +52,47 @@ def source_face(obj):
             from None
 
 
+class _TracebackRestorer:
+    """FreeCAD reports an exception raised by execute() with its Python traceback.  A refusal of bad
+    input is a message, not a crash: sys.tracebacklimit is 0 while FreeCAD reports it, and restored
+    when the document's recompute ends."""
+
+    saved = None
+    armed = False
+    registered = False
+
+    def arm(self) -> None:
+        import sys
+        if not self.registered:
+            FreeCAD.addDocumentObserver(self)
+            self.registered = True
+        if not self.armed:
+            self.saved = getattr(sys, "tracebacklimit", None)
+            self.armed = True
+        sys.tracebacklimit = 0
+
+    def restore(self) -> None:
+        import sys
+        if not self.armed:
+            return
+        if self.saved is None:
+            if hasattr(sys, "tracebacklimit"):
+                del sys.tracebacklimit
+        else:
+            sys.tracebacklimit = self.saved
+        self.armed = False
+
+    def slotRecomputedDocument(self, doc) -> None:
+        self.restore()
+
+
+_RESTORER = _TracebackRestorer()
+
+
+def _quiet_traceback() -> None:
+    _RESTORER.arm()
+
+
 class _Progress:
     """The engine's progress(stage, fraction) on FreeCAD's progress indicator (the status bar in the GUI,
     where it can be cancelled: the engine then stops with a CancelledError)."""
@@ -152,10 +193,11 @@ class RuledFit:
             obj.Status = "ok"
         except RuledError as exc:
             obj.Status = str(exc)
-            FreeCAD.Console.PrintError(f"{obj.Label}: {exc}\n")
-            raise RuntimeError(str(exc)) from None        # FreeCAD marks the object invalid with this message
-        finally:
             obj.Seconds = time.perf_counter() - t0
+            FreeCAD.Console.PrintError(f"{obj.Label}: {exc}\n")
+            _quiet_traceback()
+            raise RuntimeError(str(exc)) from None        # FreeCAD marks the object invalid with this message
+        obj.Seconds = time.perf_counter() - t0
 
     def __getstate__(self):
         return None
