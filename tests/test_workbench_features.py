@@ -40,6 +40,11 @@ SCRIPT = textwrap.dedent("""
         src.Shape = surface_to_face(Surface(P, S.knots_u, S.knots_v, S.degree_u, S.degree_v))
         doc.recompute()
         out["moved"] = props(fit)
+        fit4 = make_ruled_fit(doc, src, "Face1", Method="4d", Samples=12, Elevations=2, Metric="sshb",
+                              MeasureSamples=0)
+        doc.recompute()
+        out["fit4"] = props(fit4)
+        doc.removeObject(fit4.Name)
         bad_edge = make_ruled_fit(doc, src, "Edge1", Samples=16)
         cone = doc.addObject("Part::Feature", "Cone"); cone.Shape = Part.makeCone(0, 3, 5)
         bad_apex = make_ruled_fit(doc, cone, "Face1", Samples=16, MeasureSamples=0)
@@ -94,6 +99,7 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert first["rulings"] == len(ref.best.rulings)
     assert r["samples24"]["valid"] and r["samples24"]["rulings"] != first["rulings"]
     assert r["moved"]["valid"] and abs(r["moved"]["bound"] - r["samples24"]["bound"]) > 1e-4
+    assert r["fit4"]["valid"] and r["fit4"]["status"] == "ok" and r["fit4"]["bound"] > 0
     edge, apex, none = r["bad"]
     assert not edge["valid"] and "exactly one face" in edge["status"] and "Edge1" in edge["status"]
     assert not apex["valid"] and apex["status"] and "\n" not in apex["status"]

@@ -136,6 +136,10 @@ class RuledFit:
         _enum(obj, "Direction", FIT_GROUP, "v: rulings join the v-min and v-max boundaries; u: the u ones; auto: "
               "the better", ["auto", "u", "v"], "auto")
         _add(obj, "App::PropertyInteger", "Elevations", FIT_GROUP, "4d: elevation levels on each side", 10)
+        _add(obj, "App::PropertyFloat", "Step", FIT_GROUP, "4d: elevation step in model units (0: the 2d result's "
+             "distance / elevations)", 0.0)
+        _enum(obj, "Metric", FIT_GROUP, "4d cost: lsad (each ruling's distance to the face) or sshb (certified "
+              "bound of each bilinear patch)", ["lsad", "sshb"], "lsad")
         _add(obj, "App::PropertyBool", "Refine", FIT_GROUP, "refine the pairing beyond the samples", True)
         _add(obj, "App::PropertyInteger", "MeasureSamples", FIT_GROUP, "n x n samples per face for the measured "
              "Hausdorff distance (0: do not measure)", 40)
@@ -160,7 +164,9 @@ class RuledFit:
         return FitOptions(samples=int(obj.Samples), objective=str(obj.Objective),
                           max_error=float(obj.MaxError) if obj.MaxError > 0 else None,
                           direction=str(obj.Direction), refine=bool(obj.Refine), method=str(obj.Method),
-                          elevations=int(obj.Elevations) if obj.Method == "4d" else None).checked()
+                          elevations=int(obj.Elevations) if obj.Method == "4d" else None,
+                          step=float(obj.Step) if obj.Method == "4d" and obj.Step > 0 else None,
+                          metric=str(obj.Metric)).checked()
 
     def execute(self, obj):
         from ruled import fit_surface

@@ -37,6 +37,12 @@ class FitTaskPanel:
         self.elevations = QtGui.QSpinBox()
         self.elevations.setRange(1, 200)
         self.elevations.setValue(10)
+        self.step = QtGui.QDoubleSpinBox()
+        self.step.setDecimals(6)
+        self.step.setRange(0.0, 1e9)
+        self.step.setSpecialValueText("auto")
+        self.metric = QtGui.QComboBox()
+        self.metric.addItems(["lsad", "sshb"])
         self.measure = QtGui.QSpinBox()
         self.measure.setRange(0, 400)
         self.measure.setValue(40)
@@ -47,7 +53,8 @@ class FitTaskPanel:
         self.result.setWordWrap(True)
         for label, w in (("Method", self.method), ("Samples per boundary", self.samples),
                          ("Objective", self.objective), ("Max error", self.max_error), ("Direction", self.direction),
-                         ("4d elevations", self.elevations), ("Measure samples", self.measure)):
+                         ("4d elevations", self.elevations), ("4d step", self.step), ("4d metric", self.metric),
+                         ("Measure samples", self.measure)):
             lay.addRow(label, w)
         lay.addRow(self.rulings)
         lay.addRow(self.preview_button)
@@ -61,6 +68,7 @@ class FitTaskPanel:
         o.Method, o.Samples, o.Objective = self.method.currentText(), self.samples.value(), self.objective.currentText()
         o.MaxError, o.Direction = self.max_error.value(), self.direction.currentText()
         o.Elevations, o.MeasureSamples = self.elevations.value(), self.measure.value()
+        o.Step, o.Metric = self.step.value(), self.metric.currentText()
 
     def _show_rulings(self, on):
         if FreeCAD.GuiUp and hasattr(self.obj.ViewObject, "ShowRulings"):
