@@ -99,18 +99,33 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
                                  np.array(S.domain, float), bool(closed_u), np.ascontiguousarray(uP, float),
                                  np.ascontiguousarray(uQ, float), int(m), int(iters), ub, dist, tau_all, foot_all)
         return (ub, dist, tau_all, foot_all) if feet else (ub, dist)
+    out = segment_distances(S, np.stack([uP, np.full(K, v0)], axis=1), np.stack([uQ, np.full(K, v1)], axis=1), m,
+                            iters, closed_u, feet)
+    return out if feet else out[:2]
+
+
+def segment_distances(S: Surface, uvA: np.ndarray, uvB: np.ndarray, m: int = 9, iters: int = 3,
+                      closed_u: bool = False, feet: bool = False):
+    """Distances to S of the K segments between the surface points S(uvA) and S(uvB) ((K, 2) each):
+    m samples of the parameter line between them, each sample's foot on the segment, refined by
+    projecting the foot onto S.  Returns (upper_bound, distance, tau, foot) as ruling_distances."""
+    u0, u1, v0, v1 = S.domain
+    K = uvA.shape[0]
+    ub = np.empty(K)
+    dist = np.empty(K)
+    tau_all = np.empty((K, m)) if feet else None
+    foot_all = np.empty((K, m, 2)) if feet else None
     t = (np.arange(m) + 0.5) / m
     step = max(1, _POINTS_PER_CHUNK // m)
     for s in range(0, K, step):
         e = min(K, s + step)
-        a = uP[s:e]
-        b = uQ[s:e]
+        a, b = uvA[s:e, 0], uvB[s:e, 0]
+        va, vb = uvA[s:e, 1], uvB[s:e, 1]
         k = e - s
-        ends = S.evaluate(wrap_u((u0, u1), np.concatenate([a, b]), closed_u),
-                          np.concatenate([np.full(k, v0), np.full(k, v1)])).P
+        ends = S.evaluate(wrap_u((u0, u1), np.concatenate([a, b]), closed_u), np.concatenate([va, vb])).P
         P, Q = ends[:k], ends[k:]
         uu = a[:, None] * (1 - t)[None, :] + b[:, None] * t[None, :]
-        vv = np.broadcast_to(v0 * (1 - t) + v1 * t, uu.shape)
+        vv = va[:, None] * (1 - t)[None, :] + vb[:, None] * t[None, :]
         uu_w = wrap_u((u0, u1), uu, closed_u)
         C = S.evaluate(uu_w.ravel(), vv.ravel()).P.reshape(k, m, 3)
         d = Q - P
@@ -128,7 +143,7 @@ def ruling_distances(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int = 9, ite
         if feet:
             tau_all[s:e] = tau
             foot_all[s:e] = np.where((dproj < r0)[..., None], uvb.reshape(k, m, 2), uv0.reshape(k, m, 2))
-    return (ub, dist, tau_all, foot_all) if feet else (ub, dist)
+    return ub, dist, tau_all, foot_all
 
 
 def to_polyline(A: np.ndarray, B: np.ndarray, k: int = 4) -> float:

@@ -1,0 +1,104 @@
+"""The split DP (Wang & Elber §4, 4D: P, Q and M-points): against brute force on small tables, the
+numba kernel against its NumPy twin, the M-curve's moves, the memory refusal; the line metrics
+against an independent sampled distance."""
+import itertools
+
+import numpy as np
+import pytest
+
+from ruled.errors import TooBigError
+from ruled.split import MOVES, SplitTables, m_grid, path_score, split_dp, split_tables
+
+
+def _brute(A, B, objective):
+    """Every path from a first-column state to a last-column state by the moves, enumerated."""
+    n, _, d = A.shape
+    fwd = [tuple(m) for m in MOVES]
+    best = np.inf
+
+    def cost(s):
+        i, j, a, b = s
+        return max(A[i, a, b], B[j, a, b])
+
+    def walk(s, acc):
+        nonlocal best
+        if s[:3] == (n - 1, n - 1, n - 1):
+            best = min(best, acc)
+        for di, dj, da, db in fwd:
+            t = (s[0] + di, s[1] + dj, s[2] + da, s[3] + db)
+            if t[0] < n and t[1] < n and t[2] < n and 0 <= t[3] < d:
+                c = cost(t)
+                walk(t, max(acc, c) if objective == "max" else acc + c)
+    for b in range(d):
+        walk((0, 0, 0, b), cost((0, 0, 0, b)))
+    return best
+
+
+def _tables(rng, n, d):
+    return SplitTables(np.linspace(0, 1, n), np.linspace(0.2, 0.8, d), rng.uniform(0, 1, (n, n, d)),
+                       rng.uniform(0, 1, (n, n, d)))
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+@pytest.mark.parametrize("n,d", [(2, 2), (3, 2), (3, 3)])
+def test_split_dp_equals_brute_force(objective, n, d):
+    rng = np.random.default_rng(n * 10 + d)
+    for _ in range(3):
+        T = _tables(rng, n, d)
+        r = split_dp(T, objective)
+        assert r.score == pytest.approx(_brute(T.A, T.B, objective), rel=1e-12)
+        assert r.score == pytest.approx(path_score(T, r.path, objective), rel=1e-12)
+        steps = np.diff(r.path, axis=0)
+        assert all(tuple(s) in {tuple(m) for m in MOVES} for s in steps)
+        assert tuple(r.path[0, :3]) == (0, 0, 0) and tuple(r.path[-1, :3]) == (n - 1, n - 1, n - 1)
+
+
+@pytest.mark.skipif(not __import__("ruled.kernels", fromlist=["AVAILABLE"]).AVAILABLE, reason="numba not installed")
+def test_kernel_and_numpy_twin_agree(monkeypatch):
+    from ruled import kernels
+    rng = np.random.default_rng(5)
+    T = _tables(rng, 7, 3)
+    T.A[2, 3] = T.A[2, 2]                                 # ties
+    for objective in ("sum", "max"):
+        fast = split_dp(T, objective)
+        monkeypatch.setattr(kernels, "enabled", lambda: False)
+        slow = split_dp(T, objective)
+        monkeypatch.undo()
+        assert fast.score == slow.score and np.array_equal(fast.path, slow.path)
+
+
+def test_tables_are_line_metrics_of_the_rulings():
+    """Each table entry is the distance of its segment to the surface: checked against dense samples
+    of the surface (brute force) for a few entries."""
+    from ruled.examples import elber_ex1
+    S = elber_ex1()
+    n, d = 6, 3
+    T = split_tables(S, n, d)
+    u, vl = m_grid(S, n, d)
+    _, _, v0, v1 = S.domain
+    g = np.linspace(0, 1, 301)
+    Uu, Vv = np.meshgrid(g, g, indexing="ij")
+    cloud = S(Uu.ravel(), Vv.ravel())
+    G = cloud.reshape(301, 301, 3)
+    h = 0.5 * max(np.linalg.norm(np.diff(G, axis=0), axis=2).max(), np.linalg.norm(np.diff(G, axis=1), axis=2).max())
+    for (i, a, b) in itertools.product((0, 3, 5), (1, 4), (0, 2)):
+        P, M = S(np.array([u[i]]), np.array([v0]))[0], S(np.array([u[a]]), np.array([vl[b]]))[0]
+        t = np.linspace(0, 1, 41)[1:-1]
+        X = P + t[:, None] * (M - P)
+        dd = np.sqrt(((X[:, None, :] - cloud[None]) ** 2).sum(axis=2)).min(axis=1).max()
+        # the table: projections of 9 samples (both it and the cloud overestimate a point's distance a
+        # little), the maximum of 39 samples nearly reached (the line metric is a sampled maximum)
+        assert 0.9 * (dd - h) <= T.A[i, a, b] <= 1.001 * dd + 1e-5     # h: the cloud's resolution
+    # an exactly ruled surface (bilinear): every ruling P_i M and M Q_j joining equal u lies on it
+    from ruled.nurbs import Surface
+    P = np.array([[(0, 0, 0), (0, 1, 0.2)], [(1, 0, 0.3), (1, 1, -0.1)]], float)
+    Sb = Surface(P, [0, 0, 1, 1], [0, 0, 1, 1], 1, 1)
+    Tb = split_tables(Sb, 5, 2)
+    for a in range(5):
+        assert Tb.A[a, a].max() <= 1e-12 and Tb.B[a, a].max() <= 1e-12
+
+
+def test_split_dp_refuses_tables_beyond_the_memory_cap():
+    T = _tables(np.random.default_rng(0), 20, 4)
+    with pytest.raises(TooBigError, match="MiB"):
+        split_dp(T, memory_cap=1000.0)
