@@ -1,0 +1,47 @@
+"""Split benchmark (Wang & Elber §4), run by ``benchmarks/run.py --suite split``.
+
+Target (issue 7): the 4D split DP at n = 30, d = 10 (a 30 x 30 x 30 x 10 table) in <= 0.5 s.  Printed:
+the DP alone (warm, best of 5; numba kernel, and its NumPy twin in a subprocess with RULED_NO_NUMBA=1)
+and the line-metric tables it reads (every P-M and M-Q ruling on Elber's ex2), with the table memory.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+
+from ruled.examples import elber_ex2
+from ruled.split import split_dp, split_tables, table_bytes
+
+N, D, TARGET_S = 30, 10, 0.5
+
+
+def _best(fn, repeat: int = 5) -> float:
+    fn()
+    ts = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        ts.append(time.perf_counter() - t)
+    return min(ts)
+
+
+def bench_split() -> None:
+    print(f"== split DP (Wang & Elber §4, 4D): n = {N}, d = {D}, table {table_bytes(N, D) / 2 ** 20:.1f} MiB")
+    t0 = time.perf_counter()
+    T = split_tables(elber_ex2(), N, D)
+    t_tab = time.perf_counter() - t0
+    t = _best(lambda: split_dp(T))
+    r = split_dp(T)
+    print(f"   line-metric tables (ex2): {t_tab:.2f} s;  DP: {t:.3f} s (target {TARGET_S} s, "
+          f"ratio {t / TARGET_S:.2f}), path of {len(r.path)} states, score {r.score:.4g}")
+    code = ("import sys, time; sys.path.insert(0, %r); from split import N, D; from ruled.examples import elber_ex2\n"
+            "from ruled.split import split_dp, split_tables\n"
+            "T = split_tables(elber_ex2(), N, D); t = time.perf_counter(); split_dp(T); print(time.perf_counter() - t)"
+            % os.path.dirname(__file__))
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ, "RULED_NO_NUMBA": "1"})
+    if out.returncode == 0:
+        print(f"   NumPy only (RULED_NO_NUMBA=1): DP {float(out.stdout.split()[-1]):.2f} s")
