@@ -12,20 +12,11 @@ import subprocess
 import sys
 import time
 
+from cone import _best
 from ruled.examples import elber_ex2
 from ruled.split import split_dp, split_tables, table_bytes
 
 N, D, TARGET_S = 30, 10, 0.5
-
-
-def _best(fn, repeat: int = 5) -> float:
-    fn()
-    ts = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t)
-    return min(ts)
 
 
 def bench_split() -> None:
