@@ -8,6 +8,9 @@
               [--tol EPS] [--angle DEG] -o OUTPUT.step [--report R.json]
     ruled cone INPUT --face K --tol T [--step D] [--fit] [--direction auto|u|v] [--allow-creases] -o OUTPUT.step
               [--report R.json] [--plot P.png]
+    ruled split INPUT --face K [--dims 4] [--samples N] [--interior D] [--objective max|sum] -o OUTPUT.step
+              [--split-faces FACES.step] [--report R.json] [--plot P.png]
+    ruled fit INPUT --face K --tol T [--max-strips N] -o OUTPUT.step [--split-faces FACES.step] [--report R.json]
     ruled demo
 
 Every error a user can cause ends in one line on stderr and exit code 2.
@@ -36,7 +39,7 @@ def _parser() -> argparse.ArgumentParser:
                                 "(wire EDM, flank milling, hot-wire cutting).")
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser,
-                           metavar="{faces,fit,curve-on-surface,cone,demo}")
+                           metavar="{faces,fit,split,curve-on-surface,cone,demo}")
     f = sub.add_parser("faces", help="list the faces of a STEP/BREP file")
     f.add_argument("input")
     g = sub.add_parser("fit", help="fit the best ruled surface to one face")
@@ -66,6 +69,31 @@ def _parser() -> argparse.ArgumentParser:
     g.add_argument("--plot", help="PNG plot of the pairing and the error per ruling")
     g.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")
     g.add_argument("--quiet", action="store_true", help="no progress bars")
+    g.add_argument("--tol", type=float, default=None,
+                   help="partition the face into strips until every strip's ruled fit is within this distance "
+                        "(splits at optimal curves, Wang & Elber); OUTPUT.step then holds every strip's fit")
+    g.add_argument("--max-strips", type=int, default=16, help="with --tol: refuse beyond this many strips")
+    g.add_argument("--split-faces", help="with --tol: STEP file for the strips of the face itself")
+    s = sub.add_parser("split", help="the best curve to cut a face in two for ruling (Wang & Elber), the two "
+                       "faces and their ruled fits, compared with iso-parametric splits")
+    s.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    s.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    s.add_argument("--dims", type=int, choices=[4], default=4,
+                   help="split DP dimension: 4 (nothing elevated; 5 and 7 are not available yet)")
+    s.add_argument("--samples", type=int, default=30, help="P-, Q- and M-columns of the split DP (default 30)")
+    s.add_argument("--interior", type=int, default=10, help="interior M-rows of the split DP (default 10)")
+    s.add_argument("--objective", choices=["max", "sum"], default="max",
+                   help="split DP objective over the pairs of rulings: the largest (default, as the paper) or "
+                        "the sum")
+    s.add_argument("--fit-samples", type=int, default=40, help="samples per boundary of each side's fit")
+    s.add_argument("--memory-cap", type=float, default=None,
+                   help="refuse tables larger than this many MiB (default: 80%% of the free memory)")
+    s.add_argument("-o", "--output", required=True, help="STEP file for the ruled fits, one face per side")
+    s.add_argument("--split-faces", help="STEP file for the two faces of the split face")
+    s.add_argument("--report", help="JSON report")
+    s.add_argument("--plot", help="PNG: the split curves over the error map, and the errors compared")
+    s.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
+    s.add_argument("--quiet", action="store_true", help="no progress bars")
     c = sub.add_parser("curve-on-surface", help="a low-degree curve lying exactly on a face, within a tolerance "
                        "of the image of a (u, v) curve (Yang et al.)")
     c.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
@@ -108,6 +136,14 @@ def _parser() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="fit a bundled example; files go to ./ruled-demo/")
     d.add_argument("--quiet", action="store_true")
     return p
+
+
+def _print_files(output: str, others) -> None:
+    """The files written: the STEP output, then each (label, path) given."""
+    print(f"STEP:   {os.path.abspath(output)}")
+    for k, v in others:
+        if v:
+            print(f"{k}: {' ' * (6 - len(k))}{os.path.abspath(v)}")
 
 
 def _check_outputs(*paths) -> None:
@@ -223,12 +259,103 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
 def cmd_fit(args) -> int:
     if args.measure_samples < 2:
         raise RuledError("--measure-samples must be at least 2")
+    if args.tol is not None:
+        return cmd_partition(args)
+    if args.split_faces:
+        raise RuledError("--split-faces needs --tol (the partition); for one split use 'ruled split'")
     rep = run_fit(args.input, args.face, args.output, samples=args.samples, objective=args.objective,
                   max_error=args.max_error, direction=args.direction, refine=not args.no_refine,
                   report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet,
                   method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
                   memory_cap_mb=args.memory_cap)
     _summary(rep, args.output, args.report, args.plot)
+    return 0
+
+
+def _split_options(args, fit_samples: int = 40, objective: str = "sum"):
+    from .fit import FitOptions
+    from .partition import SplitOptions
+    return SplitOptions(samples=getattr(args, "split_samples", None) or 30, interior=getattr(args, "interior", 10),
+                        objective=getattr(args, "split_objective", "max"),
+                        fit=FitOptions(samples=fit_samples, objective=objective).checked(),
+                        max_strips=getattr(args, "max_strips", 16),
+                        memory_cap=None if args.memory_cap is None else args.memory_cap * 2.0 ** 20).checked()
+
+
+def run_split(args) -> dict:
+    """Read a face, split it (optimal, best iso, middle), build, fit, measure, write."""
+    from .occ.io import get_face, write_step
+    from .occ.split import split_of_face
+    from .report import write_report
+    from .split_report import plot_split, split_report
+
+    if args.measure_samples < 4:
+        raise RuledError("--measure-samples must be at least 4")
+    args.split_samples, args.split_objective = args.samples, args.objective
+    opts = _split_options(args, args.fit_samples)
+    _check_outputs(args.output, args.report, args.plot, args.split_faces)
+    t0 = time.perf_counter()
+    face = get_face(args.input, args.face)
+    fs = _with_bar(args.quiet, args.face, lambda bar: split_of_face(face, opts, bar, args.measure_samples))
+    write_step(fs.fits[fs.chosen], args.output)
+    if args.split_faces:
+        write_step(fs.faces[fs.chosen].faces, args.split_faces)
+    rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face, "dims": args.dims,
+           "samples": opts.samples, "interior": opts.interior, "objective": opts.objective,
+           **split_report(fs.result, fs.measured, fs.chosen),
+           "checks": {k: _check_json(c) for k, c in fs.checks.items()}}
+    rep["timings"] = {**fs.timings, "total": time.perf_counter() - t0}
+    if args.plot:
+        plot_split(fs.result, args.plot, fs.measured)
+    if args.report:
+        write_report(rep, args.report)
+    return rep
+
+
+def _check_json(c) -> dict:
+    return {"valid": c.valid, "sewn_faces": c.sewn_faces, "free_edges": c.sewn_free_edges, "max_gap": c.max_gap,
+            "split_edge_to_surface": c.edge_on_surface, "area_sum": c.area_sum, "area_input": c.area_input,
+            "area_rel_diff": c.area_rel}
+
+
+def cmd_split(args) -> int:
+    rep = run_split(args)
+    print(f"face {rep['face']}: one ruled strip, error bound {rep['whole']['error_bound']:.6g}; split along "
+          f"{'v' if rep['direction'] == 'u' else 'u'} (rulings along {rep['direction']}):")
+    for name, c in rep["candidates"].items():
+        mark = "  <- chosen" if name == rep["chosen"] else ""
+        print(f"  {name:9s} error bound {c['error_bound']:.6g}   measured Hausdorff {c['hausdorff']:.6g}{mark}")
+    _print_files(args.output, (("faces", args.split_faces), ("report", args.report), ("plot", args.plot)))
+    return 0
+
+
+def cmd_partition(args) -> int:
+    """ruled fit --tol: strips until every ruled fit is within the tolerance."""
+    from .occ.io import get_face, write_step
+    from .occ.split import partition_of_face
+    from .report import write_report
+    from .split_report import partition_report
+
+    if args.method != "2d":
+        raise RuledError("--tol partitions with 2d fits; drop --method 4d")
+    _check_outputs(args.output, args.report, args.split_faces)
+    opts = _split_options(args, args.samples, args.objective)
+    t0 = time.perf_counter()
+    face = get_face(args.input, args.face)
+    fp = _with_bar(args.quiet, args.face, lambda bar: partition_of_face(face, args.tol, opts, bar,
+                                                                        args.measure_samples))
+    write_step(fp.fits, args.output)
+    if args.split_faces:
+        write_step(fp.faces.faces, args.split_faces)
+    rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face,
+           **partition_report(fp.partition, fp.measured), "checks": _check_json(fp.check)}
+    rep["timings"]["total"] = time.perf_counter() - t0
+    if args.report:
+        write_report(rep, args.report)
+    print(f"face {rep['face']}: {rep['strips']} strips within {args.tol:.6g} ({rep['used']}; optimal splitting "
+          f"{rep['greedy_strips']}, uniform iso-parametric {rep['uniform_strips'] or '>' + str(opts.max_strips)})")
+    print(f"largest error bound {rep['max_error_bound']:.6g}   largest measured Hausdorff {rep['max_hausdorff']:.6g}")
+    _print_files(args.output, (("faces", args.split_faces), ("report", args.report)))
     return 0
 
 
@@ -349,10 +476,7 @@ def cmd_cone(args) -> int:
     meas = "" if m is None else (f"   measured: design to cone {m['design_to_cone']:.6g}, cone to ruled surface "
                                  f"{m['cone_to_ruled']:.6g}")
     print(f"error bound (eq. 9) {rep['error_bound']:.6g} (tolerance {rep['tol']:.6g}){meas}")
-    print(f"STEP:   {os.path.abspath(args.output)}")
-    for k, v in (("report", args.report), ("plot", args.plot)):
-        if v:
-            print(f"{k}: {' ' * (6 - len(k))}{os.path.abspath(v)}")
+    _print_files(args.output, (("report", args.report), ("plot", args.plot)))
     return 0
 
 
@@ -375,8 +499,8 @@ def cmd_demo(args) -> int:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
-        return {"faces": cmd_faces, "fit": cmd_fit, "curve-on-surface": cmd_curve_on_surface, "cone": cmd_cone,
-                "demo": cmd_demo}[args.cmd](args)
+        return {"faces": cmd_faces, "fit": cmd_fit, "split": cmd_split, "curve-on-surface": cmd_curve_on_surface,
+                "cone": cmd_cone, "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:
         print(f"ruled: error: {exc}", file=sys.stderr)
         return 2

@@ -31,7 +31,10 @@ SCRIPT = textwrap.dedent("""
         from ruled.examples import cone_examples
         e = cone_examples()[3]
         arcs = fit_fat_conic(*e[1:7], h1=e[7])
-        out = {{"cos": [c.segments, c.error_bound, c.max_joint_angle_deg, c.curve.poles.tolist()],
+        from ruled.partition import SplitOptions, split_face
+        sp = split_face(elber_ex1(), SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
+        split = {{k: [c.curve.poles.tolist(), c.bound] for k, c in sp.candidates.items()}}
+        out = {{"split": split, "cos": [c.segments, c.error_bound, c.max_joint_angle_deg, c.curve.poles.tolist()],
                "cone": [[a.A.tolist(), a.B.tolist(), a.w, a.err] for a in arcs],
                "np": np.__version__, "scipy": scipy.__version__, "numba": kernels.AVAILABLE,
                "P": D.P.tolist(), "Suu": D.Suu.tolist(), "pairs": r.best.pairs.tolist(),
@@ -88,3 +91,11 @@ def test_same_numbers_in_freecad_python(tmp_path):
     for (A, B, w, err), a in zip(fc["cone"], arcs):
         assert np.abs(np.array(A) - a.A).max() <= 1e-9 and np.abs(np.array(B) - a.B).max() <= 1e-9
         assert abs(w - a.w) <= 1e-9 * a.w and abs(err - a.err) <= 1e-9
+    # the split (virtual subdivision and side fits): the same curves and bounds
+    from ruled.partition import SplitOptions, split_face
+    sp = split_face(elber_ex1(), SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
+    assert set(fc["split"]) == set(sp.candidates)
+    for k, c in sp.candidates.items():
+        poles, bound = fc["split"][k]
+        assert np.abs(np.array(poles) - c.curve.poles).max() <= 1e-12
+        assert abs(bound - c.bound) <= 1e-6 * c.bound

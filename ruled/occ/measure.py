@@ -125,12 +125,13 @@ class _Projector:
 
 def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     """Two-sided Hausdorff distance between two faces (n x n samples of each, projected on the other)."""
-    pa = _grid(face_a, n)
-    pb = _grid(face_b, n)
-    pr_b = _Projector(face_b)
-    pr_a = _Projector(face_a)
-    dab = np.array([pr_b.distance(x) for x in pa])
-    dba = np.array([pr_a.distance(x) for x in pb])
+    return two_sided(_grid(face_a, n), _grid(face_b, n), _Projector(face_a), _Projector(face_b))
+
+
+def two_sided(pa: np.ndarray, pb: np.ndarray, to_a, to_b) -> Hausdorff:
+    """The Hausdorff measure from the samples pa of A and pb of B and the projectors onto each."""
+    dab = np.array([to_b.distance(x) for x in pa])
+    dba = np.array([to_a.distance(x) for x in pb])
     alld = np.concatenate([dab, dba])
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size))
 

@@ -1,0 +1,241 @@
+"""Splitting a face for ruling (Wang & Elber §4) and partitioning it to a tolerance.
+
+``split_face`` finds the optimal M-curve of the face by the split DP, turns it into a smooth domain
+curve, and fits both sides through the virtual subdivision (ruled.strips); it also fits the best
+iso-parametric split (the constant row the split DP scores best) and the v = 1/2 split, so that the
+three can be compared.  ``partition`` goes beyond the paper: it splits, always the strip with the
+largest certified error, until every strip's ruled fit is within a tolerance, and counts the strips
+that uniform iso-parametric splitting needs for the same tolerance.
+
+Everything here works on the oriented surface (rulings along v, the split curves running along u);
+``transposed`` says whether that is the input's (u, v) exchanged.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from typing import Callable, Optional
+
+import numpy as np
+
+from .errors import BadInputError, InfeasibleError
+from .fit import Direction, FitOptions, FitResult, fit_surface
+from .nurbs import Curve, Surface
+from .split import split_dp, split_tables
+from .strips import SideSurface, Strip, graph_curve, side_surface
+
+Progress = Optional[Callable[[str, float], None]]
+
+
+@dataclass(frozen=True)
+class SplitOptions:
+    samples: int = 30          # n: P-, Q- and M-columns
+    interior: int = 10         # d: M-rows (eq. 20)
+    objective: str = "max"     # of the split DP (the paper uses the maximal line metric)
+    fit: FitOptions = FitOptions()
+    max_strips: int = 16       # partition: refuse beyond this many strips
+    memory_cap: Optional[float] = None
+
+    def checked(self) -> "SplitOptions":
+        if not isinstance(self.samples, (int, np.integer)) or self.samples < 4:
+            raise BadInputError(f"--samples {self.samples} is too small for a split; use at least 4 (30 is the "
+                                f"paper's)")
+        if not isinstance(self.interior, (int, np.integer)) or self.interior < 1:
+            raise BadInputError(f"--interior {self.interior} must be a whole number of M-rows, at least 1 (10 is "
+                                f"the paper's)")
+        if self.objective not in ("sum", "max"):
+            raise BadInputError(f"unknown split objective {self.objective!r}: use 'sum' or 'max'")
+        if not isinstance(self.max_strips, (int, np.integer)) or self.max_strips < 1:
+            raise BadInputError(f"--max-strips {self.max_strips} must be at least 1")
+        return self
+
+
+@dataclass
+class StripFit:
+    """A strip, its side surface and the ruled fit of that surface (rulings across the strip)."""
+
+    strip: Strip
+    side: SideSurface
+    fit: FitResult
+
+    @property
+    def bound(self) -> float:
+        """Certified bound of the fit against the side surface, plus the side surface's measured
+        deviation from S o Omega."""
+        return float(self.fit.error_bound + self.side.deviation)
+
+
+@dataclass
+class SplitCandidate:
+    name: str                  # "optimal", "best-iso" or "iso-0.5"
+    curve: Curve               # the split curve in the oriented surface's domain
+    sides: tuple               # (StripFit below the curve, StripFit above it)
+    dp_score: Optional[float] = None
+    t: Optional[float] = None  # iso splits: the strip parameter of the curve
+
+    @property
+    def bound(self) -> float:
+        return max(s.bound for s in self.sides)
+
+
+@dataclass
+class SplitResult:
+    oriented: Surface
+    transposed: bool
+    whole: StripFit
+    candidates: dict           # name -> SplitCandidate
+    m_points: np.ndarray       # (n, 2) the DP's M-points (u, v) on the oriented surface
+    timings: dict = field(default_factory=dict)
+
+    def best(self, key=None) -> SplitCandidate:
+        """The candidate with the smallest key (default: the certified bound)."""
+        return min(self.candidates.values(), key=key or (lambda c: c.bound))
+
+
+def _stage(progress: Progress, name: str, frac: float) -> None:
+    if progress is not None:
+        progress(name, frac)
+
+
+def fit_strip(S: Surface, strip: Strip, fopts: FitOptions, progress: Progress = None) -> StripFit:
+    side = side_surface(S, strip)
+    res = fit_surface(side.surface, replace(fopts, direction=Direction.V), progress)
+    return StripFit(strip, side, res)
+
+
+def whole_fit(S: Surface, fopts: FitOptions, progress: Progress = None):
+    """The fit of the whole face: it chooses the ruling direction; returns (oriented surface, transposed,
+    its StripFit)."""
+    res = fit_surface(S, fopts, progress)
+    if res.best.closed:
+        raise BadInputError("the face is closed along its split direction; splitting closed faces is not "
+                            "supported yet: split the face at its seam first, or fit it whole with 'ruled fit'")
+    So = res.best.oriented
+    transposed = res.direction == "u"
+    return So, transposed, StripFit(Strip(), SideSurface(So, 0.0), res)
+
+
+def split_curves(S: Surface, strip: Strip, side: SideSurface, opts: SplitOptions):
+    """The candidate split curves of a strip: the split DP's optimal M-curve (smoothed), the constant
+    row the split DP scores best, and the middle; each as (name, domain curve, DP score, t)."""
+    n, d = opts.samples, opts.interior
+    Ss = side.surface
+    s0, s1, t0, t1 = Ss.domain
+    T = split_tables(Ss, n, d)
+    path = split_dp(T, opts.objective, opts.memory_cap)
+    mc = path.m_curve(T)
+    s = (mc[:, 0] - s0) / (s1 - s0)
+    t = (mc[:, 1] - t0) / (t1 - t0)
+    lo_t, hi_t = 0.5 / (d + 1), 1 - 0.5 / (d + 1)
+    smooth = graph_curve(s, t, spans=max(1, n // 4))
+
+    def t_of(x):
+        return np.clip(smooth(x)[:, 1], lo_t, hi_t)
+    out = [("optimal", strip.curve_at(S, t_of, max(16, n)), path.score, None)]
+    # the best constant row: the split DP on that row alone (a table of one row)
+    scores = [split_dp(replace(T, A=T.A[:, :, b:b + 1], B=T.B[:, :, b:b + 1], v_levels=T.v_levels[b:b + 1]),
+                       opts.objective, opts.memory_cap).score for b in range(d)]
+    b = int(np.argmin(scores))
+    tb = (b + 1.0) / (d + 1)
+    out.append(("best-iso", strip.curve_at(S, tb), float(scores[b]), tb))
+    if abs(tb - 0.5) > 1e-12:
+        out.append(("iso-0.5", strip.curve_at(S, 0.5), None, 0.5))
+    m_uv = np.stack(strip.omega(S, s, t), axis=1)
+    return out, m_uv
+
+
+def split_strip(S: Surface, sf: StripFit, opts: SplitOptions, progress: Progress = None,
+                names=("optimal", "best-iso", "iso-0.5")):
+    """Split one strip: every candidate curve with both sides fitted."""
+    curves, m_uv = split_curves(S, sf.strip, sf.side, opts)
+    cands = {}
+    curves = [c for c in curves if c[0] in names]
+    for k, (name, curve, score, t) in enumerate(curves):
+        lo, hi = sf.strip.cut(S, curve)
+        sides = (fit_strip(S, lo, opts.fit), fit_strip(S, hi, opts.fit))
+        cands[name] = SplitCandidate(name, curve, sides, score, t)
+        _stage(progress, "fitting the sides", (k + 1) / len(curves))
+    return cands, m_uv
+
+
+def split_face(S: Surface, opts: SplitOptions = SplitOptions(), progress: Progress = None) -> SplitResult:
+    """Split the face once (Wang & Elber §4) and fit both sides: the optimal, best iso and middle splits."""
+    opts = opts.checked()
+    t0 = time.perf_counter()
+    So, transposed, whole = whole_fit(S, opts.fit, progress)
+    t1 = time.perf_counter()
+    cands, m_uv = split_strip(So, whole, opts, progress)
+    return SplitResult(So, transposed, whole, cands, m_uv,
+                       {"whole_fit": t1 - t0, "split_and_fits": time.perf_counter() - t1})
+
+
+@dataclass
+class Partition:
+    oriented: Surface
+    transposed: bool
+    tol: float
+    strips: list               # StripFit, in order from v0 to v1
+    uniform_count: Optional[int]   # strips uniform iso splitting needs (None: more than max_strips)
+    greedy_count: int          # strips the recursive optimal splitting reached
+    used: str                  # "optimal" or "uniform": whichever needed fewer strips
+    history: list = field(default_factory=list)   # per split: (strip index, candidate name, bound)
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def bounds(self) -> list:
+        return [s.bound for s in self.strips]
+
+
+def uniform_partition(So: Surface, k: int, fopts: FitOptions, tol: Optional[float] = None):
+    """k strips between the iso-lines v = v0 + i (v1 - v0) / k; with tol, stops at the first strip
+    whose bound exceeds it (returns None then)."""
+    whole = Strip()
+    curves = [None] + [whole.curve_at(So, i / k) for i in range(1, k)] + [None]
+    out = []
+    for lo, hi in zip(curves[:-1], curves[1:]):
+        f = fit_strip(So, Strip(lo, hi), fopts)
+        if tol is not None and f.bound > tol:
+            return None
+        out.append(f)
+    return out
+
+
+def partition(S: Surface, tol: float, opts: SplitOptions = SplitOptions(), progress: Progress = None) -> Partition:
+    """Split recursively, always the strip with the largest certified bound, each time at the better
+    of its optimal M-curve and its best iso-parametric curve, until every strip's bound is within tol;
+    then the fewest uniform iso-parametric strips for the same tolerance, and keep whichever is fewer."""
+    opts = opts.checked()
+    if not (np.isfinite(tol) and tol > 0):
+        raise BadInputError(f"--tol {tol} must be a positive distance in model units")
+    t0 = time.perf_counter()
+    So, transposed, whole = whole_fit(S, opts.fit, progress)
+    strips = [whole]
+    history = []
+    while True:
+        bounds = [s.bound for s in strips]
+        k = int(np.argmax(bounds))
+        _stage(progress, f"partition: {len(strips)} strips, worst {bounds[k]:.3g}", min(1.0, tol / bounds[k]))
+        if bounds[k] <= tol:
+            break
+        if len(strips) >= opts.max_strips:
+            raise InfeasibleError(f"the tolerance {tol:.4g} is not met with {opts.max_strips} strips (the best reached "
+                                  f"is {max(bounds):.4g}); raise --max-strips or the tolerance")
+        cands, _ = split_strip(So, strips[k], opts, None, names=("optimal", "best-iso"))
+        best = min(cands.values(), key=lambda c: c.bound)
+        history.append((k, best.name, best.bound))
+        strips[k:k + 1] = list(best.sides)
+    t1 = time.perf_counter()
+    uniform = None
+    for m in range(1, opts.max_strips + 1):
+        _stage(progress, f"uniform iso splitting: {m} strips", m / opts.max_strips)
+        u = uniform_partition(So, m, opts.fit, tol) if m > 1 else ([whole] if whole.bound <= tol else None)
+        if u is not None:
+            uniform = (m, u)
+            break
+    greedy = len(strips)
+    used = "optimal"
+    if uniform is not None and uniform[0] < greedy:
+        strips, used = uniform[1], "uniform"
+    return Partition(So, transposed, tol, strips, None if uniform is None else uniform[0], greedy, used, history,
+                     {"optimal": t1 - t0, "uniform": time.perf_counter() - t1})
