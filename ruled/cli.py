@@ -8,7 +8,8 @@
               [--tol EPS] [--angle DEG] -o OUTPUT.step [--report R.json]
     ruled cone INPUT --face K --tol T [--step D] [--fit] [--direction auto|u|v] [--allow-creases] -o OUTPUT.step
               [--report R.json] [--plot P.png]
-    ruled split INPUT --face K [--dims 4] [--samples N] [--interior D] [--objective max|sum] -o OUTPUT.step
+    ruled split INPUT --face K [--dims 4|5|7] [--elevations M] [--step TAU] [--samples N] [--interior D]
+              [--objective max|sum] -o OUTPUT.step
               [--split-faces FACES.step] [--report R.json] [--plot P.png]
     ruled fit INPUT --face K --tol T [--max-strips N] -o OUTPUT.step [--split-faces FACES.step] [--report R.json]
     ruled demo
@@ -78,8 +79,13 @@ def _parser() -> argparse.ArgumentParser:
                        "faces and their ruled fits, compared with iso-parametric splits")
     s.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
     s.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
-    s.add_argument("--dims", type=int, choices=[4], default=4,
-                   help="split DP dimension: 4 (nothing elevated; 5 and 7 are not available yet)")
+    s.add_argument("--dims", type=int, choices=[4, 5, 7], default=4,
+                   help="split DP dimension: 4 (nothing elevated, default), 5 (M-points lifted along the normal) "
+                        "or 7 (P-, Q- and M-points lifted)")
+    s.add_argument("--elevations", type=int, default=2,
+                   help="5d/7d: lift levels on each side of the surface (default 2, i.e. 5 levels)")
+    s.add_argument("--step", type=float, default=None,
+                   help="5d/7d: lift per level in model units (default: the one-strip fit's bound / (2 elevations + 1))")
     s.add_argument("--samples", type=int, default=30, help="P-, Q- and M-columns of the split DP (default 30)")
     s.add_argument("--interior", type=int, default=10, help="interior M-rows of the split DP (default 10)")
     s.add_argument("--objective", choices=["max", "sum"], default="max",
@@ -278,7 +284,8 @@ def _split_options(args, fit_samples: int = 40, objective: str = "sum"):
     return SplitOptions(samples=getattr(args, "split_samples", None) or 30, interior=getattr(args, "interior", 10),
                         objective=getattr(args, "split_objective", "max"),
                         fit=FitOptions(samples=fit_samples, objective=objective).checked(),
-                        max_strips=getattr(args, "max_strips", 16),
+                        max_strips=getattr(args, "max_strips", 16), dims=getattr(args, "dims", 4),
+                        levels=getattr(args, "elevations", None) or 2, step=getattr(args, "split_step", None),
                         memory_cap=None if args.memory_cap is None else args.memory_cap * 2.0 ** 20).checked()
 
 
@@ -291,7 +298,7 @@ def run_split(args) -> dict:
 
     if args.measure_samples < 4:
         raise RuledError("--measure-samples must be at least 4")
-    args.split_samples, args.split_objective = args.samples, args.objective
+    args.split_samples, args.split_objective, args.split_step = args.samples, args.objective, args.step
     opts = _split_options(args, args.fit_samples)
     _check_outputs(args.output, args.report, args.plot, args.split_faces)
     t0 = time.perf_counter()

@@ -146,6 +146,29 @@ def segment_distances(S: Surface, uvA: np.ndarray, uvB: np.ndarray, m: int = 9, 
     return ub, dist, tau_all, foot_all
 
 
+def lifted_segment_distances(S: Surface, uvA: np.ndarray, hA: np.ndarray, uvB: np.ndarray, hB: np.ndarray,
+                             m: int = 9, iters: int = 3) -> np.ndarray:
+    """Distances to S of the K segments between S(uvA) + hA N(uvA) and S(uvB) + hB N(uvB) (ends lifted
+    along the unit normal; (K, 2) and (K,) each): m points of each segment projected onto S by
+    Gauss–Newton steps started from the parameter line between uvA and uvB; the largest."""
+    K = uvA.shape[0]
+    out = np.empty(K)
+    t = (np.arange(m) + 0.5) / m
+    step = max(1, _POINTS_PER_CHUNK // m)
+    for s in range(0, K, step):
+        e = min(K, s + step)
+        k = e - s
+        uv = np.concatenate([uvA[s:e], uvB[s:e]])
+        D = S.evaluate(uv[:, 0], uv[:, 1], 1)
+        ends = D.P + np.concatenate([hA[s:e], hB[s:e]])[:, None] * D.normals()
+        P, Q = ends[:k], ends[k:]
+        X = P[:, None, :] * (1 - t)[None, :, None] + Q[:, None, :] * t[None, :, None]
+        uv0 = uvA[s:e, None, :] * (1 - t)[None, :, None] + uvB[s:e, None, :] * t[None, :, None]
+        _, dist = project_points(S, X.reshape(-1, 3), uv0.reshape(-1, 2), iters)
+        out[s:e] = dist.reshape(k, m).max(axis=1)
+    return out
+
+
 def to_polyline(A: np.ndarray, B: np.ndarray, k: int = 4) -> float:
     """max over the points A of their distance to the polyline through the points B (every edge for
     small inputs, else the edges at each point's k nearest vertices): a dense-sampling measure

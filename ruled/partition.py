@@ -22,7 +22,7 @@ import numpy as np
 from .errors import BadInputError, InfeasibleError
 from .fit import Direction, FitOptions, FitResult, fit_surface
 from .nurbs import Curve, Surface
-from .split import split_dp, split_tables
+from .split import check_memory, row_tables, split_dp, split_tables
 from .strips import SideSurface, Strip, graph_curve, side_surface
 
 Progress = Optional[Callable[[str, float], None]]
@@ -36,6 +36,9 @@ class SplitOptions:
     fit: FitOptions = FitOptions()
     max_strips: int = 16       # partition: refuse beyond this many strips
     memory_cap: Optional[float] = None
+    dims: int = 4              # 4: nothing elevated; 5: M-points lifted along the normal; 7: P, Q and M
+    levels: int = 2            # 5D / 7D: levels -levels..levels (2: the paper's 5)
+    step: Optional[float] = None   # 5D / 7D: the lift per level (default: the strip's bound / (2 levels + 1))
 
     def checked(self) -> "SplitOptions":
         if not isinstance(self.samples, (int, np.integer)) or self.samples < 4:
@@ -46,8 +49,18 @@ class SplitOptions:
                                 f"the paper's)")
         if self.objective not in ("sum", "max"):
             raise BadInputError(f"unknown split objective {self.objective!r}: use 'sum' or 'max'")
+        if self.dims not in (4, 5, 7):
+            raise BadInputError(f"--dims {self.dims}: use 4 (nothing elevated), 5 (M elevated) or 7 (P, Q and M)")
+        if not isinstance(self.levels, (int, np.integer)) or not 1 <= self.levels <= 6:
+            raise BadInputError(f"--elevations {self.levels} must be a whole number from 1 to 6 (levels on each side "
+                                f"of the surface; 2 gives the paper's 5)")
+        if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
+            raise BadInputError(f"--step {self.step} must be a positive distance in model units")
         if not isinstance(self.max_strips, (int, np.integer)) or self.max_strips < 1:
             raise BadInputError(f"--max-strips {self.max_strips} must be at least 1")
+        m = 2 * self.levels + 1
+        check_memory(self.samples, self.interior, m if self.dims == 7 else 1, m if self.dims == 7 else 1,
+                     1 if self.dims == 4 else m, self.memory_cap)
         return self
 
 
@@ -108,34 +121,71 @@ def whole_fit(S: Surface, fopts: FitOptions, progress: Progress = None):
     """The fit of the whole face: it chooses the ruling direction; returns (oriented surface, transposed,
     its StripFit)."""
     res = fit_surface(S, fopts, progress)
-    if res.best.closed:
-        raise BadInputError("the face is closed along its split direction; splitting closed faces is not "
-                            "supported yet: split the face at its seam first, or fit it whole with 'ruled fit'")
     So = res.best.oriented
     transposed = res.direction == "u"
     return So, transposed, StripFit(Strip(), SideSurface(So, 0.0), res)
 
 
-def split_curves(S: Surface, strip: Strip, side: SideSurface, opts: SplitOptions):
+def _smoothed(s, t, spans: int, lo: float, hi: float):
+    c = graph_curve(s, t, spans=spans)
+    return lambda x: np.clip(c(x)[:, 1], lo, hi)
+
+
+def _fourier(s, t, K: int, lo: float, hi: float):
+    """A least-squares Fourier series of K harmonics through (s, t), s in [0, 1) (periodic)."""
+    w = 2 * np.pi * np.arange(1, K + 1)
+
+    def basis(x):
+        x = np.asarray(x, float)
+        return np.concatenate([np.ones((x.size, 1)), np.cos(np.outer(x, w)), np.sin(np.outer(x, w))], axis=1)
+    coef = np.linalg.lstsq(basis(s), t, rcond=None)[0]
+    return lambda x: np.clip(basis(x) @ coef, lo, hi)
+
+
+def closed_split_dp(T, opts: SplitOptions):
+    """The split DP of a face closed along the split: the M-curve ends on the row it starts on (the
+    seam's two sides are one column); every start row tried, the best kept."""
+    best = None
+    d = T.v_levels.size
+    for b0 in range(d):
+        A = np.array(T.A, float)
+        rows = np.arange(d) != b0
+        if A.ndim == 3:
+            A[:, 0, rows] = np.inf
+        else:
+            A[:, :, 0, rows] = np.inf
+        r = split_dp(replace(T, A=A), opts.objective, opts.memory_cap, end_row=b0)
+        if best is None or r.score < best.score:
+            best = r
+    return best
+
+
+def split_curves(S: Surface, strip: Strip, side: SideSurface, opts: SplitOptions, scale: float, closed: bool = False):
     """The candidate split curves of a strip: the split DP's optimal M-curve (smoothed), the constant
-    row the split DP scores best, and the middle; each as (name, domain curve, DP score, t)."""
+    row the split DP scores best, and the middle; each as (name, domain curve, DP score, t).  scale:
+    the strip's error, which sets the default lift per level of a 5D or 7D split; closed: the face is
+    closed along the split (the curve closes up, its seam row the same at both ends)."""
     n, d = opts.samples, opts.interior
     Ss = side.surface
     s0, s1, t0, t1 = Ss.domain
-    T = split_tables(Ss, n, d)
-    path = split_dp(T, opts.objective, opts.memory_cap)
+    step = opts.step if opts.step is not None else max(scale, 1e-9 * Ss.diagonal()) / (2 * opts.levels + 1)
+    T = split_tables(Ss, n, d, dims=opts.dims, levels=opts.levels if opts.dims != 4 else 0, step=step)
+    path = closed_split_dp(T, opts) if closed else split_dp(T, opts.objective, opts.memory_cap)
     mc = path.m_curve(T)
     s = (mc[:, 0] - s0) / (s1 - s0)
     t = (mc[:, 1] - t0) / (t1 - t0)
     lo_t, hi_t = 0.5 / (d + 1), 1 - 0.5 / (d + 1)
-    smooth = graph_curve(s, t, spans=max(1, n // 4))
-
-    def t_of(x):
-        return np.clip(smooth(x)[:, 1], lo_t, hi_t)
-    out = [("optimal", strip.curve_at(S, t_of, max(16, n)), path.score, None)]
+    out = []
+    # the M-points are on d rows: smoothed into a curve at three strengths, each scored by its fits later
+    for k, level in enumerate((8, 4, 2)):
+        if closed:    # a periodic smoothing: least-squares Fourier series
+            out.append((f"optimal:{k}", strip.curve_at(S, _fourier(s[:-1], t[:-1], max(1, n // (2 * level)), lo_t,
+                                                                   hi_t), max(16, n)), path.score, None))
+        else:
+            out.append((f"optimal:{k}", strip.curve_at(S, _smoothed(s, t, max(1, n // level), lo_t, hi_t),
+                                                       max(16, n)), path.score, None))
     # the best constant row: the split DP on that row alone (a table of one row)
-    scores = [split_dp(replace(T, A=T.A[:, :, b:b + 1], B=T.B[:, :, b:b + 1], v_levels=T.v_levels[b:b + 1]),
-                       opts.objective, opts.memory_cap).score for b in range(d)]
+    scores = [split_dp(row_tables(T, b), opts.objective, opts.memory_cap).score for b in range(d)]
     b = int(np.argmin(scores))
     tb = (b + 1.0) / (d + 1)
     out.append(("best-iso", strip.curve_at(S, tb), float(scores[b]), tb))
@@ -147,14 +197,17 @@ def split_curves(S: Surface, strip: Strip, side: SideSurface, opts: SplitOptions
 
 def split_strip(S: Surface, sf: StripFit, opts: SplitOptions, progress: Progress = None,
                 names=("optimal", "best-iso", "iso-0.5")):
-    """Split one strip: every candidate curve with both sides fitted."""
-    curves, m_uv = split_curves(S, sf.strip, sf.side, opts)
+    """Split one strip: every candidate curve with both sides fitted; of the optimal M-curve's smoothings
+    the one whose fits are best is kept as "optimal"."""
+    curves, m_uv = split_curves(S, sf.strip, sf.side, opts, sf.bound, sf.fit.best.closed)
     cands = {}
-    curves = [c for c in curves if c[0] in names]
+    curves = [c for c in curves if c[0].split(":")[0] in names]
     for k, (name, curve, score, t) in enumerate(curves):
         lo, hi = sf.strip.cut(S, curve)
         sides = (fit_strip(S, lo, opts.fit), fit_strip(S, hi, opts.fit))
-        cands[name] = SplitCandidate(name, curve, sides, score, t)
+        c = SplitCandidate(name.split(":")[0], curve, sides, score, t)
+        if c.name not in cands or c.bound < cands[c.name].bound:
+            cands[c.name] = c
         _stage(progress, "fitting the sides", (k + 1) / len(curves))
     return cands, m_uv
 

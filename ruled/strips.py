@@ -116,18 +116,24 @@ class SideSurface:
     spans: tuple = field(default=(0, 0))
 
 
+def _collocate(knots: np.ndarray, sites: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """The coefficients of the spline interpolating F at the sites (a sparse LU of the banded matrix)."""
+    from scipy.sparse import csc_matrix
+    from scipy.sparse.linalg import splu
+    return splu(csc_matrix(bspline_basis_matrix(knots, DEGREE, sites))).solve(np.ascontiguousarray(F))
+
+
 def _solve_grid(S: Surface, strip: Strip, ks: np.ndarray, kt: np.ndarray) -> Surface:
     gs, gt = _greville(ks, DEGREE), _greville(kt, DEGREE)
     ss, tt = np.meshgrid(gs, gt, indexing="ij")
     u, v = strip.omega(S, ss, tt)
     F = S(u.ravel(), v.ravel()).reshape(gs.size, gt.size, 3)
-    Bs, Bt = bspline_basis_matrix(ks, DEGREE, gs), bspline_basis_matrix(kt, DEGREE, gt)
-    X = np.linalg.solve(Bs, F.reshape(gs.size, -1)).reshape(gs.size, gt.size, 3)
-    X = np.linalg.solve(Bt, np.transpose(X, (1, 0, 2)).reshape(gt.size, -1)).reshape(gt.size, gs.size, 3)
+    X = _collocate(ks, gs, F.reshape(gs.size, -1)).reshape(gs.size, gt.size, 3)
+    X = _collocate(kt, gt, np.transpose(X, (1, 0, 2)).reshape(gt.size, -1)).reshape(gt.size, gs.size, 3)
     return Surface(np.transpose(X, (1, 0, 2)), ks, kt, DEGREE, DEGREE)
 
 
-def side_surface(S: Surface, strip: Strip, tol: Optional[float] = None, max_spans: int = 256) -> SideSurface:
+def side_surface(S: Surface, strip: Strip, tol: Optional[float] = None, max_spans: int = 1024) -> SideSurface:
     """The strip's surface S o Omega over the unit square, interpolated by a bicubic B-spline and
     refined (span by span, in s and t) until its deviation at the span midpoints is below tol
     (default 1e-6 of the surface's size).  The whole face is S itself (deviation 0)."""
@@ -143,7 +149,8 @@ def side_surface(S: Surface, strip: Strip, tol: Optional[float] = None, max_span
             kk = np.unique(c.knots)
             bs.update(float((x - u0) / (u1 - u0)) for x in kk[(kk > u0) & (kk < u1)])
     bs = np.array(sorted(bs))
-    bs = np.unique(np.concatenate([np.linspace(a, b, 3)[:-1] for a, b in zip(bs[:-1], bs[1:])] + [[1.0]]))
+    if bs.size < 9:
+        bs = np.unique(np.concatenate([bs, np.linspace(0.0, 1.0, 9)]))
     bt = np.linspace(0.0, 1.0, 5)
 
     def mids(br):

@@ -102,3 +102,66 @@ def test_split_dp_refuses_tables_beyond_the_memory_cap():
     T = _tables(np.random.default_rng(0), 20, 4)
     with pytest.raises(TooBigError, match="MiB"):
         split_dp(T, memory_cap=1000.0)
+
+
+def _brute_elevated(A, B, objective):
+    """Every path over (i, j, a, b) and the elevation levels (ep, eq, em): a point that moves may take
+    any level, one that stays keeps its own."""
+    n, mp, _, d, mm = A.shape
+    mq = B.shape[1]
+    best = np.inf
+
+    def cost(s):
+        i, j, a, b, ep, eq, em = s
+        return max(A[i, ep, a, b, em], B[j, eq, a, b, em])
+
+    def walk(s, acc):
+        nonlocal best
+        if s[:3] == (n - 1, n - 1, n - 1):
+            best = min(best, acc)
+        for di, dj, da, db in (tuple(m) for m in MOVES):
+            i, j, a, b = s[0] + di, s[1] + dj, s[2] + da, s[3] + db
+            if not (i < n and j < n and a < n and 0 <= b < d):
+                continue
+            for ep in (range(mp) if di else (s[4],)):
+                for eq in (range(mq) if dj else (s[5],)):
+                    for em in (range(mm) if da else (s[6],)):
+                        t = (i, j, a, b, ep, eq, em)
+                        c = cost(t)
+                        walk(t, max(acc, c) if objective == "max" else acc + c)
+    for s0 in itertools.product((0,), (0,), (0,), range(d), range(mp), range(mq), range(mm)):
+        walk(s0, cost(s0))
+    return best
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+@pytest.mark.parametrize("n,d,mp,mm", [(2, 2, 2, 2), (3, 1, 2, 1), (3, 2, 1, 3), (3, 1, 2, 2)])
+def test_elevated_split_dp_equals_brute_force(objective, n, d, mp, mm):
+    """5D (M elevated, mp = 1) and 7D (P, Q and M elevated) against every path."""
+    rng = np.random.default_rng(n * 100 + d * 10 + mp + mm)
+    T = SplitTables(np.linspace(0, 1, n), np.linspace(0.2, 0.8, d), rng.uniform(0, 1, (n, mp, n, d, mm)),
+                    rng.uniform(0, 1, (n, mp, n, d, mm)))
+    r = split_dp(T, objective)
+    assert r.score == pytest.approx(_brute_elevated(T.A, T.B, objective), rel=1e-12)
+    assert r.score == pytest.approx(path_score(T, r.path, objective, r.levels), rel=1e-12)
+    for s0, s1, l0, l1 in zip(r.path[:-1], r.path[1:], r.levels[:-1], r.levels[1:]):
+        mv = tuple(s1 - s0)
+        assert mv in {tuple(m) for m in MOVES}
+        for moved, k in ((mv[0], 0), (mv[1], 1), (mv[2], 2)):   # a point that stays keeps its level
+            assert moved or l0[k] == l1[k]
+
+
+@pytest.mark.skipif(not __import__("ruled.kernels", fromlist=["AVAILABLE"]).AVAILABLE, reason="numba not installed")
+def test_elevated_kernel_and_numpy_twin_agree(monkeypatch):
+    from ruled import kernels
+    rng = np.random.default_rng(9)
+    A = np.round(rng.uniform(0, 1, (6, 3, 6, 3, 2)), 1)     # rounded: many ties
+    B = np.round(rng.uniform(0, 1, (6, 2, 6, 3, 2)), 1)
+    T = SplitTables(np.linspace(0, 1, 6), np.linspace(0.2, 0.8, 3), A, B)
+    for objective in ("sum", "max"):
+        fast = split_dp(T, objective)
+        monkeypatch.setattr(kernels, "enabled", lambda: False)
+        slow = split_dp(T, objective)
+        monkeypatch.undo()
+        assert fast.score == slow.score
+        assert np.array_equal(fast.path, slow.path) and np.array_equal(fast.levels, slow.levels)

@@ -74,10 +74,12 @@ def _on_surface(S: Surface, D: Curve, tol: float):
     return r, r.curve, r.pcurve
 
 
-def build_split_faces(S: Surface, curves: list, transposed: bool, tol: Optional[float] = None) -> SplitFaces:
+def build_split_faces(S: Surface, curves: list, transposed: bool, tol: Optional[float] = None,
+                      closed: bool = False) -> SplitFaces:
     """Faces of S between consecutive domain curves (given on the oriented surface: graphs v = c(u) from
     its u0 side to its u1 side; transposed says the input's u and v are exchanged), with the surface's
-    own v0 and v1 sides outermost."""
+    own v0 and v1 sides outermost.  closed: the surface closes up along u (u0 and u1 are one seam): each
+    curve is a closed edge, and each face's sides are one seam edge with a pcurve on either side."""
     Sin = S
     So = S.transposed() if transposed else S
     u0, u1, v0, v1 = So.domain
@@ -92,20 +94,29 @@ def build_split_faces(S: Surface, curves: list, transposed: bool, tol: Optional[
         a, b = c3.domain
         P = c3(np.array([a, b]))
         V0 = BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, P[0]))).Vertex()
-        V1 = BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, P[1]))).Vertex()
+        V1 = V0 if closed else BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, P[1]))).Vertex()
         verts.append((V0, V1))
         edges.append(_edge(c3, pc, surf, V0, V1, 1e-7))
     # the side edges: straight domain segments along u = u0 and u = u1 between consecutive curves
     sides = []
     for k in range(len(all_curves) - 1):
         row = []
+        pcs = []
         for end, x in ((0, u0), (1, u1)):
             ya = float(all_curves[k](np.array([x]))[0, 1])
             yb = float(all_curves[k + 1](np.array([x]))[0, 1])
             seg = Curve(np.array([[x, ya], [x, yb]]), np.array([0.0, 0.0, 1.0, 1.0]), 1)
             D = _swap(seg) if transposed else seg
             r, c3, pc = _on_surface(Sin, D, tol)
-            row.append(_edge(c3, pc, surf, verts[k][end], verts[k + 1][end], 1e-7))
+            pcs.append(pc)
+            if not closed:
+                row.append(_edge(c3, pc, surf, verts[k][end], verts[k + 1][end], 1e-7))
+        if closed:   # one seam edge: its forward use runs up the u1 side (down it when transposed)
+            e = _edge(c3, pcs[1], surf, verts[k][0], verts[k + 1][0], 1e-7)
+            fw, rv = (pcs[0], pcs[1]) if transposed else (pcs[1], pcs[0])
+            BRep_Builder().UpdateEdge(e, curve2d_to_bspline(fw), curve2d_to_bspline(rv), surf, TopLoc_Location(),
+                                      1e-7)
+            row = [e, e]
         sides.append(row)
     b = BRep_Builder()
     faces = []
@@ -184,7 +195,7 @@ def check_split_faces(sf: SplitFaces, input_face, samples: int = 200) -> SplitCh
 
 def _area(face) -> float:
     props = GProp_GProps()
-    BRepGProp.SurfaceProperties_s(face, props, 1e-10)
+    BRepGProp.SurfaceProperties_s(face, props, 1e-9)
     return props.Mass()
 
 
@@ -193,17 +204,19 @@ class _TrimmedProjector:
     else OCCT's exact shape distance."""
 
     def __init__(self, face):
+        from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
         self.face = face
         self.cls = BRepTopAdaptor_FClass2d(face, 1e-9)
+        self.proj = GeomAPI_ProjectPointOnSurf()
+        self.proj.Init(BRep_Tool.Surface_s(face), *BRepTools.UVBounds_s(face))
 
     def distance(self, x) -> float:
-        from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
         P = gp_Pnt(*map(float, x))
-        pj = GeomAPI_ProjectPointOnSurf(P, BRep_Tool.Surface_s(self.face))
-        if pj.NbPoints() > 0:
-            u, v = pj.LowerDistanceParameters()
+        self.proj.Perform(P)
+        if self.proj.IsDone() and self.proj.NbPoints() > 0:
+            u, v = self.proj.LowerDistanceParameters()
             if self.cls.Perform(gp_Pnt2d(u, v)) in (TopAbs_IN, TopAbs_ON):
-                return float(pj.LowerDistance())
+                return float(self.proj.LowerDistance())
         d = BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(P).Vertex(), self.face)
         return float(d.Value())
 
@@ -259,7 +272,8 @@ def measure_strips(S: Surface, strip_fits: list, transposed: bool, curves: list,
     they cover), and measure each strip's ruled fit against its split face.
     Returns (SplitFaces, SplitCheck, fit faces, per strip Hausdorff dicts)."""
     from .convert import container_to_face
-    sf = build_split_faces(S, curves, transposed)
+    closed = bool(strip_fits[0].fit.best.closed)
+    sf = build_split_faces(S, curves, transposed, closed=closed)
     ck = check_split_faces(sf, container_to_face(S))
     fits = [container_to_face(s.fit.surface) for s in strip_fits]
     meas = [_hd(hausdorff_trimmed(f, g, n)) for f, g in zip(sf.faces, fits)]
