@@ -18,9 +18,13 @@ import numpy as np
 AVAILABLE = False
 if os.environ.get("RULED_NO_NUMBA", "") not in ("1", "true", "yes"):
     try:
-        import numba  # noqa: F401
+        import numba
         from numba import njit
         AVAILABLE = True
+        # numba's TBB layer, when a system libtbb is present (FreeCAD's packages bring one), spins for
+        # ever in its finalizer at interpreter exit: use numba's own thread pool unless told otherwise
+        if "NUMBA_THREADING_LAYER" not in os.environ:
+            numba.config.THREADING_LAYER = "workqueue"
     except Exception:  # numba missing or broken: NumPy path
         AVAILABLE = False
 

@@ -120,3 +120,58 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert st["valid"], st["status"]
     assert st["bound"] == pytest.approx(c["error_bound"], rel=1e-6)
     assert st["hausdorff"] == pytest.approx(c["hausdorff"]["max"], rel=1e-6, abs=1e-9)
+
+
+SPLIT_SCRIPT = textwrap.dedent("""
+    code = 1
+    try:
+        import json
+        import FreeCAD, Part
+        from ruled_workbench.features import make_ruled_split
+        from ruled_workbench.adapter import surface_to_face
+        from ruled.examples import elber_ex2
+        doc = FreeCAD.newDocument("S")
+        src = doc.addObject("Part::Feature", "Src")
+        src.Shape = surface_to_face(elber_ex2())
+        sp = make_ruled_split(doc, src, "Face1", Samples=10, Interior=4, FitSamples=12)
+        bad = make_ruled_split(doc, src, "Edge1")
+        doc.recompute()
+        on_face = max(src.Shape.Faces[0].distToShape(Part.Vertex(p))[0] for p in sp.SplitCurve)
+        out = {{"valid": sp.isValid(), "status": sp.Status, "chosen": sp.Chosen, "bound": sp.ErrorBound,
+               "whole": sp.WholeBound, "candidates": list(sp.Candidates), "faces": len(sp.Shape.Faces),
+               "edges": len(sp.Shape.Edges), "curve": len(sp.SplitCurve), "on_face": on_face,
+               "bad": [bad.isValid(), bad.Status]}}
+        path = os.path.join({tmp!r}, "s.FCStd")
+        doc.saveAs(path)
+        FreeCAD.closeDocument("S")
+        d2 = FreeCAD.openDocument(path)
+        g = d2.getObject("RuledSplit")
+        out["reopened"] = type(g.Proxy).__module__ + "." + type(g.Proxy).__name__
+        json.dump(out, open({out!r}, "w"))
+        code = 0
+    except Exception:
+        import traceback; traceback.print_exc()
+    sys.stdout.flush(); sys.stderr.flush()
+    os._exit(code)
+""")
+
+
+def test_ruled_split_object_in_freecadcmd(tmp_path):
+    """'Split for ruling' headless: the same split as the engine in the venv, the split curve on the face,
+    the two fitted sides, an invalid object for an edge, and the proxy's name after reopening."""
+    out = tmp_path / "split.json"
+    run_freecadcmd(WORKBENCH_LOADER + SPLIT_SCRIPT.format(tmp=str(tmp_path), out=str(out)), tmp_path)
+    r = json.loads(out.read_text())
+    assert r["valid"] and r["status"] == "ok", r
+    assert r["faces"] == 2 and r["edges"] >= 9 and r["curve"] == 101
+    assert r["on_face"] <= 1e-6
+    from ruled import FitOptions
+    from ruled.examples import elber_ex2
+    from ruled.partition import SplitOptions, split_face
+    res = split_face(elber_ex2(), SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
+    best = res.best()
+    assert r["chosen"] == best.name
+    assert r["bound"] == pytest.approx(best.bound, rel=1e-6) and r["bound"] < r["whole"]
+    assert len(r["candidates"]) == len(res.candidates)
+    assert r["bad"][0] is False and "exactly one face" in r["bad"][1]
+    assert r["reopened"] == "ruled_workbench.features.RuledSplit"

@@ -31,7 +31,7 @@ def test_fit_through_the_task_panel(tmp_path):
                          capture_output=True, text=True, timeout=900, env=env)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     r = json.load(open(os.path.join(out, "result.json")))
-    assert r["commands"] == ["Ruled_Fit", "Ruled_Export"]
+    assert r["commands"] == ["Ruled_Fit", "Ruled_Split", "Ruled_Export"]
     for sub, active, msg in r["bad"]:
         assert not active and msg and "\n" not in msg
         assert ("nothing is selected" in msg) if sub is None else (sub in msg and "not a face" in msg)
@@ -44,3 +44,9 @@ def test_fit_through_the_task_panel(tmp_path):
     # a face the engine refuses: the panel stays open with the reason; Cancel removes the object again
     assert not r["bad_face"]["accepted"] and r["bad_face"]["text"].startswith("Cannot fit:")
     assert sorted(r["after_cancel"]) == ["Cone", "Impeller", "RuledFit"]
+    # "Split for ruling": previewed and kept, the two fitted sides and the split curve, better than one strip
+    assert r["split_preview"] and r["split_accept"] and "kept the" in r["split_text"]
+    sp = r["split"]
+    assert sp["valid"] and sp["status"] == "ok" and sp["faces"] == 2 and sp["curve"] == 101
+    assert sp["chosen"] in ("optimal", "best-iso", "iso-0.5") and 0 < sp["bound"] < sp["whole"]
+    assert os.path.getsize(r["split_shot"]) > 20_000

@@ -83,3 +83,14 @@ def face_to_arrays(face) -> Surface:
 def surface_to_face(S: Surface):
     """A container as a Part.Face bounded by its natural boundary."""
     return arrays_to_surface(S).toShape()
+
+
+def curve_to_edge(c):
+    """A 3D curve container (ruled.nurbs.Curve) as a Part edge."""
+    from ruled.hostform import compress
+    knots, mults = compress(c.knots)
+    bc = Part.BSplineCurve()
+    w = [1.0] * len(c.poles) if c.weights is None else [float(x) for x in c.weights]
+    bc.buildFromPolesMultsKnots([FreeCAD.Vector(*map(float, p[:3])) for p in c.poles], [int(m) for m in mults],
+                                [float(k) for k in knots], False, int(c.degree), w)
+    return bc.toShape()

@@ -1,5 +1,5 @@
-"""Commands of the Ruled workbench: "Fit ruled surface" and "Export for machining...".  Registered
-when the workbench is activated (InitGui.py)."""
+"""Commands of the Ruled workbench: "Fit ruled surface", "Split for ruling" and "Export for
+machining...".  Registered when the workbench is activated (InitGui.py)."""
 
 from __future__ import annotations
 
@@ -34,6 +34,8 @@ def selected_face():
 
 
 class FitCommand:
+    panel = "FitTaskPanel"
+
     def GetResources(self):
         return {"Pixmap": icon("fit.svg"), "MenuText": "Fit ruled surface",
                 "ToolTip": "Fit the best ruled surface to the selected face, with a certified error (select one face)"}
@@ -46,8 +48,17 @@ class FitCommand:
         if obj is None:
             _say(sub)
             return
-        from .taskpanels import FitTaskPanel
-        FreeCADGui.Control.showDialog(FitTaskPanel(obj, sub))
+        from . import taskpanels
+        FreeCADGui.Control.showDialog(getattr(taskpanels, self.panel)(obj, sub))
+
+
+class SplitCommand(FitCommand):
+    panel = "SplitTaskPanel"
+
+    def GetResources(self):
+        return {"Pixmap": icon("split.svg"), "MenuText": "Split for ruling",
+                "ToolTip": "Find the curve that cuts the selected face in two so that each side rules best, and "
+                           "fit both sides (select one face)"}
 
 
 def export_step(objects, path: str) -> None:
@@ -81,9 +92,10 @@ class ExportCommand:
         FreeCAD.Console.PrintMessage(f"Ruled: wrote {path}\n")
 
 
-NAMES = ["Ruled_Fit", "Ruled_Export"]
+NAMES = ["Ruled_Fit", "Ruled_Split", "Ruled_Export"]
 
 
 def register() -> None:
     FreeCADGui.addCommand("Ruled_Fit", FitCommand())
+    FreeCADGui.addCommand("Ruled_Split", SplitCommand())
     FreeCADGui.addCommand("Ruled_Export", ExportCommand())

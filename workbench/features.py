@@ -5,7 +5,12 @@ parameters as properties, its results (certified bound, measured Hausdorff dista
 as read-only properties, the ruled face as its Shape.  It recomputes when the source changes; bad
 input leaves it invalid with a one-line message in the report view and in its Status property.
 
-Saved documents refer to the proxy as ``ruled_workbench.features.RuledFit``: keep the names.
+RuledSplit: the same face split for ruling (Wang & Elber §4): the optimal, best iso-parametric and
+middle split curves, each side fitted; its Shape holds the two ruled fits of the best split and the
+split edge on the face (the preview of the split curve).
+
+Saved documents refer to the proxies as ``ruled_workbench.features.RuledFit`` / ``.RuledSplit``: keep
+the names.
 """
 
 from __future__ import annotations
@@ -116,12 +121,49 @@ class _Progress:
         self.bar.stop()
 
 
-class RuledFit:
-    """Proxy of a RuledFit object (Part::FeaturePython)."""
+class _Feature:
+    """What the proxies share: properties added on restore, and a recompute that leaves the object
+    invalid with a one-line message (report view and Status) when the engine refuses."""
 
     def __init__(self, obj):
         self.add_properties(obj)
         obj.Proxy = self
+
+    def onDocumentRestored(self, obj):
+        self.add_properties(obj)            # properties added by later versions
+
+    def inputs(self, obj, verb: str):
+        """(source face, options, its surface as arrays, a progress indicator)."""
+        from .adapter import face_to_arrays
+        face = source_face(obj)
+        opts = self.options(obj)
+        return face, opts, face_to_arrays(face), _Progress(f"Ruled: {verb} {obj.Label}")
+
+    def execute(self, obj):
+        from ruled.errors import RuledError
+        t0 = time.perf_counter()
+        try:
+            self.compute(obj)
+            obj.Status = "ok"
+        except RuledError as exc:
+            obj.Status = str(exc)
+            obj.Seconds = time.perf_counter() - t0
+            FreeCAD.Console.PrintError(f"{obj.Label}: {exc}\n")
+            _quiet_traceback()
+            raise RuntimeError(str(exc)) from None        # FreeCAD marks the object invalid with this message
+        obj.Seconds = time.perf_counter() - t0
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    dumps, loads = __getstate__, __setstate__
+
+
+class RuledFit(_Feature):
+    """Proxy of a RuledFit object (Part::FeaturePython)."""
 
     @staticmethod
     def add_properties(obj):
@@ -156,9 +198,6 @@ class RuledFit:
         _add(obj, "App::PropertyVectorList", "RulingLines", RESULT_GROUP, "end points of the DP rulings on the "
              "source face, two per ruling", None, True)
 
-    def onDocumentRestored(self, obj):
-        self.add_properties(obj)            # properties added by later versions
-
     def options(self, obj):
         from ruled import FitOptions
         return FitOptions(samples=int(obj.Samples), objective=str(obj.Objective),
@@ -168,59 +207,108 @@ class RuledFit:
                           step=float(obj.Step) if obj.Method == "4d" and obj.Step > 0 else None,
                           metric=str(obj.Metric)).checked()
 
-    def execute(self, obj):
+    def compute(self, obj):
         from ruled import fit_surface
-        from ruled.errors import RuledError
         from ruled.hostform import bounds_slack
 
-        from .adapter import face_to_arrays, surface_to_face
+        from .adapter import surface_to_face
         from .measure import hausdorff
-        t0 = time.perf_counter()
+        face, opts, S, progress = self.inputs(obj, "fitting")
         try:
-            face = source_face(obj)
-            opts = self.options(obj)
-            S = face_to_arrays(face)
-            progress = _Progress("Ruled: fitting " + obj.Label)
-            try:
-                res = fit_surface(S, opts, progress)
-                result = surface_to_face(res.surface)
-                obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
-                obj.Rulings = int(len(res.best.rulings))
-                obj.RulingLines = [FreeCAD.Vector(*map(float, p)) for p in res.best.rulings.reshape(-1, 3)]
-                if obj.MeasureSamples > 1:
-                    h = hausdorff(result, face, int(obj.MeasureSamples),
-                                  lambda f: progress("measuring (distances to the source)", f))
-                    obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
-                else:
-                    obj.Hausdorff, obj.Deviation = 0.0, []
-            finally:
-                progress.stop()
-            obj.Shape = result
-            obj.Status = "ok"
-        except RuledError as exc:
-            obj.Status = str(exc)
-            obj.Seconds = time.perf_counter() - t0
-            FreeCAD.Console.PrintError(f"{obj.Label}: {exc}\n")
-            _quiet_traceback()
-            raise RuntimeError(str(exc)) from None        # FreeCAD marks the object invalid with this message
-        obj.Seconds = time.perf_counter() - t0
+            res = fit_surface(S, opts, progress)
+            result = surface_to_face(res.surface)
+            obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
+            obj.Rulings = int(len(res.best.rulings))
+            obj.RulingLines = [FreeCAD.Vector(*map(float, p)) for p in res.best.rulings.reshape(-1, 3)]
+            if obj.MeasureSamples > 1:
+                h = hausdorff(result, face, int(obj.MeasureSamples),
+                              lambda f: progress("measuring (distances to the source)", f))
+                obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
+            else:
+                obj.Hausdorff, obj.Deviation = 0.0, []
+        finally:
+            progress.stop()
+        obj.Shape = result
 
-    def __getstate__(self):
-        return None
 
-    def __setstate__(self, state):
-        return None
+class RuledSplit(_Feature):
+    """Proxy of a RuledSplit object (Part::FeaturePython)."""
 
-    dumps, loads = __getstate__, __setstate__
+    @staticmethod
+    def add_properties(obj):
+        group = "Split"
+        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the face to split (one face of a part)")
+        _add(obj, "App::PropertyInteger", "Samples", group, "P-, Q- and M-columns of the split DP", 30)
+        _add(obj, "App::PropertyInteger", "Interior", group, "interior M-rows of the split DP", 10)
+        _enum(obj, "Dims", group, "split DP: 4 (nothing elevated), 5 (M-points lifted along the normal), 7 (P, Q "
+              "and M lifted)", ["4", "5", "7"], "4")
+        _enum(obj, "Objective", group, "the largest line metric along the M-curve (the paper's) or their sum",
+              ["max", "sum"], "max")
+        _add(obj, "App::PropertyInteger", "FitSamples", group, "samples per boundary of each side's fit", 40)
+        _add(obj, "App::PropertyString", "Chosen", RESULT_GROUP, "the split kept: optimal, best-iso or iso-0.5",
+             "", True)
+        _add(obj, "App::PropertyFloat", "ErrorBound", RESULT_GROUP, "certified bound of the kept split's two "
+             "fitted sides", 0.0, True)
+        _add(obj, "App::PropertyFloat", "WholeBound", RESULT_GROUP, "certified bound of one ruled fit of the whole "
+             "face", 0.0, True)
+        _add(obj, "App::PropertyStringList", "Candidates", RESULT_GROUP, "each split's certified bound", None, True)
+        _add(obj, "App::PropertyVectorList", "SplitCurve", RESULT_GROUP, "points of the kept split curve on the face",
+             None, True)
+        _add(obj, "App::PropertyFloat", "Seconds", RESULT_GROUP, "time of the last recompute", 0.0, True)
+        _add(obj, "App::PropertyString", "Status", RESULT_GROUP, "ok, or what went wrong", "", True)
+
+    def options(self, obj):
+        from ruled import FitOptions
+        from ruled.partition import SplitOptions
+        return SplitOptions(samples=int(obj.Samples), interior=int(obj.Interior), objective=str(obj.Objective),
+                            dims=int(obj.Dims), fit=FitOptions(samples=int(obj.FitSamples)).checked()).checked()
+
+    def compute(self, obj):
+        import Part
+        import numpy as np
+        from ruled.curve_on_surface import approximate
+        from ruled.partition import split_face
+
+        from .adapter import curve_to_edge, surface_to_face
+        _, opts, S, progress = self.inputs(obj, "splitting")
+        try:
+            res = split_face(S, opts, progress)
+        finally:
+            progress.stop()
+        best = res.best()
+        D = best.curve.poles[:, ::-1] if res.transposed else best.curve.poles
+        D = type(best.curve)(D.copy(), best.curve.knots, best.curve.degree)
+        cos = approximate(S, D, 2e-5 * S.diagonal(), 10.0)
+        fits = [surface_to_face(side.fit.surface) for side in best.sides]
+        obj.Shape = Part.makeCompound(fits + [curve_to_edge(cos.curve)])
+        obj.Chosen, obj.ErrorBound, obj.WholeBound = best.name, best.bound, res.whole.bound
+        obj.Candidates = [f"{k}: {c.bound:.6g}" for k, c in res.candidates.items()]
+        t = np.linspace(*cos.curve.domain, 101)
+        obj.SplitCurve = [FreeCAD.Vector(*map(float, p)) for p in cos.curve(t)]
+
+
+def _make(doc, proxy, source, subname: str, properties: dict):
+    obj = doc.addObject("Part::FeaturePython", proxy.__name__)
+    proxy(obj)
+    obj.Source = (source, [subname])
+    for k, v in properties.items():
+        setattr(obj, k, v)
+    return obj
+
+
+def make_ruled_split(doc, source, subname: str, **properties):
+    """A RuledSplit on source's face subname with the given properties (not recomputed)."""
+    obj = _make(doc, RuledSplit, source, subname, properties)
+    if FreeCAD.GuiUp:
+        obj.ViewObject.Proxy = 0
+        obj.ViewObject.LineColor = (0.85, 0.1, 0.1)     # the split curve stands out
+        obj.ViewObject.LineWidth = 4.0
+    return obj
 
 
 def make_ruled_fit(doc, source, subname: str, **properties):
     """A RuledFit on source's face subname (e.g. "Face3") with the given fit properties (not recomputed)."""
-    obj = doc.addObject("Part::FeaturePython", "RuledFit")
-    RuledFit(obj)
-    obj.Source = (source, [subname])
-    for k, v in properties.items():
-        setattr(obj, k, v)
+    obj = _make(doc, RuledFit, source, subname, properties)
     if FreeCAD.GuiUp:
         from .viewproviders import attach_view_provider
         attach_view_provider(obj)

@@ -1,5 +1,6 @@
-"""Task panel of "Fit ruled surface": the fit parameters, Preview (recompute and show the rulings and
-the coloured deviation), OK / Cancel inside one undo transaction."""
+"""Task panels of "Fit ruled surface" (the fit parameters, Preview: recompute and show the rulings and
+the coloured deviation) and "Split for ruling" (the split DP's parameters, Preview: the split curve on
+the face and the two ruled fits), OK / Cancel inside one undo transaction."""
 
 from __future__ import annotations
 
@@ -7,20 +8,59 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
-from .features import make_ruled_fit
+from .features import make_ruled_fit, make_ruled_split
 
 ACTIVE = None            # the open panel (for scripts and tests)
 
 
-class FitTaskPanel:
-    def __init__(self, source, subname: str):
+class _Panel:
+    """One parametric object made inside an undo transaction: Preview recomputes it, OK keeps it (or
+    stays open with the message), Cancel removes it."""
+
+    title = ""
+
+    def _open(self, source, make, subname):
         global ACTIVE
         self.doc = source.Document
-        self.doc.openTransaction("Fit ruled surface")
-        self.obj = make_ruled_fit(self.doc, source, subname)
+        self.doc.openTransaction(self.title)
+        self.obj = make(self.doc, source, subname)
         self.form = QtGui.QWidget()
-        self.form.setWindowTitle("Fit ruled surface")
-        lay = QtGui.QFormLayout(self.form)
+        self.form.setWindowTitle(self.title)
+        ACTIVE = self
+        return QtGui.QFormLayout(self.form)
+
+    def _recompute(self) -> bool:
+        self._apply()
+        self.obj.touch()
+        self.doc.recompute()
+        return self.obj.isValid() and self.obj.Status == "ok"
+
+    def accept(self):
+        global ACTIVE
+        if not self.preview():
+            return False                 # the panel stays open with the message
+        self.doc.commitTransaction()
+        FreeCADGui.Control.closeDialog()
+        ACTIVE = None
+        return True
+
+    def reject(self):
+        global ACTIVE
+        self.doc.abortTransaction()
+        FreeCADGui.Control.closeDialog()
+        self.doc.recompute()
+        ACTIVE = None
+        return True
+
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+
+class FitTaskPanel(_Panel):
+    title = "Fit ruled surface"
+
+    def __init__(self, source, subname: str):
+        lay = self._open(source, make_ruled_fit, subname)
         self.method = QtGui.QComboBox()
         self.method.addItems(["2d", "4d"])
         self.samples = QtGui.QSpinBox()
@@ -61,7 +101,6 @@ class FitTaskPanel:
         lay.addRow(self.result)
         self.preview_button.clicked.connect(self.preview)
         self.rulings.toggled.connect(self._show_rulings)
-        ACTIVE = self
 
     def _apply(self):
         o = self.obj
@@ -76,11 +115,8 @@ class FitTaskPanel:
 
     def preview(self) -> bool:
         """Recompute with the panel's parameters; the outcome (or the error) in the panel."""
-        self._apply()
-        self.obj.touch()
-        self.doc.recompute()
         o = self.obj
-        if o.isValid() and o.Status == "ok":
+        if self._recompute():
             self.result.setText(f"{o.Rulings} rulings, certified bound {o.ErrorBound:.6g}, measured Hausdorff "
                                 f"{o.Hausdorff:.6g} ({o.Seconds:.2f} s).\nColours: distance to the face, "
                                 f"blue 0 ... red {o.Hausdorff:.4g}.")
@@ -88,22 +124,46 @@ class FitTaskPanel:
         self.result.setText(f"Cannot fit: {o.Status}")
         return False
 
-    def accept(self):
-        global ACTIVE
-        if not self.preview():
-            return False                 # the panel stays open with the message
-        self.doc.commitTransaction()
-        FreeCADGui.Control.closeDialog()
-        ACTIVE = None
-        return True
 
-    def reject(self):
-        global ACTIVE
-        self.doc.abortTransaction()
-        FreeCADGui.Control.closeDialog()
-        self.doc.recompute()
-        ACTIVE = None
-        return True
+class SplitTaskPanel(_Panel):
+    title = "Split for ruling"
 
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+    def __init__(self, source, subname: str):
+        lay = self._open(source, make_ruled_split, subname)
+        self.samples = QtGui.QSpinBox()
+        self.samples.setRange(4, 200)
+        self.samples.setValue(30)
+        self.interior = QtGui.QSpinBox()
+        self.interior.setRange(1, 100)
+        self.interior.setValue(10)
+        self.dims = QtGui.QComboBox()
+        self.dims.addItems(["4", "5", "7"])
+        self.objective = QtGui.QComboBox()
+        self.objective.addItems(["max", "sum"])
+        self.fit_samples = QtGui.QSpinBox()
+        self.fit_samples.setRange(3, 2000)
+        self.fit_samples.setValue(40)
+        self.preview_button = QtGui.QPushButton("Preview")
+        self.result = QtGui.QLabel("Preview finds the split curve and fits both sides.")
+        self.result.setWordWrap(True)
+        for label, w in (("Samples (P, Q, M columns)", self.samples), ("Interior M-rows", self.interior),
+                         ("Split DP dimension", self.dims), ("Objective", self.objective),
+                         ("Samples per side fit", self.fit_samples)):
+            lay.addRow(label, w)
+        lay.addRow(self.preview_button)
+        lay.addRow(self.result)
+        self.preview_button.clicked.connect(self.preview)
+
+    def _apply(self):
+        o = self.obj
+        o.Samples, o.Interior, o.Dims = self.samples.value(), self.interior.value(), self.dims.currentText()
+        o.Objective, o.FitSamples = self.objective.currentText(), self.fit_samples.value()
+
+    def preview(self) -> bool:
+        o = self.obj
+        if self._recompute():
+            self.result.setText(f"kept the {o.Chosen} split: certified bound {o.ErrorBound:.6g} (one strip: "
+                                f"{o.WholeBound:.6g}; " + ", ".join(o.Candidates) + f") in {o.Seconds:.1f} s.")
+            return True
+        self.result.setText(f"Cannot split: {o.Status}")
+        return False

@@ -73,6 +73,26 @@ try:
     step = os.path.join(OUT, "ruled_fit.step")
     commands.export_step([obj], step)
     res["step_size"] = os.path.getsize(step)
+    # "Split for ruling" on the same face: the panel's preview, then OK; a picture of the split curve
+    sel.clearSelection()
+    sel.addSelection(imp, "Face7")
+    FreeCADGui.runCommand("Ruled_Split")
+    sp = taskpanels.ACTIVE
+    sp.samples.setValue(12)
+    sp.interior.setValue(4)
+    sp.fit_samples.setValue(16)
+    res["split_preview"] = sp.preview()
+    res["split_text"] = sp.result.text()
+    res["split_accept"] = sp.accept()
+    so = doc.getObject("RuledSplit")
+    res["split"] = {"valid": so.isValid(), "status": so.Status, "chosen": so.Chosen, "bound": so.ErrorBound,
+                    "whole": so.WholeBound, "faces": len(so.Shape.Faces), "curve": len(so.SplitCurve)}
+    obj.ViewObject.Visibility = False
+    sel.clearSelection()
+    FreeCADGui.updateGui()
+    shot = os.path.join(OUT, "ruled_split.png")
+    view.saveImage(shot, 1280, 1024, "White")
+    res["split_shot"] = shot
     code = 0
 except Exception:
     import traceback
