@@ -85,7 +85,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--elevations", type=int, default=2,
                    help="5d/7d: lift levels on each side of the surface (default 2, i.e. 5 levels)")
     s.add_argument("--step", type=float, default=None,
-                   help="5d/7d: lift per level in model units (default: the one-strip fit's bound / (2 elevations + 1))")
+                   help="5d/7d: lift per level in model units (default: the one-strip fit's bound / "
+                        "(2 elevations + 1))")
     s.add_argument("--samples", type=int, default=30, help="P-, Q- and M-columns of the split DP (default 30)")
     s.add_argument("--interior", type=int, default=10, help="interior M-rows of the split DP (default 10)")
     s.add_argument("--objective", choices=["max", "sum"], default="max",
