@@ -165,3 +165,22 @@ def test_elevated_kernel_and_numpy_twin_agree(monkeypatch):
         monkeypatch.undo()
         assert fast.score == slow.score
         assert np.array_equal(fast.path, slow.path) and np.array_equal(fast.levels, slow.levels)
+
+
+@pytest.mark.parametrize("dims", [5, 7])
+def test_elevated_split_of_a_face(dims):
+    """5D and 7D splits end to end (lifted tables, the DP, the side fits): the DP's path carries its
+    levels, and the kept split is much better than one strip."""
+    from ruled import FitOptions
+    from ruled.examples import elber_ex2
+    from ruled.partition import SplitOptions, split_curves, split_face, whole_fit
+    opts = SplitOptions(samples=12, interior=4, dims=dims, levels=1, fit=FitOptions(samples=16))
+    res = split_face(elber_ex2(), opts)
+    assert set(res.candidates) == {"optimal", "best-iso", "iso-0.5"}
+    assert res.best().bound < 0.6 * res.whole.bound
+    So, _, whole = whole_fit(elber_ex2(), opts.fit)
+    T = split_tables(So, 12, 4, dims=dims, levels=1, step=whole.bound / 3)
+    assert T.A.shape == (12, 3 if dims == 7 else 1, 12, 4, 3)
+    r = split_dp(T, "max")
+    assert r.levels.shape == (len(r.path), 3) and r.score == pytest.approx(path_score(T, r.path, "max", r.levels))
+    assert split_curves(So, whole.strip, whole.side, opts, whole.bound)[1].shape == (12, 2)
