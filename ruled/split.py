@@ -61,7 +61,7 @@ def m_grid(S: Surface, n: int, d: int):
 
 
 def _shapes(n: int, d: int, mp: int, mq: int, mm: int) -> list:
-    """(shape, is_arg) of the reduction buffers the fill keeps (see kernels_split.fill)."""
+    """Shapes of the reduction buffers the fill keeps (see kernels_split.fill)."""
     cur = [(n, n, mp, d, mm), (n, n, mp, mq, d), (n, n, mp, d)]
     prv = [(n, n, mq, d, mm), (n, n, d, mm), (n, n, mq, d), (n, n, d)]
     return cur + prv + prv

@@ -9,11 +9,12 @@ import numpy as np
 from .distance import project_points
 from .nurbs import Curve, Surface
 from .partition import Partition, SplitResult, StripFit
+from .strips import input_curve
 
 
 def _curve_json(c: Curve, transposed: bool) -> dict:
-    P = c.poles[:, ::-1] if transposed else c.poles
-    return {"degree": c.degree, "knots": c.knots.tolist(), "points": P.tolist()}
+    c = input_curve(c, transposed)
+    return {"degree": c.degree, "knots": c.knots.tolist(), "points": c.poles.tolist()}
 
 
 def _strip_json(sf: StripFit, measured: Optional[dict]) -> dict:

@@ -29,6 +29,8 @@ from .errors import BadInputError
 from .nurbs import Curve, Surface, bspline_basis_matrix
 
 DEGREE = 3
+# split edges follow the smooth split curves within this fraction of the surface's size
+EDGE_TOL = 2e-5
 
 
 def _clamped(breaks: np.ndarray, p: int) -> np.ndarray:
@@ -59,6 +61,11 @@ def graph_curve(u: np.ndarray, v, spans: Optional[int] = None) -> Curve:
 def iso_curve(u0: float, u1: float, v: float) -> Curve:
     """The straight domain curve v = const (degree 1): its image on S is the exact iso-curve."""
     return Curve(np.array([[u0, v], [u1, v]]), np.array([u0, u0, u1, u1]), 1)
+
+
+def input_curve(c: Curve, transposed: bool) -> Curve:
+    """A domain curve of the oriented surface in the input surface's (u, v) (exchanged when transposed)."""
+    return Curve(c.poles[:, ::-1].copy(), c.knots, c.degree, c.weights) if transposed else c
 
 
 def curve_v(c: Curve, u: np.ndarray) -> np.ndarray:

@@ -268,6 +268,7 @@ class RuledSplit(_Feature):
         import numpy as np
         from ruled.curve_on_surface import approximate
         from ruled.partition import split_face
+        from ruled.strips import EDGE_TOL, input_curve
 
         from .adapter import curve_to_edge, surface_to_face
         _, opts, S, progress = self.inputs(obj, "splitting")
@@ -276,9 +277,7 @@ class RuledSplit(_Feature):
         finally:
             progress.stop()
         best = res.best()
-        D = best.curve.poles[:, ::-1] if res.transposed else best.curve.poles
-        D = type(best.curve)(D.copy(), best.curve.knots, best.curve.degree)
-        cos = approximate(S, D, 2e-5 * S.diagonal(), 10.0)
+        cos = approximate(S, input_curve(best.curve, res.transposed), EDGE_TOL * S.diagonal(), 10.0)
         fits = [surface_to_face(side.fit.surface) for side in best.sides]
         obj.Shape = Part.makeCompound(fits + [curve_to_edge(cos.curve)])
         obj.Chosen, obj.ErrorBound, obj.WholeBound = best.name, best.bound, res.whole.bound

@@ -31,17 +31,9 @@ from OCP.gp import gp_Pnt, gp_Pnt2d
 from ..curve_on_surface import approximate
 from ..hostform import Hausdorff
 from ..nurbs import Curve, Surface
-from ..strips import iso_curve
+from ..strips import EDGE_TOL, input_curve, iso_curve
 from .convert import container_to_bspline, curve2d_to_bspline, curve_to_bspline
 from .measure import _grid, _Projector, two_sided
-
-
-# the split edges follow the smooth split curves within this fraction of the surface's size
-EDGE_TOL = 2e-5
-
-
-def _swap(c: Curve) -> Curve:
-    return Curve(c.poles[:, ::-1].copy(), c.knots, c.degree, c.weights)
 
 
 @dataclass
@@ -88,7 +80,7 @@ def build_split_faces(S: Surface, curves: list, transposed: bool, tol: Optional[
     surf = container_to_bspline(Sin)
     imgs, verts, edges = [], [], []
     for c in all_curves:
-        D = _swap(c) if transposed else c
+        D = input_curve(c, transposed)
         r, c3, pc = _on_surface(Sin, D, tol)
         imgs.append(r)
         a, b = c3.domain
@@ -106,7 +98,7 @@ def build_split_faces(S: Surface, curves: list, transposed: bool, tol: Optional[
             ya = float(all_curves[k](np.array([x]))[0, 1])
             yb = float(all_curves[k + 1](np.array([x]))[0, 1])
             seg = Curve(np.array([[x, ya], [x, yb]]), np.array([0.0, 0.0, 1.0, 1.0]), 1)
-            D = _swap(seg) if transposed else seg
+            D = input_curve(seg, transposed)
             r, c3, pc = _on_surface(Sin, D, tol)
             pcs.append(pc)
             if not closed:
