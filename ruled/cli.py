@@ -12,6 +12,9 @@
               [--objective max|sum] -o OUTPUT.step
               [--split-faces FACES.step] [--report R.json] [--plot P.png]
     ruled fit INPUT --face K --tol T [--max-strips N] -o OUTPUT.step [--split-faces FACES.step] [--report R.json]
+    ruled machine INPUT --face K (--xyuv [--planes a,b] [--kerf k] | --flank --tool-radius r [--taper deg])
+              [--chord-tol t] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv] [--step CAM.step [--rulings]]
+              [--report R.json] [--plot P.png]
     ruled demo
 
 Every error a user can cause ends in one line on stderr and exit code 2.
@@ -40,7 +43,7 @@ def _parser() -> argparse.ArgumentParser:
                                 "(wire EDM, flank milling, hot-wire cutting).")
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser,
-                           metavar="{faces,fit,split,curve-on-surface,cone,demo}")
+                           metavar="{faces,fit,split,curve-on-surface,cone,machine,demo}")
     f = sub.add_parser("faces", help="list the faces of a STEP/BREP file")
     f.add_argument("input")
     g = sub.add_parser("fit", help="fit the best ruled surface to one face")
@@ -140,17 +143,58 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("--plot", help="PNG plot of the fat curve and the fitted fat conic spline")
     k.add_argument("--measure-samples", type=int, default=24, help="n x n samples per face for the measure")
     k.add_argument("--quiet", action="store_true", help="no progress bars")
+    _machine_parser(sub)
     d = sub.add_parser("demo", help="fit a bundled example; files go to ./ruled-demo/")
     d.add_argument("--quiet", action="store_true")
     return p
 
 
+def _machine_parser(sub) -> None:
+    m = sub.add_parser("machine", help="machine data for the ruled fit of a face: synchronized XYUV contours "
+                       "(4-axis wire EDM, hot wire) or flank-milling tool axes")
+    m.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    m.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    kind = m.add_mutually_exclusive_group(required=True)
+    kind.add_argument("--xyuv", action="store_true", help="XYUV G-code (lower guide XY, upper guide UV) and CSV")
+    kind.add_argument("--flank", action="store_true", help="flank-milling CL data: APT GOTO/x,y,z,i,j,k and CSV")
+    m.add_argument("--planes", help="xyuv: the two plane heights a,b along the axis (default: just outside the "
+                   "part; write --planes=-5,20 when a starts with a minus)")
+    m.add_argument("--axis", default="auto",
+                   help="xyuv: the machine axis, normal to the planes: auto (the mean ruling direction, snapped to "
+                        "x, y or z within 0.5 degree), x, y, z or ax,ay,az")
+    m.add_argument("--margin", type=float, default=None,
+                   help="xyuv: default planes this far outside the part (default 2%% of its diagonal)")
+    m.add_argument("--kerf", type=float, default=0.0,
+                   help="xyuv: wire radius plus spark gap; the wire runs offset by it to the outside (default 0)")
+    m.add_argument("--lead", type=float, default=None,
+                   help="xyuv: lead-in and lead-out length (default 5%% of the diagonal; 0: none)")
+    m.add_argument("--tool-radius", type=float, default=None, help="flank: tool radius (at the tip for --taper)")
+    m.add_argument("--taper", type=float, default=0.0, help="flank: half angle of a conical tool, degrees")
+    m.add_argument("--side", choices=["outside", "inside"], default="outside",
+                   help="the side of the face the wire offset or the tool is on (outside: the face's normal)")
+    m.add_argument("--chord-tol", type=float, default=None,
+                   help="largest distance between a straight move and the contours (default 1e-4 of the diagonal)")
+    m.add_argument("--feed", type=float, default=100.0, help="feed rate, model units per minute (default 100)")
+    m.add_argument("--method", choices=["2d", "4d"], default="2d", help="the ruled fit ('ruled fit --method')")
+    m.add_argument("--ruled", action="store_true",
+                   help="the face is a ruled result already (from 'ruled fit', 'ruled split', 'ruled fit --tol'): "
+                        "use it as it is, no fit")
+    m.add_argument("--samples", type=int, default=40, help="samples per boundary of the fit (default 40)")
+    m.add_argument("-o", "--output", required=True,
+                   help="G-code (.ngc) for --xyuv, APT CL data (.apt) for --flank")
+    m.add_argument("--csv", help="CSV of the synchronized pairs or CL points (default: OUTPUT with .csv)")
+    m.add_argument("--step", help="STEP for CAM: the ruled result face")
+    m.add_argument("--rulings", action="store_true", help="with --step: the rulings at the sync points as edges")
+    m.add_argument("--report", help="JSON report")
+    m.add_argument("--plot", help="PNG: the two contours with their synchronisation links")
+    m.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
+    m.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
 def _print_files(output: str, others) -> None:
     """The files written: the STEP output, then each (label, path) given."""
     print(f"STEP:   {os.path.abspath(output)}")
-    for k, v in others:
-        if v:
-            print(f"{k}: {' ' * (6 - len(k))}{os.path.abspath(v)}")
+    _print_files_only(others)
 
 
 def _check_outputs(*paths) -> None:
@@ -189,9 +233,9 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
             elevations=None, step=None, metric="lsad", memory_cap_mb=None) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict."""
-    from .fit import FitOptions, fit_surface, surface_area
+    from .fit import FitOptions, fit_surface
     from .occ.convert import container_to_face, conversion_slack, face_to_container
-    from .occ.io import face_area, get_face, write_step
+    from .occ.io import get_face, trim_warning, write_step
     from .occ.measure import hausdorff
     from .progress import Bar
     from .report import plot as make_plot
@@ -205,11 +249,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     face = get_face(input_path, face_index)
     S = face_to_container(face)
     slack = conversion_slack(face, S)
-    warnings = []
-    a_face, a_rect = face_area(face), surface_area(S)
-    if a_rect > 0 and abs(a_face - a_rect) > 0.01 * a_rect:
-        warnings.append(f"face {face_index} is trimmed (its area is {100 * a_face / a_rect:.1f}% of its surface's "
-                        f"UV rectangle); the fit and the measure cover the whole rectangle")
+    warnings = trim_warning(face, S, index=face_index)
     for w in warnings:
         print(f"ruled: warning: {w}", file=sys.stderr)
     t_read = time.perf_counter() - t0
@@ -488,6 +528,85 @@ def cmd_cone(args) -> int:
     return 0
 
 
+def run_machine(args) -> dict:
+    """Read a face, fit it, make the machine path, measure it, write the G-code / APT, CSV, STEP."""
+    from .fit import FitOptions
+    from .machine import MachineOptions, plot_path, write_apt, write_csv, write_gcode
+    from .occ.io import get_face, trim_warning, write_step
+    from .occ.machine import cam_shapes, machine_of_face
+    from .report import write_report
+
+    planes = None
+    if args.planes is not None:
+        planes = args.planes.split(",")
+    opts = MachineOptions("flank" if args.flank else "xyuv", args.chord_tol, planes, args.axis, args.margin,
+                          args.kerf, args.tool_radius, args.taper, args.lead, args.feed).checked()
+    if args.flank and args.kerf:
+        raise RuledError("--kerf is for --xyuv; a flank tool is offset by --tool-radius")
+    if args.xyuv and args.tool_radius is not None:
+        raise RuledError("--tool-radius is for --flank; a wire is offset by --kerf")
+    if args.measure_samples < 4:
+        raise RuledError("--measure-samples must be at least 4")
+    fit_opts = FitOptions(samples=args.samples, method=args.method).checked()
+    csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
+    _check_outputs(args.output, csv_path, args.step, args.report, args.plot)
+    face = get_face(args.input, args.face)
+    warn = trim_warning(face)
+    fm = _with_bar(args.quiet, args.face, lambda bar: machine_of_face(
+        face, opts, fit_opts, bar, args.measure_samples, 1.0 if args.side == "outside" else -1.0,
+        warnings=warn, given=args.ruled))
+    title = f"face {args.face} of {os.path.basename(args.input)}"
+    (write_gcode if opts.mode == "xyuv" else write_apt)(fm.path, args.output, title)
+    write_csv(fm.path, csv_path)
+    if args.step:
+        write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
+    rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face,
+           "output": os.path.abspath(args.output), "csv": os.path.abspath(csv_path), **fm.report}
+    if args.plot:
+        plot_path(fm.path, args.plot, f"{title}: {opts.mode}")
+    if args.report:
+        write_report(rep, args.report)
+    return rep
+
+
+def cmd_machine(args) -> int:
+    rep = run_machine(args)
+    m, f = rep["machine"], rep["fit"]
+    meas = f" (measured {f['measured']:.6g})" if "measured" in f else ""
+    if args.ruled:
+        print(f"face {rep['face']}: a ruled result, rulings along {f['direction']}")
+    else:
+        print(f"face {rep['face']}: ruled fit bound {f['error_bound']:.6g}{meas}, rulings along {f['direction']}")
+    if m["mode"] == "xyuv":
+        print(f"XYUV: {m['sync_points']} synchronized points, XY path {m['length_xy']:.6g}, UV path "
+              f"{m['length_uv']:.6g}, largest taper {m['max_taper_deg']:.3g} deg, planes at "
+              f"{m['plane_heights'][0]:.6g} and {m['plane_heights'][1]:.6g} along "
+              f"{tuple(round(x, 6) for x in m['axis'])}")
+        if "cut" in rep:
+            c = rep["cut"]
+            print(f"what the wire cuts, against {c['against']}: {c['max']:.6g} (bound {c['bound']:.6g}: the fit's "
+                  f"{c['fit_error']:.6g} + {m['cut_bound_beyond_fit']:.6g}, the chord tolerance"
+                  f"{'' if m['cut_bound_beyond_fit'] == m['chord_tol'] else ' and the kerf offset deviation'})")
+    else:
+        print(f"flank: {m['cl_points']} CL points, tool radius {m['tool_radius']:.6g}"
+              f"{', taper %.3g deg' % m['taper_deg'] if m['taper_deg'] else ''}, tool-envelope deviation "
+              f"{m['envelope_deviation']:.3g}")
+        if "tool_envelope" in rep:
+            e = rep["tool_envelope"]
+            print(f"at the CL points: overcut {e['cl_positions']['overcut']:.6g}, undercut "
+                  f"{e['cl_positions']['undercut']:.6g}; with the moves between: overcut "
+                  f"{e['with_moves']['overcut']:.6g}, undercut {e['with_moves']['undercut']:.6g}")
+    print(f"{'G-code' if m['mode'] == 'xyuv' else 'APT'}: {rep['output']}")
+    _print_files_only((("CSV", rep["csv"]), ("STEP", args.step), ("report", args.report), ("plot", args.plot)))
+    return 0
+
+
+def _print_files_only(others) -> None:
+    for k, v in others:
+        if v:
+            print(f"{k}: {' ' * (6 - len(k))}{os.path.abspath(v)}")
+
+
 def cmd_demo(args) -> int:
     from .examples import elber_ex2
     from .occ.convert import container_to_face
@@ -501,6 +620,20 @@ def cmd_demo(args) -> int:
     paths = {k: os.path.join(out, n) for k, n in (("o", "result.step"), ("r", "report.json"), ("p", "plot.png"))}
     rep = run_fit(src, 0, paths["o"], samples=40, report=paths["r"], plot=paths["p"], quiet=args.quiet)
     _summary(rep, paths["o"], paths["r"], paths["p"])
+    # the result as machine data: synchronized XYUV contours for a 4-axis wire
+    from .machine import MachineOptions, plot_path, write_csv, write_gcode
+    from .occ.io import get_face
+    from .occ.machine import machine_of_face
+    fm = _with_bar(args.quiet, 0, lambda bar: machine_of_face(get_face(paths["o"], 0), MachineOptions(),
+                                                               progress=bar, measure_samples=20, given=True))
+    files = {k: os.path.join(out, n) for k, n in (("g", "wire.ngc"), ("c", "wire.csv"), ("p", "wire.png"))}
+    write_gcode(fm.path, files["g"], "Ruled demo: the ruled fit of Elber's ex2")
+    write_csv(fm.path, files["c"])
+    plot_path(fm.path, files["p"], "Ruled demo: XYUV contours of the ruled fit")
+    m, c = fm.report["machine"], fm.report["cut"]
+    print(f"XYUV: {m['sync_points']} synchronized pairs within {m['chord_tol']:.3g} of the ruled surface "
+          f"(measured {c['max']:.3g}), largest taper {m['max_taper_deg']:.3g} deg")
+    _print_files_only((("G-code", files["g"]), ("CSV", files["c"]), ("plot", files["p"])))
     return 0
 
 
@@ -508,7 +641,7 @@ def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
         return {"faces": cmd_faces, "fit": cmd_fit, "split": cmd_split, "curve-on-surface": cmd_curve_on_surface,
-                "cone": cmd_cone, "demo": cmd_demo}[args.cmd](args)
+                "cone": cmd_cone, "machine": cmd_machine, "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:
         print(f"ruled: error: {exc}", file=sys.stderr)
         return 2

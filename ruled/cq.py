@@ -18,6 +18,17 @@
     print(len(cs.faces), cs.result.bound, cs.measure["design_to_cone"])
     cq.exporters.export(cq.Workplane().add(cs.shell), "cones.step")
 
+    from ruled.cq import split_face, xyuv_face, flank_face
+    sp = split_face(face)                                  # the best split for ruling, two faces and their fits
+    wire = xyuv_face(face, chord_tol=0.01, kerf=0.15)      # 4-axis wire: synchronized XY / UV contours
+    wire.write_gcode("part.ngc"); wire.write_csv("part.csv"); print(wire.report["cut"])
+    mill = flank_face(face, tool_radius=3.0)               # flank milling: CL points and tool axes
+    mill.write_apt("part.apt"); print(mill.report["tool_envelope"])
+
+    import ruled.cq; ruled.cq.register()                   # opt in: chainable Workplane methods
+    cq.Workplane().add(face).ruledXYUV("part.ngc", chord_tol=0.01)   # also ruledFit, ruledSplit,
+                                                          # ruledConeSpline, ruledCurveOnFace, ruledFlank
+
 The face may be a ``cadquery.Face``, an OCP ``TopoDS_Face`` or a
 :class:`ruled.Surface` container.  OCP is reached only through ``ruled.occ``.
 """
@@ -29,6 +40,7 @@ from typing import Any, Optional
 
 import numpy as np
 
+from .errors import BadInputError, RuledError
 from .fit import FitOptions, FitResult, Progress, fit_surface
 from .nurbs import Surface
 
@@ -145,3 +157,187 @@ def cone_spline_face(face, tol: float, step: float = 0.1, fit: bool = False, dir
     except ImportError:  # plain OCP
         shell, faces = fc.shell, tuple(fc.faces)
     return ConeSplineFace(shell, faces, fc.result, fc.measure, fc.fit, tuple(fc.warnings))
+
+
+def _cq(shape, kind: str = "Face"):
+    """The CadQuery wrapper of an OCP shape when CadQuery is installed, else the shape itself."""
+    try:
+        import cadquery as cq
+    except ImportError:  # plain OCP
+        return shape
+    return getattr(cq, kind)(shape) if kind != "Shape" else cq.Shape.cast(shape)
+
+
+@dataclass(frozen=True)
+class SplitFace:
+    """The best split of a face for ruling (Wang & Elber): its two faces and their ruled fits."""
+
+    faces: tuple              # the two faces of the chosen split (cadquery.Face), sharing the split edge
+    fits: tuple               # the ruled fit of each side (cadquery.Face)
+    chosen: str               # optimal | best-iso | iso-0.5: the candidate with the lowest measured error
+    measured: tuple           # per side: the measured Hausdorff distance of its fit (dicts)
+    result: Any               # ruled.occ.split.FaceSplit: every candidate, bounds, checks
+    warnings: tuple = ()
+
+
+def split_face(face, dims: int = 4, samples: int = 30, interior: int = 10, objective: str = "max",
+               fit_samples: int = 40, measure_samples: int = 30, progress=None) -> SplitFace:
+    """Split a face in two along the curve whose two ruled fits are best (optimal M-curve, best iso and
+    middle candidates are built, fitted and measured; the lowest measured error is kept)."""
+    from .occ.split import split_of_face
+    from .partition import SplitOptions
+    opts = SplitOptions(samples=samples, interior=interior, objective=objective, dims=dims,
+                        fit=FitOptions(samples=fit_samples).checked()).checked()
+    fs = split_of_face(_face_of(face), opts, progress, measure_samples)
+    k = fs.chosen
+    return SplitFace(tuple(_cq(f) for f in fs.faces[k].faces), tuple(_cq(f) for f in fs.fits[k]), k,
+                     tuple(fs.measured[k]), fs, tuple(fs.warnings))
+
+
+@dataclass(frozen=True)
+class MachineData:
+    """Machine data of a face's ruled fit: the synchronized path, the ruled face, the measured report."""
+
+    path: Any                 # ruled.machine.MachinePath (plain arrays)
+    face: Any                 # the ruled result (cadquery.Face)
+    report: dict              # fit, machine figures, measured cut error / tool envelope, warnings
+    fit: FitResult
+    surface: Surface          # the ruled surface followed (rulings along v)
+    warnings: tuple = ()
+
+    def write_gcode(self, filename: str, title: str = "") -> str:
+        from .machine import write_gcode
+        write_gcode(self.path, filename, title)
+        return filename
+
+    def write_apt(self, filename: str, title: str = "") -> str:
+        from .machine import write_apt
+        write_apt(self.path, filename, title)
+        return filename
+
+    def write_csv(self, filename: str) -> str:
+        from .machine import write_csv
+        write_csv(self.path, filename)
+        return filename
+
+    def write_step(self, filename: str, rulings: bool = False) -> str:
+        """STEP for CAM: the ruled face, with its rulings at the synchronized points as edges if asked."""
+        from .occ.io import write_step
+        from .occ.machine import cam_shapes
+        write_step(cam_shapes(_topods(self.face), self.surface, self.path.u, rulings), filename)
+        return filename
+
+    def plot(self, filename: str) -> str:
+        from .machine import plot_path
+        plot_path(self.path, filename)
+        return filename
+
+
+def _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress) -> MachineData:
+    from .occ.io import trim_warning
+    from .occ.machine import machine_of_face
+    if side not in ("outside", "inside"):
+        raise BadInputError(f"side must be 'outside' or 'inside', not {side!r}")
+    src = _face_of(face)
+    res = fit.result if isinstance(fit, RuledFit) else fit
+    fm = machine_of_face(src, opts, FitOptions(samples=samples, method=method), progress,
+                         measure_samples if measure else None, 1.0 if side == "outside" else -1.0, res,
+                         trim_warning(src) if not isinstance(face, Surface) else [])
+    return MachineData(fm.path, _cq(fm.face), fm.report, fm.fit, fm.surface, tuple(fm.warnings))
+
+
+def xyuv_face(face, chord_tol: Optional[float] = None, planes=None, axis="auto", kerf: float = 0.0,
+              lead: Optional[float] = None, feed: float = 100.0, side: str = "outside", method: str = "2d",
+              samples: int = 40, fit=None, measure: bool = True, measure_samples: int = 30,
+              progress=None) -> MachineData:
+    """Synchronized XYUV contours of the face's ruled fit for a 4-axis wire (EDM or hot wire): the lower
+    guide on one plane (XY), the upper on the other (UV); fit=a RuledFit (or FitResult) of this face
+    reuses it.  The report's "cut" is what the wire sweeps against the design face (offset by the kerf)."""
+    from .machine import MachineOptions
+    opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
+    return _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress)
+
+
+def flank_face(face, tool_radius: float, taper: float = 0.0, chord_tol: Optional[float] = None, feed: float = 100.0,
+               side: str = "outside", method: str = "2d", samples: int = 40, fit=None, measure: bool = True,
+               measure_samples: int = 30, progress=None) -> MachineData:
+    """Flank-milling CL data of the face's ruled fit: the tool tip centre and axis at every CL point for a
+    cylindrical tool (or a conical one of half angle `taper` degrees).  The report's "tool_envelope"
+    gives the measured overcut and undercut of the tool surfaces against the design face."""
+    from .machine import MachineOptions
+    opts = MachineOptions("flank", chord_tol, None, "auto", None, 0.0, tool_radius, taper, None, feed)
+    return _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress)
+
+
+# ------------------------------------------------------------------------- opt-in Workplane methods
+
+def _selected_faces(wp) -> list:
+    import cadquery as cq
+    faces = [o for o in wp.vals() if isinstance(o, cq.Face)]
+    if not faces:
+        raise RuledError("no face selected: select faces first, e.g. .faces('>Z') or .add(face)")
+    return faces
+
+
+def _one_face(wp):
+    faces = _selected_faces(wp)
+    if len(faces) != 1:
+        raise RuledError(f"{len(faces)} faces are selected; machine data is made for one face at a time")
+    return faces[0]
+
+
+def _ruledFit(self, **kw):
+    """Replace each selected face by its ruled fit."""
+    return self.newObject([fit_face(f, **kw).face for f in _selected_faces(self)])
+
+
+def _ruledSplit(self, **kw):
+    """Replace each selected face by the two faces of its best split for ruling."""
+    return self.newObject([g for f in _selected_faces(self) for g in split_face(f, **kw).faces])
+
+
+def _ruledConeSpline(self, tol: float, **kw):
+    """Replace each selected face by its cone spline (a sewn shell) within tol."""
+    return self.newObject([cone_spline_face(f, tol, **kw).shell for f in _selected_faces(self)])
+
+
+def _ruledCurveOnFace(self, uv, **kw):
+    """The curve on each selected face within a tolerance of the image of a (u, v) polyline or curve."""
+    return self.newObject([curve_on_face(f, uv, **kw).edge for f in _selected_faces(self)])
+
+
+def _ruledXYUV(self, filename: str, csv: Optional[str] = None, **kw):
+    """Write the XYUV G-code (and its CSV, default beside it) of the selected face; the ruled fit follows."""
+    import os
+    m = xyuv_face(_one_face(self), **kw)
+    m.write_gcode(filename)
+    m.write_csv(csv or os.path.splitext(filename)[0] + ".csv")
+    return self.newObject([m.face])
+
+
+def _ruledFlank(self, filename: str, tool_radius: float, csv: Optional[str] = None, **kw):
+    """Write the flank-milling APT CL data (and its CSV) of the selected face; the ruled fit follows."""
+    import os
+    m = flank_face(_one_face(self), tool_radius, **kw)
+    m.write_apt(filename)
+    m.write_csv(csv or os.path.splitext(filename)[0] + ".csv")
+    return self.newObject([m.face])
+
+
+WORKPLANE_METHODS = {"ruledFit": _ruledFit, "ruledSplit": _ruledSplit, "ruledConeSpline": _ruledConeSpline,
+                     "ruledCurveOnFace": _ruledCurveOnFace, "ruledXYUV": _ruledXYUV, "ruledFlank": _ruledFlank}
+
+
+def register() -> None:
+    """Add the chainable methods of WORKPLANE_METHODS to cadquery.Workplane (opt in; idempotent)."""
+    import cadquery as cq
+    for name, fn in WORKPLANE_METHODS.items():
+        setattr(cq.Workplane, name, fn)
+
+
+def unregister() -> None:
+    """Remove what register() added."""
+    import cadquery as cq
+    for name in WORKPLANE_METHODS:
+        if getattr(cq.Workplane, name, None) is WORKPLANE_METHODS[name]:
+            delattr(cq.Workplane, name)

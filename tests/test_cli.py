@@ -62,7 +62,7 @@ def test_fit_writes_step_report_and_plot(tmp_path):
 def test_demo_prints_where_files_went(tmp_path):
     out = ruled("demo", "--quiet", cwd=str(tmp_path))
     assert out.returncode == 0, out.stderr
-    for name in ("result.step", "report.json", "plot.png"):
+    for name in ("result.step", "report.json", "plot.png", "wire.ngc", "wire.csv", "wire.png"):
         p = tmp_path / "ruled-demo" / name
         assert p.exists()
         assert str(p) in out.stdout

@@ -41,6 +41,12 @@ def test_fit_through_the_task_panel(tmp_path):
     assert o["bound"] >= o["hausdorff"] > 0 and o["lines"] == 2 * o["rulings"] and o["dev"] == 24 * 24
     assert "certified bound" in r["panel_text"] and "red" in r["panel_text"]
     assert os.path.getsize(r["shot"]) > 20_000 and r["step_size"] > 1000
+    ex = r["export"]
+    assert ex["gcode"] and len(ex["asked"]) == 2 and "Kerf" in ex["asked"][1], ex
+    from test_machine import check_sync
+    ngc = os.path.join(os.path.dirname(r["shot"]), "ruled_fit.ngc")
+    parsed, kinds = check_sync(ngc, ngc[:-4] + ".csv")
+    assert kinds.count("cut") > 10
     # a face the engine refuses: the panel stays open with the reason; Cancel removes the object again
     assert not r["bad_face"]["accepted"] and r["bad_face"]["text"].startswith("Cannot fit:")
     assert sorted(r["after_cancel"]) == ["Cone", "Impeller", "RuledFit"]

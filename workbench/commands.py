@@ -73,23 +73,73 @@ def export_step(objects, path: str) -> None:
 class ExportCommand:
     def GetResources(self):
         return {"Pixmap": icon("export.svg"), "MenuText": "Export for machining...",
-                "ToolTip": "Write the selected ruled results as STEP (select one or more results)"}
+                "ToolTip": "Write the selected ruled results for machining: STEP (with or without rulings), XYUV "
+                           "G-code for a 4-axis wire, or flank-milling CL data (APT)"}
 
     def IsActive(self):
         return any(hasattr(o, "Shape") for o in FreeCADGui.Selection.getSelection())
 
     def Activated(self):
         from PySide import QtGui
+
+        from .export import FORMATS
         objs = FreeCADGui.Selection.getSelection()
-        path, _ = QtGui.QFileDialog.getSaveFileName(None, "Export for machining", "ruled.step", "STEP (*.step *.stp)")
+        path, chosen = QtGui.QFileDialog.getSaveFileName(None, "Export for machining", "ruled.step",
+                                                         ";;".join(FORMATS))
         if not path:
             return
+        kind = FORMATS.get(chosen, "step")
+        params = ask_parameters(kind, objs)
+        if params is None:
+            return
+        from ruled.errors import RuledError
         try:
-            export_step(objs, path)
-        except Exception as exc:  # Part raises OCCError on write failures
+            export(objs, path, kind, **params)
+        except RuledError as exc:  # bad input, or cancelled
+            _say(str(exc))
+            return
+        except Exception as exc:  # Part's OCCError on write failures
             _say(f"cannot write {path}: {exc}")
             return
         FreeCAD.Console.PrintMessage(f"Ruled: wrote {path}\n")
+
+
+def ask_parameters(kind: str, objs):
+    """The machine parameters for kind, asked one by one (None when the user cancels)."""
+    from PySide import QtGui
+    faces = [f for o in objs if hasattr(o, "Shape") for f in o.Shape.Faces]
+    size = max((f.BoundBox.DiagonalLength for f in faces), default=1.0)
+    asks = {"step-rulings": [("chord_tol", "Chord tolerance (rulings as dense as needed)", 1e-4 * size)],
+            "xyuv": [("chord_tol", "Chord tolerance of the XY / UV contours", 1e-4 * size),
+                     ("kerf", "Kerf: wire radius plus spark gap (0: none)", 0.0)],
+            "flank": [("chord_tol", "Chord tolerance of the tool path", 1e-4 * size),
+                      ("tool_radius", "Tool radius", 0.05 * size),
+                      ("taper", "Tool taper: half angle in degrees (0: cylindrical)", 0.0)]}.get(kind, [])
+    out = {}
+    for key, label, default in asks:
+        value, ok = QtGui.QInputDialog.getDouble(None, "Export for machining", label, default, 0.0, 1e9, 6)
+        if not ok:
+            return None
+        out[key] = value
+    return out
+
+
+def export(objs, path: str, kind: str, **params) -> None:
+    """Write the objects in the chosen format (see workbench.export.FORMATS)."""
+    from .export import machine_export, rulings_step
+    from .features import _Progress
+    if kind == "step":
+        export_step(objs, path)
+    elif kind == "step-rulings":
+        rulings_step(objs, path, params.get("chord_tol"))
+    else:
+        bar = _Progress("Ruled: machine data")
+        try:
+            rep = machine_export(objs, path, kind, progress=bar, **params)
+        finally:
+            bar.stop()
+        for w in rep["warnings"]:
+            FreeCAD.Console.PrintWarning(f"Ruled: {w}\n")
 
 
 NAMES = ["Ruled_Fit", "Ruled_Split", "Ruled_Export"]

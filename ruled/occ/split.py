@@ -33,6 +33,7 @@ from ..hostform import Hausdorff
 from ..nurbs import Curve, Surface
 from ..strips import EDGE_TOL, input_curve, iso_curve
 from .convert import container_to_bspline, curve2d_to_bspline, curve_to_bspline
+from .io import trim_warning
 from .measure import _grid, _Projector, two_sided
 
 
@@ -281,7 +282,7 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
     from .convert import face_to_container
     t0 = time.perf_counter()
     S = face_to_container(face)
-    warnings = _trim_warning(face, S)
+    warnings = trim_warning(face, S, "the split, the fits and the measure")
     res = split_face(S, opts or SplitOptions(), progress)
     t1 = time.perf_counter()
     faces, fits, measured, checks = {}, {}, {}, {}
@@ -294,16 +295,6 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
     return FaceSplit(res, chosen, faces, fits, measured, checks,
                      {**res.timings, "faces_and_measure": time.perf_counter() - t1, "total": time.perf_counter() - t0},
                      warnings)
-
-
-def _trim_warning(face, S: Surface) -> list:
-    from ..fit import surface_area
-    from .io import face_area
-    a_face, a_rect = face_area(face), surface_area(S)
-    if a_rect > 0 and abs(a_face - a_rect) > 0.01 * a_rect:
-        return [f"the face is trimmed (its area is {100 * a_face / a_rect:.1f}% of its surface's UV rectangle); the "
-                f"split, the fits and the measure cover the whole rectangle"]
-    return []
 
 
 @dataclass
@@ -324,4 +315,4 @@ def partition_of_face(face, tol: float, opts=None, progress=None, measure_sample
     p = partition(S, tol, opts or SplitOptions(), progress)
     curves = [s.strip.hi for s in p.strips[:-1]]
     sf, ck, fits, meas = measure_strips(S, p.strips, p.transposed, curves, measure_samples)
-    return FacePartition(p, sf, ck, fits, meas, _trim_warning(face, S))
+    return FacePartition(p, sf, ck, fits, meas, trim_warning(face, S, "the split, the fits and the measure"))

@@ -1,0 +1,130 @@
+"""Machine outputs of a face with OCCT: fit the face (2D or 4D), make the XYUV contours or the flank
+tool axes (ruled.machine), and measure what the machine will cut against the design face,
+independently: OCCT projections between the design face (offset by the kerf when there is one) and
+the surface swept between the exported lines; for flank milling, the tool surfaces against the
+design surface.  Also the STEP for CAM: the ruled result, optionally with its rulings as edges."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any, Optional
+
+import numpy as np
+from OCP.BRep import BRep_Tool
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+from OCP.Geom import Geom_OffsetSurface
+from OCP.TopAbs import TopAbs_REVERSED
+
+from ..fit import FitOptions, FitResult, fit_surface
+from ..machine import MachineOptions, MachinePath, cut_points, flank_path, path_report, side_sign, swept_surface, \
+    tool_envelope, xyuv_path
+from .convert import container_to_face, conversion_slack, face_to_container, segment_edge
+from .measure import _grid, _Projector, face_bounds, hausdorff, two_sided
+
+
+@dataclass
+class FaceMachine:
+    fit: Optional[FitResult]      # None when the face was a ruled result already (given=True)
+    surface: Any                  # the ruled surface the machine follows (ruled.Surface, rulings along v)
+    path: MachinePath
+    face: Any                     # the ruled result as a TopoDS_Face
+    report: dict
+    side: float                   # +1: the outside is the design surface's Su x Sv side
+    warnings: list = field(default_factory=list)
+
+
+def outward(face) -> float:
+    """+1 when the face's outside (its normal in the solid) is its surface's Su x Sv, -1 when reversed."""
+    return -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+
+
+def offset_face(face, distance: float):
+    """The face's surface offset by `distance` along its outside normal, over the face's (u, v) bounds."""
+    surf = Geom_OffsetSurface(BRep_Tool.Surface_s(face), float(distance) * outward(face))
+    u0, u1, v0, v1 = face_bounds(face)
+    return BRepBuilderAPI_MakeFace(surf, u0, u1, v0, v1, 1e-7).Face()
+
+
+def rulings_of(R, u: np.ndarray) -> np.ndarray:
+    """(n, 2, 3) the rulings of the ruled result at the parameters u (its t-ends)."""
+    _, _, t0, t1 = R.domain
+    return np.stack([R(u, np.full(u.shape, t0)), R(u, np.full(u.shape, t1))], axis=1)
+
+
+def cam_shapes(face, R, u: np.ndarray, rulings: bool = False) -> list:
+    """STEP for CAM: the ruled result face (R as a TopoDS_Face) and, optionally, its rulings at the
+    synchronized parameters u as edges."""
+    return [face] + ([segment_edge(a, b) for a, b in rulings_of(R, u)] if rulings else [])
+
+
+def given_ruled(S):
+    """A face that is a ruled result already (linear in one parameter) as R with its rulings along v."""
+    from ..errors import BadInputError
+    if S.degree_v == 1:
+        return S
+    if S.degree_u == 1:
+        return S.transposed()
+    raise BadInputError(f"the face is not a ruled surface of Ruled's (degrees {S.degree_u} x {S.degree_v}, neither "
+                        f"is 1): fit it instead (leave out --ruled)")
+
+
+def measure_cut(target, path: MachinePath, n: int = 30) -> dict:
+    """What the machine cuts against the target face, with OCCT: n x n samples of the target projected
+    onto the surface the lines sweep, and about 3 n^2 points of the lines inside the part projected
+    onto the target; and the same points on the exact lines (the ruled surface the path follows),
+    so that the cut is compared with the fit where it was measured."""
+    per_move = max(1, int(round(3 * n * n / (11 * max(len(path.u) - 1, 1)))))
+    to_target = _Projector(target)
+    h = two_sided(_grid(target, n), cut_points(path, per_move), to_target,
+                  _Projector(container_to_face(swept_surface(path))))
+    exact = np.array([to_target.distance(x) for x in cut_points(path, per_move, exact=True)])
+    return {"max": h.max, "design_to_cut": h.max_a_to_b, "cut_to_design": h.max_b_to_a, "samples": h.samples,
+            "fit_on_the_same_lines": float(exact.max())}
+
+
+def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOptions(), progress=None,
+                    measure_samples: Optional[int] = 30, side: float = 1.0, fit: Optional[FitResult] = None,
+                    warnings: Optional[list] = None, given: bool = False) -> FaceMachine:
+    """Fit the face (unless a fit is given, or the face is a ruled result itself: given=True), make the
+    machine path on the side `side` (+1: the face's outside) and measure it.  measure_samples=None
+    skips the OCCT measures."""
+    opts = opts.checked()
+    t0 = time.perf_counter()
+    S = face_to_container(face)
+    slack = conversion_slack(face, S)
+    res = None if given else fit if fit is not None else fit_surface(S, fit_options.checked(), progress)
+    R = given_ruled(S) if given else res.surface
+    out_side = outward(face) * (1.0 if side >= 0 else -1.0)
+    sign = side_sign(R, S, out_side)
+    t1 = time.perf_counter()
+    make = xyuv_path if opts.mode == "xyuv" else flank_path
+    path = make(R, opts, sign, progress)
+    t2 = time.perf_counter()
+    out_face = face if given else container_to_face(R)
+    if given:
+        fit_rep = {"method": "given (the face is a ruled result)", "direction": "v" if S.degree_v == 1 else "u",
+                   "closed": bool(R.periodic_u), "error_bound": slack, "notes": []}
+    else:
+        fit_rep = {"method": res.best.method, "direction": res.direction, "closed": res.best.closed,
+                   "error_bound": res.error_bound + slack, "notes": list(res.notes)}
+    rep = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
+    warns = list(warnings or []) + list(path.warnings)
+    if measure_samples:
+        h = hausdorff(face, out_face, measure_samples)
+        rep["fit"]["measured"] = h.max
+        if opts.mode == "xyuv":
+            target = face if opts.kerf == 0 else offset_face(face, out_side * outward(face) * opts.kerf)
+            c = measure_cut(target, path, measure_samples)
+            fit_err = max(h.max, c["fit_on_the_same_lines"])
+            rep["fit"].update(measured=fit_err, measured_grid=h.max)     # the grid alone can miss narrow peaks
+            rep["cut"] = {"against": "the face" if opts.kerf == 0 else f"the face offset by the kerf {opts.kerf:g}",
+                          **c, "fit_error": fit_err, "bound": fit_err + path.stats["cut_bound_beyond_fit"]}
+        else:
+            env = tool_envelope(S, out_side, path, progress=progress)
+            env["bound_cl"] = h.max + path.offset_deviation
+            env["bound_moves"] = h.max + path.offset_deviation + path.chord_tol
+            rep["tool_envelope"] = env
+    rep["timings"] = {"fit": t1 - t0, "path": t2 - t1, "measure": time.perf_counter() - t2}
+    rep["warnings"] = warns
+    return FaceMachine(res, R, path, out_face, rep, out_side, warns)

@@ -1,0 +1,116 @@
+"""Export for machining (FreeCAD): the ruled results as STEP (optionally with their rulings as edges),
+XYUV G-code and CSV for a 4-axis wire, or flank-milling CL data (APT and CSV).  The machine data is
+made by the engine (ruled.machine) from the result's arrays; the measures use FreeCAD's Part
+(BRepExtrema) for what the wire cuts and the engine's exact projection for the tool envelope.
+A JSON report is written beside every machine file."""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+
+import FreeCAD
+import Part
+
+# file-dialog filter -> what is written
+FORMATS = {
+    "STEP, ruled faces (*.step *.stp)": "step",
+    "STEP with rulings as edges (*.step *.stp)": "step-rulings",
+    "XYUV G-code, 4-axis wire EDM / hot wire (*.ngc *.nc)": "xyuv",
+    "Flank milling CL data, APT (*.apt *.cls)": "flank",
+}
+
+
+def _faces(objects) -> list:
+    return [f for o in objects if hasattr(o, "Shape") and not o.Shape.isNull() for f in o.Shape.Faces]
+
+
+def result_arrays(face):
+    """The ruled result of a face as arrays with its rulings along v."""
+    from ruled.errors import BadInputError
+
+    from .adapter import face_to_arrays
+    R = face_to_arrays(face)
+    if R.degree_v == 1:
+        return R
+    if R.degree_u == 1:
+        return R.transposed()
+    raise BadInputError(f"the face is not a ruled result (degrees {R.degree_u} x {R.degree_v}): select a Ruled fit")
+
+
+def _one_fit(objects):
+    from ruled.errors import BadInputError
+
+    from .features import source_face
+    if len(objects) != 1:
+        raise BadInputError(f"machine data is made for one ruled fit at a time ({len(objects)} objects are "
+                            f"selected): select one Ruled fit")
+    obj = objects[0]
+    if not (hasattr(obj, "Source") and hasattr(obj, "Shape") and len(obj.Shape.Faces) == 1):
+        raise BadInputError(f"{obj.Label} is not a Ruled fit: select the result of 'Fit ruled surface'")
+    return obj, source_face(obj)
+
+
+def rulings_step(objects, path: str, chord_tol=None) -> int:
+    """The results' faces and their rulings (as many as the chord tolerance needs) as one STEP file."""
+    from ruled.machine import Lines, sync_params
+    shapes = []
+    for f in _faces(objects):
+        R = result_arrays(f)
+        lines = Lines(R, 1.0)
+        tol = chord_tol or 1e-4 * R.diagonal()
+        u = sync_params(lambda x: np.stack(lines.rulings(x), axis=1), *lines.domain, tol)
+        A, B = lines.rulings(u)
+        shapes.append(f)
+        shapes += [Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]
+    if not shapes:
+        raise ValueError("nothing to export: select a ruled result")
+    Part.makeCompound(shapes).exportStep(path)
+    return len(shapes)
+
+
+def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None,
+                   taper: float = 0.0, side: str = "outside", planes=None, feed: float = 100.0,
+                   measure_samples: int = 20, progress=None) -> dict:
+    """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
+    a JSON report beside; returns the report."""
+    from ruled.machine import (MachineOptions, cut_points, flank_path, path_report, side_sign, swept_surface,
+                               tool_envelope, write_apt, write_csv, write_gcode, xyuv_path)
+
+    from .adapter import face_to_arrays, surface_to_face
+    from .measure import distances, grid, rectangle
+    obj, src = _one_fit(objects)
+    R = result_arrays(obj.Shape.Faces[0])
+    S = face_to_arrays(src)
+    out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
+    sign = side_sign(R, S, out_side)
+    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, None, feed).checked()
+    mp = (xyuv_path if kind == "xyuv" else flank_path)(R, opts, sign, progress)
+    title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
+    base = os.path.splitext(path)[0]
+    rep = {"object": obj.Label, "source": title, "output": path, "csv": base + ".csv",
+           "machine": path_report(mp), "fit": {"error_bound": obj.ErrorBound, "measured": obj.Hausdorff}}
+    if kind == "xyuv":
+        write_gcode(mp, path, title)
+        if measure_samples:
+            target = src
+            if kerf:
+                u0, u1, v0, v1 = src.ParameterRange
+                target = Part.Face(Part.OffsetSurface(src.Surface, out_side * kerf), u0, u1, v0, v1)
+            n = measure_samples
+            to_cut = distances(grid(target, n), surface_to_face(swept_surface(mp))).max()
+            per_move = max(1, int(round(3 * n * n / (11 * max(len(mp.u) - 1, 1)))))
+            to_design = distances(cut_points(mp, per_move), rectangle(target)).max()
+            rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
+                          "cut_to_design": float(to_design), "bound": obj.Hausdorff + mp.stats["cut_bound_beyond_fit"]}
+    else:
+        write_apt(mp, path, title)
+        if measure_samples:
+            rep["tool_envelope"] = tool_envelope(S, out_side, mp)
+    write_csv(mp, base + ".csv")
+    rep["warnings"] = list(mp.warnings)
+    with open(base + ".json", "w") as fh:
+        json.dump(rep, fh, indent=1, default=float)
+    return rep
