@@ -5,22 +5,22 @@ The machine moves along straight lines.  For a ruled result R(u, t) (rulings alo
 
 * XYUV: the ruling itself, or with a kerf k its offset: the straight line closest (in the largest
   distance, by Lawson's reweighted least squares) to the offset curve R(u, t) + k n(u, t) of that
-  ruling.  A wire of radius k whose axis sweeps these
-  lines cuts the envelope of its cylinders, i.e. the offset of the line surface by k: the ruled
-  surface itself where the offset is exact (developable surfaces), within the offset lines'
-  deviation elsewhere (reported).
+  ruling.  A wire of radius k whose axis sweeps these lines cuts the envelope of its cylinders, i.e.
+  the offset of the line surface by k: the ruled surface itself where the offset is exact
+  (developable surfaces), within the offset lines' deviation elsewhere (reported).
 * Flank: the tool axis, the ruling offset by the tool radius r along the normal (a cylinder touches
   the surface along the ruling); for a conical tool of taper angle a the axis is tilted by a from the
   ruling in its normal plane and offset by r at the tip, so that a generator of the cone lies on the
   ruling.
 
-Each line is extended to the two machine planes (XYUV) or kept between the ruling's ends (flank,
-tip at the lower end).  The points on the two planes, as functions of u, are the two contours; the
-synchronized pairs are a subdivision of u, densified (bisection) until the straight move between
-consecutive pairs stays within the chord tolerance of both contours at the same u, then thinned
-(greedy, longest moves first) under the same test.  Because the cut surface between two
-planes is linear in the line parameter, the surface between the exported polylines is then within
-the chord tolerance of the line surface everywhere between the planes.
+Each line is extended to the two machine planes (XYUV) or kept between the ruling's ends (flank: the
+tip at the ruling's t0 end, the fit's first boundary).  The points on the two planes (or the tool's two
+ends), as functions of u, are the two contours; the synchronized pairs are a subdivision of u: densified
+by bisection until every move is within a sixteenth of the chord tolerance of both contours at the same
+u, then thinned greedily to the longest moves within the chord tolerance at every sample taken.
+Because the line surface between two planes is linear in the line parameter, the surface between the
+exported polylines is then within the chord tolerance of the line surface everywhere between the
+planes.
 
 Data in and out are plain arrays; the G-code, CSV and APT writers are here, OCCT is not.
 """
@@ -539,7 +539,8 @@ def _with_leads(lower: np.ndarray, upper: np.ndarray, lines: Lines, us: np.ndarr
 
 def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Progress = None) -> MachinePath:
     """Tool axes for flank milling R with a cylindrical (or conical) tool on the side `sign` of R's normal:
-    the tip centre at the lower end of each ruling and the axis direction (see the module)."""
+    the tip centre at the t0 end of each ruling (the fit's first boundary) and the axis direction (see the
+    module)."""
     opts = opts.checked()
     tol = _chord(opts, R)
     lines = Lines(R, sign, opts.tool_radius, opts.taper_deg)
