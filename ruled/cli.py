@@ -12,7 +12,7 @@
               [--objective max|sum] -o OUTPUT.step
               [--split-faces FACES.step] [--report R.json] [--plot P.png]
     ruled fit INPUT --face K --tol T [--max-strips N] -o OUTPUT.step [--split-faces FACES.step] [--report R.json]
-    ruled machine INPUT --face K (--xyuv [--planes a,b] [--kerf k] | --flank --tool-radius r [--taper deg])
+    ruled machine INPUT --face K (--xyuv [--planes a,b] [--kerf k] | --flank --tool-radius r [--taper deg] [--tip T])
               [--chord-tol t] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv] [--step CAM.step [--rulings]]
               [--report R.json] [--plot P.png]
     ruled demo
@@ -170,6 +170,9 @@ def _machine_parser(sub) -> None:
                    help="xyuv: lead-in and lead-out length (default 5%% of the diagonal; 0: none)")
     m.add_argument("--tool-radius", type=float, default=None, help="flank: tool radius (at the tip for --taper)")
     m.add_argument("--taper", type=float, default=0.0, help="flank: half angle of a conical tool, degrees")
+    m.add_argument("--tip", choices=["auto", "first", "second"], default="auto",
+                   help="flank: the tool tip at the rulings' first or second end (the fit's boundaries), or auto: "
+                        "the end lower in z (default)")
     m.add_argument("--side", choices=["outside", "inside"], default="outside",
                    help="the side of the face the wire offset or the tool is on (outside: the face's normal)")
     m.add_argument("--chord-tol", type=float, default=None,
@@ -540,7 +543,7 @@ def run_machine(args) -> dict:
     if args.planes is not None:
         planes = args.planes.split(",")
     opts = MachineOptions("flank" if args.flank else "xyuv", args.chord_tol, planes, args.axis, args.margin,
-                          args.kerf, args.tool_radius, args.taper, args.lead, args.feed).checked()
+                          args.kerf, args.tool_radius, args.taper, args.lead, args.feed, tip=args.tip).checked()
     if args.flank and args.kerf:
         raise RuledError("--kerf is for --xyuv; a flank tool is offset by --tool-radius")
     if args.xyuv and args.tool_radius is not None:

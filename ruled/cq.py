@@ -259,13 +259,13 @@ def xyuv_face(face, chord_tol: Optional[float] = None, planes=None, axis="auto",
 
 
 def flank_face(face, tool_radius: float, taper: float = 0.0, chord_tol: Optional[float] = None, feed: float = 100.0,
-               side: str = "outside", method: str = "2d", samples: int = 40, fit=None, measure: bool = True,
-               measure_samples: int = 30, progress=None) -> MachineData:
+               side: str = "outside", tip: str = "auto", method: str = "2d", samples: int = 40, fit=None,
+               measure: bool = True, measure_samples: int = 30, progress=None) -> MachineData:
     """Flank-milling CL data of the face's ruled fit: the tool tip centre and axis at every CL point for a
     cylindrical tool (or a conical one of half angle `taper` degrees).  The report's "tool_envelope"
     gives the measured overcut and undercut of the tool surfaces against the design face."""
     from .machine import MachineOptions
-    opts = MachineOptions("flank", chord_tol, None, "auto", None, 0.0, tool_radius, taper, None, feed)
+    opts = MachineOptions("flank", chord_tol, None, "auto", None, 0.0, tool_radius, taper, None, feed, tip=tip)
     return _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress)
 
 

@@ -14,7 +14,7 @@ The machine moves along straight lines.  For a ruled result R(u, t) (rulings alo
   ruling.
 
 Each line is extended to the two machine planes (XYUV) or kept between the ruling's ends (flank: the
-tip at the ruling's t0 end, the fit's first boundary).  The points on the two planes (or the tool's two
+tip at one end of the ruling, by default the lower in z).  The points on the two planes (or the tool's two
 ends), as functions of u, are the two contours; the synchronized pairs are a subdivision of u: densified
 by bisection until every move is within a sixteenth of the chord tolerance of both contours at the same
 u, then thinned greedily to the longest moves within the chord tolerance at every sample taken.
@@ -60,6 +60,7 @@ class MachineOptions:
     lead: Optional[float] = None            # xyuv: lead-in / lead-out length (default 5% of diagonal; 0: none)
     feed: float = 100.0                     # feed rate, model units per minute
     max_points: int = 50000
+    tip: str = "auto"                       # flank: the tool tip at the rulings' first end, second, or auto (lower z)
 
     def checked(self) -> "MachineOptions":
         def positive(name, x, zero_ok=False):
@@ -91,9 +92,11 @@ class MachineOptions:
         if not (0.0 <= taper < 45.0):
             raise BadInputError(f"--taper must be from 0 to 45 degrees (the tool's half angle), not {taper:g}")
         feed = positive("--feed", self.feed)
+        if self.tip not in ("auto", "first", "second"):
+            raise BadInputError(f"--tip is auto, first or second, not {self.tip!r}")
         return MachineOptions(self.mode, positive("--chord-tol", self.chord_tol), planes, _axis_spec(self.axis),
                               positive("--margin", self.margin), positive("--kerf", self.kerf, True), r, taper,
-                              positive("--lead", self.lead, True), feed, int(self.max_points))
+                              positive("--lead", self.lead, True), feed, int(self.max_points), self.tip)
 
 
 def _axis_spec(axis):
@@ -537,15 +540,25 @@ def _with_leads(lower: np.ndarray, upper: np.ndarray, lines: Lines, us: np.ndarr
 
 # ----------------------------------------------------------------------------------------------- flank
 
+def reversed_t(R: Surface) -> Surface:
+    """R with its rulings run the other way (t reversed; the normal Su x Sv turns over)."""
+    kv = R.knots_v[0] + R.knots_v[-1] - R.knots_v[::-1]
+    W = None if R.weights is None else R.weights[:, ::-1].copy()
+    return Surface(R.poles[:, ::-1].copy(), R.knots_u, kv, R.degree_u, R.degree_v, W, periodic_u=R.periodic_u)
+
+
 def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Progress = None) -> MachinePath:
     """Tool axes for flank milling R with a cylindrical (or conical) tool on the side `sign` of R's normal:
-    the tip centre at the t0 end of each ruling (the fit's first boundary) and the axis direction (see the
-    module)."""
+    the tip centre at one end of each ruling (opts.tip: the t0 end, the t1 end, or auto: the end lower in
+    z, the tool pointing up to the spindle) and the axis direction (see the module)."""
     opts = opts.checked()
     tol = _chord(opts, R)
-    lines = Lines(R, sign, opts.tool_radius, opts.taper_deg)
-    u0, u1 = lines.domain
+    u0, u1, t0, t1 = R.domain
     ud = np.linspace(u0, u1, _DENSE)
+    low_second = float(np.mean(R(ud, np.full(ud.shape, t1))[:, 2] - R(ud, np.full(ud.shape, t0))[:, 2])) < 0
+    if opts.tip == "second" or (opts.tip == "auto" and low_second):
+        R, sign = reversed_t(R), -sign
+    lines = Lines(R, sign, opts.tool_radius, opts.taper_deg)
     _check_rulings(lines, ud)
     a, b, dev = lines.ends(ud)
     off_dev = float(dev.max())

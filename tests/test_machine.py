@@ -257,8 +257,8 @@ def test_xyuv_blade_round_trip(tmp_path):
 def test_xyuv_planes_given(tmp_path, hyp_file):
     ngc, rep, _ = run_cli(tmp_path, hyp_file, 0, "--xyuv", "--planes", "12,-11", "--axis", "z", "--lead", "0")
     assert rep["machine"]["plane_heights"] == [-11.0, 12.0]     # given as 12,-11: sorted
-    moves = parse_moves(ngc)
-    assert len(moves) == rep["machine"]["sync_points"]              # no leads
+    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
+    assert len(parsed) == rep["machine"]["sync_points"] and set(kinds) == {"cut"}     # no leads
 
 
 def test_xyuv_of_a_ruled_result(tmp_path, hyp_file):
@@ -354,13 +354,17 @@ def test_flank_developable(tmp_path, patches, name):
     assert not rep["warnings"]
 
 
-def test_flank_cone_tool(tmp_path, patches):
-    """A conical tool (taper 5 degrees) on the cylinder: a generator of the cone lies on each ruling."""
+@pytest.mark.parametrize("tip", ["auto", "second"])
+def test_flank_cone_tool(tmp_path, patches, tip):
+    """A conical tool (taper 5 degrees) on the cylinder: a generator of the cone lies on each ruling, with
+    the tip at either end (auto: the lower)."""
     apt, rep, _ = run_cli(tmp_path, patches["cylinder"], 0, "--flank", "--tool-radius", "2", "--taper", "5",
-                          "--chord-tol", "1e-3", "--method", "4d")
+                          "--chord-tol", "1e-3", "--method", "4d", "--tip", tip)
     assert rep["fit"]["notes"]                                        # 4d: exact already, said so
-    tip, axis = parse_apt(apt)
-    over, under = tool_cut(tip, axis, 2.0, 5.0, 20.0 * math.cos(math.radians(5)), sd_cylinder)
+    tip_pts, axis = parse_apt(apt)
+    assert np.all(axis[:, 2] > 0.99) if tip == "auto" else np.all(axis[:, 2] < -0.99)
+    assert np.all(tip_pts[:, 2] < 0.0) if tip == "auto" else np.all(tip_pts[:, 2] > 20.0)
+    over, under = tool_cut(tip_pts, axis, 2.0, 5.0, 20.0 * math.cos(math.radians(5)), sd_cylinder)
     assert over <= 1e-6 * 28 and under <= 1e-6 * 28
     assert rep["tool_envelope"]["cl_positions"]["overcut"] <= 1e-6 * 28
 
@@ -449,10 +453,9 @@ def test_readme_cadquery_example(tmp_path, monkeypatch):
     assert not any(hasattr(cq.Workplane, k) for k in WORKPLANE_METHODS)
     # its G-code passes the round trip: rebuilt from the parsed moves, against the design face
     face = get_face(src, 6)
-    for ngc in ("blade.ngc", "blade2.ngc"):
-        moves = parse_moves(ngc)
-        assert all({"X", "Y", "U", "V"} <= set(p) for _, p in moves)
+    parsed2, _ = check_sync("blade2.ngc", "blade2.csv")              # the chained Workplane method's file
     parsed, kinds = check_sync("blade.ngc", "blade.csv")
+    assert np.array_equal(parsed, parsed2)                              # the same path both ways
     cut = parsed[[k == "cut" for k in kinds]]
     rep = _report_from_header("blade.ngc")
     lo, hi = lines_3d(cut, rep)
