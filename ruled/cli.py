@@ -550,6 +550,8 @@ def run_machine(args) -> dict:
         raise RuledError("--tool-radius is for --flank; a wire is offset by --kerf")
     if args.measure_samples < 4:
         raise RuledError("--measure-samples must be at least 4")
+    if args.ruled and args.method != "2d":
+        raise RuledError("--ruled machines the face as it is; --method chooses a fit: give one of them")
     fit_opts = FitOptions(samples=args.samples, method=args.method).checked()
     csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
     _check_outputs(args.output, csv_path, args.step, args.report, args.plot)

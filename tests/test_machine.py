@@ -396,6 +396,8 @@ def test_flank_radius_warning(tmp_path, patches, capsys):
     (["--flank", "--tool-radius", "1", "--taper", "50"], "--taper"),
     (["--xyuv", "--planes", "3"], "--planes"),
     (["--xyuv", "--chord-tol", "1e-12"], "chord"),
+    (["--xyuv", "--ruled", "--method", "4d"], "give one of them"),
+    (["--flank", "--tool-radius", "1", "--kerf", "0.1"], "--kerf is for --xyuv"),
 ])
 def test_bad_input(tmp_path, hyp_file, capsys, args, needle):
     out = str(tmp_path / "x.ngc")
