@@ -534,7 +534,8 @@ def cmd_cone(args) -> int:
 def run_machine(args) -> dict:
     """Read a face, fit it, make the machine path, measure it, write the G-code / APT, CSV, STEP."""
     from .fit import FitOptions
-    from .machine import MachineOptions, plot_path, write_apt, write_csv, write_gcode
+    from .machine import MachineOptions
+    from .machine_output import plot_path, write_machine
     from .occ.io import get_face, trim_warning, write_step
     from .occ.machine import cam_shapes, machine_of_face
     from .report import write_report
@@ -561,8 +562,7 @@ def run_machine(args) -> dict:
         face, opts, fit_opts, bar, args.measure_samples, 1.0 if args.side == "outside" else -1.0,
         warnings=warn, given=args.ruled))
     title = f"face {args.face} of {os.path.basename(args.input)}"
-    (write_gcode if opts.mode == "xyuv" else write_apt)(fm.path, args.output, title)
-    write_csv(fm.path, csv_path)
+    write_machine(fm.path, args.output, title, csv_path)
     if args.step:
         write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face,
@@ -626,14 +626,14 @@ def cmd_demo(args) -> int:
     rep = run_fit(src, 0, paths["o"], samples=40, report=paths["r"], plot=paths["p"], quiet=args.quiet)
     _summary(rep, paths["o"], paths["r"], paths["p"])
     # the result as machine data: synchronized XYUV contours for a 4-axis wire
-    from .machine import MachineOptions, plot_path, write_csv, write_gcode
+    from .machine import MachineOptions
+    from .machine_output import plot_path, write_machine
     from .occ.io import get_face
     from .occ.machine import machine_of_face
     fm = _with_bar(args.quiet, 0, lambda bar: machine_of_face(get_face(paths["o"], 0), MachineOptions(),
                                                                progress=bar, measure_samples=20, given=True))
     files = {k: os.path.join(out, n) for k, n in (("g", "wire.ngc"), ("c", "wire.csv"), ("p", "wire.png"))}
-    write_gcode(fm.path, files["g"], "Ruled demo: the ruled fit of Elber's ex2")
-    write_csv(fm.path, files["c"])
+    write_machine(fm.path, files["g"], "Ruled demo: the ruled fit of Elber's ex2", files["c"])
     plot_path(fm.path, files["p"], "Ruled demo: XYUV contours of the ruled fit")
     m, c = fm.report["machine"], fm.report["cut"]
     print(f"XYUV: {m['sync_points']} synchronized pairs within {m['chord_tol']:.3g} of the ruled surface "

@@ -68,6 +68,15 @@ def _face_of(face):
     return container_to_face(face) if isinstance(face, Surface) else _topods(face)
 
 
+def _cq(shape, kind: str = "Face"):
+    """The CadQuery wrapper of an OCP shape when CadQuery is installed, else the shape itself."""
+    try:
+        import cadquery as cq
+    except ImportError:  # plain OCP
+        return shape
+    return getattr(cq, kind)(shape) if kind != "Shape" else cq.Shape.cast(shape)
+
+
 def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optional[float] = None,
              direction: str = "auto", refine: bool = True, measure: bool = True, measure_samples: int = 40,
              progress: Progress = None, method: str = "2d", elevations: Optional[int] = None,
@@ -90,12 +99,7 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
                                     step=step, metric=metric), progress)
     out = container_to_face(res.surface)
     h = hausdorff(src, out, measure_samples) if measure else None
-    try:
-        import cadquery as cq
-        out_face = cq.Face(out)
-    except ImportError:  # plain OCP
-        out_face = out
-    return RuledFit(out_face, res.surface, res.best.rulings, res.error_bound + slack, h, res)
+    return RuledFit(_cq(out), res.surface, res.best.rulings, res.error_bound + slack, h, res)
 
 
 @dataclass(frozen=True)
@@ -121,12 +125,7 @@ def curve_on_face(face, uv, tol: float = 1e-3, angle: float = 1.0, bound: str = 
     D = uv if isinstance(uv, Curve) else polyline_curve(uv)
     fc = _on_face(src, D, tol, angle, bound=bound, progress=progress,
                   measure_samples=measure_samples if measure else None)
-    try:
-        import cadquery as cq
-        edge = cq.Edge(fc.edge)
-    except ImportError:  # plain OCP
-        edge = fc.edge
-    return CurveOnFace(edge, fc.result, fc.measure, tuple(fc.warnings))
+    return CurveOnFace(_cq(fc.edge, "Edge"), fc.result, fc.measure, tuple(fc.warnings))
 
 
 @dataclass(frozen=True)
@@ -151,21 +150,8 @@ def cone_spline_face(face, tol: float, step: float = 0.1, fit: bool = False, dir
     src = _face_of(face)
     fc = cone_of_face(src, check_tolerance(tol), step, direction=direction, fit=fit, progress=progress,
                       measure_samples=measure_samples if measure else None, allow_creases=allow_creases)
-    try:
-        import cadquery as cq
-        shell, faces = cq.Shape.cast(fc.shell), tuple(cq.Face(f) for f in fc.faces)
-    except ImportError:  # plain OCP
-        shell, faces = fc.shell, tuple(fc.faces)
-    return ConeSplineFace(shell, faces, fc.result, fc.measure, fc.fit, tuple(fc.warnings))
-
-
-def _cq(shape, kind: str = "Face"):
-    """The CadQuery wrapper of an OCP shape when CadQuery is installed, else the shape itself."""
-    try:
-        import cadquery as cq
-    except ImportError:  # plain OCP
-        return shape
-    return getattr(cq, kind)(shape) if kind != "Shape" else cq.Shape.cast(shape)
+    return ConeSplineFace(_cq(fc.shell, "Shape"), tuple(_cq(f) for f in fc.faces), fc.result, fc.measure, fc.fit,
+                          tuple(fc.warnings))
 
 
 @dataclass(frozen=True)
@@ -206,17 +192,17 @@ class MachineData:
     warnings: tuple = ()
 
     def write_gcode(self, filename: str, title: str = "") -> str:
-        from .machine import write_gcode
+        from .machine_output import write_gcode
         write_gcode(self.path, filename, title)
         return filename
 
     def write_apt(self, filename: str, title: str = "") -> str:
-        from .machine import write_apt
+        from .machine_output import write_apt
         write_apt(self.path, filename, title)
         return filename
 
     def write_csv(self, filename: str) -> str:
-        from .machine import write_csv
+        from .machine_output import write_csv
         write_csv(self.path, filename)
         return filename
 
@@ -228,7 +214,7 @@ class MachineData:
         return filename
 
     def plot(self, filename: str) -> str:
-        from .machine import plot_path
+        from .machine_output import plot_path
         plot_path(self.path, filename)
         return filename
 
@@ -308,19 +294,17 @@ def _ruledCurveOnFace(self, uv, **kw):
 
 def _ruledXYUV(self, filename: str, csv: Optional[str] = None, **kw):
     """Write the XYUV G-code (and its CSV, default beside it) of the selected face; the ruled fit follows."""
-    import os
+    from .machine_output import write_machine
     m = xyuv_face(_one_face(self), **kw)
-    m.write_gcode(filename)
-    m.write_csv(csv or os.path.splitext(filename)[0] + ".csv")
+    write_machine(m.path, filename, csv_path=csv)
     return self.newObject([m.face])
 
 
 def _ruledFlank(self, filename: str, tool_radius: float, csv: Optional[str] = None, **kw):
     """Write the flank-milling APT CL data (and its CSV) of the selected face; the ruled fit follows."""
-    import os
+    from .machine_output import write_machine
     m = flank_face(_one_face(self), tool_radius, **kw)
-    m.write_apt(filename)
-    m.write_csv(csv or os.path.splitext(filename)[0] + ".csv")
+    write_machine(m.path, filename, csv_path=csv)
     return self.newObject([m.face])
 
 

@@ -22,12 +22,12 @@ Because the line surface between two planes is linear in the line parameter, the
 exported polylines is then within the chord tolerance of the line surface everywhere between the
 planes.
 
-Data in and out are plain arrays; the G-code, CSV and APT writers are here, OCCT is not.
+Data in and out are plain arrays; the G-code, CSV and APT writers, the report and the plot are in
+ruled.machine_output; OCCT is not used.
 """
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Optional
@@ -632,81 +632,6 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     return out
 
 
-# --------------------------------------------------------------------------------------------- writers
-
-def _fmt(x: float, digits: int = 6) -> str:
-    s = f"{x:.{digits}f}"
-    return s[1:] if s.startswith("-") and not s.strip("-0.") else s
-
-
-def write_gcode(path: MachinePath, filename: str, title: str = "") -> None:
-    """LinuxCNC-style XYUV G-code: G21 G90, a rapid to the lead-in, then one G1 with X Y U V and F per
-    synchronized move (the lower guide in XY, the upper in UV)."""
-    if path.mode != "xyuv":
-        raise BadInputError("G-code is written for XYUV contours; flank paths are written as CL data (.apt/.csv)")
-    fr, (h0, h1) = path.frame, path.planes
-    lines = [f"(ruled XYUV contour{': ' + title if title else ''})",
-             f"(lower guide XY on the plane at height {_fmt(h0)}, upper guide UV at height {_fmt(h1)}, "
-             f"along the axis {_vec(fr.axis)})",
-             f"(X = p . {_vec(fr.e1)}, Y = p . {_vec(fr.e2)}; U, V the same on the upper plane)",
-             f"(synchronized points {path.stats['sync_points']}, chord tolerance {path.chord_tol:.6g}, "
-             f"kerf {path.radius:.6g}, {'closed' if path.closed else 'open'} contour)",
-             "G21 G90 G94"]
-    m = path.moves
-    lines.append("G0 " + _xyuv(m[0]))
-    for row in m[1:]:
-        lines.append("G1 " + _xyuv(row) + f" F{path.feed:g}")
-    lines.append("M2")
-    with open(filename, "w") as fh:
-        fh.write("\n".join(lines) + "\n")
-
-
-def _vec(v) -> str:
-    return "(" + ", ".join(f"{x:.12g}" for x in v) + ")"
-
-
-def _xyuv(r) -> str:
-    return " ".join(f"{k}{_fmt(x)}" for k, x in zip("XYUV", r))
-
-
-def write_csv(path: MachinePath, filename: str) -> None:
-    """xyuv: one row per move (kind, X, Y, U, V, the two 3D points, u); flank: one row per CL point
-    (u, tip x y z, axis i j k)."""
-    with open(filename, "w", newline="") as fh:
-        w = csv.writer(fh)
-        if path.mode == "xyuv":
-            w.writerow(["kind", "X", "Y", "U", "V", "lower_x", "lower_y", "lower_z", "upper_x", "upper_y",
-                        "upper_z", "u"])
-            (h0, h1), fr = path.planes, path.frame
-            k = 0
-            for kind, row in zip(path.kinds, path.moves):
-                lo, hi = fr.point(row[:2], h0), fr.point(row[2:], h1)
-                uu = path.u[k] if kind == "cut" else ""
-                k += kind == "cut"
-                w.writerow([kind, *map(_fmt, row), *map(_fmt, lo), *map(_fmt, hi),
-                            uu if uu == "" else f"{uu:.12g}"])
-        else:
-            w.writerow(["u", "x", "y", "z", "i", "j", "k"])
-            for uu, p, a in zip(path.u, path.lower, path.axes):
-                w.writerow([f"{uu:.12g}", *map(_fmt, p), *(_fmt(x, 9) for x in a)])
-
-
-def write_apt(path: MachinePath, filename: str, title: str = "") -> None:
-    """APT-style CL data: the tip centre and the unit tool axis of every CL point (GOTO/x,y,z,i,j,k)."""
-    if path.mode != "flank":
-        raise BadInputError("APT CL data is written for flank paths; XYUV contours are written as G-code")
-    r, ta = path.radius, path.taper_deg
-    L = float(np.linalg.norm(path.upper - path.lower, axis=1).max())
-    lines = [f"PARTNO/RULED FLANK{' ' + title.upper() if title else ''}", "UNITS/MM", "MULTAX/ON",
-             f"CUTTER/{_fmt(2 * r)},0,{_fmt(r) if ta == 0 else '0'},0,{_fmt(ta)},0,{_fmt(L)}",
-             f"FEDRAT/{path.feed:g}"]
-    for p, a in zip(path.lower, path.axes):
-        lines.append("GOTO/" + ",".join(_fmt(x) for x in p) + "," + ",".join(_fmt(x, 9) for x in a))
-    lines.append("FINI")
-    with open(filename, "w") as fh:
-        fh.write("\n".join(lines) + "\n")
-
-
 def swept_surface(path: MachinePath) -> Surface:
     """The surface the machine's lines sweep from the lower to the upper point (the planes for XYUV, the
     tool's ends for flank): straight lines between the synchronized pairs, bilinear between consecutive
@@ -716,9 +641,9 @@ def swept_surface(path: MachinePath) -> Surface:
     return Surface(np.stack([path.lower, path.upper], axis=1), ku, [0.0, 0.0, 1.0, 1.0], 1, 1)
 
 
-def cut_points(path: MachinePath, per_move: int = 4, along: int = 11, exact: bool = False) -> np.ndarray:
-    """Points of the swept lines inside the part: per_move lines evenly inside every move (the first at
-    its start), each sampled at `along` points between its part ends, whose fractions of the line are
+def cut_points(path: MachinePath, count: int = 2700, along: int = 11, exact: bool = False) -> np.ndarray:
+    """About `count` points of the swept lines inside the part: lines evenly inside every move (the first
+    at its start), each sampled at `along` points between its part ends, whose fractions of the line are
     interpolated between those of the synchronized lines (exact there).  exact=True gives the same
     points on the exact lines (path.trace at the same parameter), the ruled surface's counterparts of
     the machine's: each machine point is within the chord tolerance of its counterpart."""
@@ -728,6 +653,7 @@ def cut_points(path: MachinePath, per_move: int = 4, along: int = 11, exact: boo
     fa = np.einsum("ij,ij->i", path.part[:, 0] - lo, d) / L2
     fb = np.einsum("ij,ij->i", path.part[:, 1] - lo, d) / L2
     n = lo.shape[0]
+    per_move = max(1, int(round(count / (along * max(n - 1, 1)))))
     t = np.linspace(0.0, 1.0, along)
     parts = []
     for i in range(n - 1):
@@ -747,42 +673,9 @@ def cut_points(path: MachinePath, per_move: int = 4, along: int = 11, exact: boo
     return np.concatenate(parts)
 
 
-def path_report(path: MachinePath) -> dict:
-    d = {"mode": path.mode, "chord_tol": path.chord_tol, "closed": path.closed, **path.stats,
-         "offset_deviation": path.offset_deviation, "feed": path.feed, "warnings": list(path.warnings)}
-    if path.mode == "xyuv":
-        d.update(kerf=path.radius, frame={"e1": path.frame.e1.tolist(), "e2": path.frame.e2.tolist(),
-                                          "axis": path.frame.axis.tolist()},
-                 leads=int(sum(k != "cut" for k in path.kinds)))
-    return d
-
-
-def plot_path(path: MachinePath, filename: str, title: str = "") -> None:
-    """The two contours (XY and UV, or tip and top of the tool) with their synchronisation links."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fr = path.frame or frame_of(np.mean(path.axes, axis=0))
-    a, b = fr.xy(path.lower), fr.xy(path.upper)
-    fig, ax = plt.subplots(figsize=(7, 6))
-    step = max(1, len(a) // 150)
-    for p, q in zip(a[::step], b[::step]):
-        ax.plot([p[0], q[0]], [p[1], q[1]], color="0.75", lw=0.5)
-    names = ("XY (lower guide)", "UV (upper guide)") if path.mode == "xyuv" else ("tool tip", "tool top")
-    ax.plot(a[:, 0], a[:, 1], "-", color="tab:blue", lw=1.2, label=names[0])
-    ax.plot(b[:, 0], b[:, 1], "-", color="tab:red", lw=1.2, label=names[1])
-    if path.moves is not None and path.kinds and path.kinds[0] == "lead-in":
-        m = path.moves
-        for ends in ([0, 1], [-2, -1]):
-            ax.plot(m[ends, 0], m[ends, 1], ":", color="tab:blue")
-            ax.plot(m[ends, 2], m[ends, 3], ":", color="tab:red")
-    ax.set_xlabel("X, U" if path.mode == "xyuv" else "e1")
-    ax.set_ylabel("Y, V" if path.mode == "xyuv" else "e2")
-    ax.set_aspect("equal")
-    ax.legend(loc="best", fontsize=8)
-    ax.set_title(title or f"{path.mode}: {len(a)} synchronized points, chord tolerance {path.chord_tol:.3g} "
-                 f"(links every {step})", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(filename, dpi=110)
-    plt.close(fig)
+def machine_path(R: Surface, S: Surface, opts: MachineOptions, side: float = 1.0,
+                 progress: Progress = None) -> MachinePath:
+    """The XYUV contours or flank tool axes (opts.mode) of the ruled surface R fitted to the design
+    surface S, on the side `side` of S (+1: its Su x Sv, the outside of a forward face)."""
+    opts = opts.checked()
+    return (xyuv_path if opts.mode == "xyuv" else flank_path)(R, opts, side_sign(R, S, side), progress)

@@ -76,8 +76,8 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                    measure_samples: int = 20, progress=None) -> dict:
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside; returns the report."""
-    from ruled.machine import (MachineOptions, cut_points, flank_path, path_report, side_sign, swept_surface,
-                               tool_envelope, write_apt, write_csv, write_gcode, xyuv_path)
+    from ruled.machine import MachineOptions, cut_points, machine_path, swept_surface, tool_envelope
+    from ruled.machine_output import path_report, write_machine
 
     from .adapter import face_to_arrays, surface_to_face
     from .measure import distances, grid, rectangle
@@ -85,15 +85,13 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     R = result_arrays(obj.Shape.Faces[0])
     S = face_to_arrays(src)
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
-    sign = side_sign(R, S, out_side)
-    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, None, feed).checked()
-    mp = (xyuv_path if kind == "xyuv" else flank_path)(R, opts, sign, progress)
+    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, None, feed)
+    mp = machine_path(R, S, opts, out_side, progress)
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
-    base = os.path.splitext(path)[0]
-    rep = {"object": obj.Label, "source": title, "output": path, "csv": base + ".csv",
+    csv_path = write_machine(mp, path, title)
+    rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path,
            "machine": path_report(mp), "fit": {"error_bound": obj.ErrorBound, "measured": obj.Hausdorff}}
     if kind == "xyuv":
-        write_gcode(mp, path, title)
         if measure_samples:
             target = src
             if kerf:
@@ -101,16 +99,12 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                 target = Part.Face(Part.OffsetSurface(src.Surface, out_side * kerf), u0, u1, v0, v1)
             n = measure_samples
             to_cut = distances(grid(target, n), surface_to_face(swept_surface(mp))).max()
-            per_move = max(1, int(round(3 * n * n / (11 * max(len(mp.u) - 1, 1)))))
-            to_design = distances(cut_points(mp, per_move), rectangle(target)).max()
+            to_design = distances(cut_points(mp, 3 * n * n), rectangle(target)).max()
             rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
                           "cut_to_design": float(to_design), "bound": obj.Hausdorff + mp.stats["cut_bound_beyond_fit"]}
-    else:
-        write_apt(mp, path, title)
-        if measure_samples:
-            rep["tool_envelope"] = tool_envelope(S, out_side, mp)
-    write_csv(mp, base + ".csv")
+    elif measure_samples:
+        rep["tool_envelope"] = tool_envelope(S, out_side, mp)
     rep["warnings"] = list(mp.warnings)
-    with open(base + ".json", "w") as fh:
+    with open(os.path.splitext(path)[0] + ".json", "w") as fh:
         json.dump(rep, fh, indent=1, default=float)
     return rep

@@ -17,8 +17,8 @@ from OCP.Geom import Geom_OffsetSurface
 from OCP.TopAbs import TopAbs_REVERSED
 
 from ..fit import FitOptions, FitResult, fit_surface
-from ..machine import MachineOptions, MachinePath, cut_points, flank_path, path_report, side_sign, swept_surface, \
-    tool_envelope, xyuv_path
+from ..machine import Lines, MachineOptions, MachinePath, cut_points, machine_path, swept_surface, tool_envelope
+from ..machine_output import path_report
 from .convert import container_to_face, conversion_slack, face_to_container, segment_edge
 from .measure import _grid, _Projector, face_bounds, hausdorff, two_sided
 
@@ -46,16 +46,10 @@ def offset_face(face, distance: float):
     return BRepBuilderAPI_MakeFace(surf, u0, u1, v0, v1, 1e-7).Face()
 
 
-def rulings_of(R, u: np.ndarray) -> np.ndarray:
-    """(n, 2, 3) the rulings of the ruled result at the parameters u (its t-ends)."""
-    _, _, t0, t1 = R.domain
-    return np.stack([R(u, np.full(u.shape, t0)), R(u, np.full(u.shape, t1))], axis=1)
-
-
 def cam_shapes(face, R, u: np.ndarray, rulings: bool = False) -> list:
     """STEP for CAM: the ruled result face (R as a TopoDS_Face) and, optionally, its rulings at the
     synchronized parameters u as edges."""
-    return [face] + ([segment_edge(a, b) for a, b in rulings_of(R, u)] if rulings else [])
+    return [face] + ([segment_edge(a, b) for a, b in zip(*Lines(R, 1.0).rulings(u))] if rulings else [])
 
 
 def given_ruled(S):
@@ -74,11 +68,10 @@ def measure_cut(target, path: MachinePath, n: int = 30) -> dict:
     onto the surface the lines sweep, and about 3 n^2 points of the lines inside the part projected
     onto the target; and the same points on the exact lines (the ruled surface the path follows),
     so that the cut is compared with the fit where it was measured."""
-    per_move = max(1, int(round(3 * n * n / (11 * max(len(path.u) - 1, 1)))))
     to_target = _Projector(target)
-    h = two_sided(_grid(target, n), cut_points(path, per_move), to_target,
+    h = two_sided(_grid(target, n), cut_points(path, 3 * n * n), to_target,
                   _Projector(container_to_face(swept_surface(path))))
-    exact = np.array([to_target.distance(x) for x in cut_points(path, per_move, exact=True)])
+    exact = np.array([to_target.distance(x) for x in cut_points(path, 3 * n * n, exact=True)])
     return {"max": h.max, "design_to_cut": h.max_a_to_b, "cut_to_design": h.max_b_to_a, "samples": h.samples,
             "fit_on_the_same_lines": float(exact.max())}
 
@@ -96,10 +89,8 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     res = None if given else fit if fit is not None else fit_surface(S, fit_options.checked(), progress)
     R = given_ruled(S) if given else res.surface
     out_side = outward(face) * (1.0 if side >= 0 else -1.0)
-    sign = side_sign(R, S, out_side)
     t1 = time.perf_counter()
-    make = xyuv_path if opts.mode == "xyuv" else flank_path
-    path = make(R, opts, sign, progress)
+    path = machine_path(R, S, opts, out_side, progress)
     t2 = time.perf_counter()
     out_face = face if given else container_to_face(R)
     if given:
