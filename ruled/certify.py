@@ -45,6 +45,7 @@ class Certificate:
     node_max: float     # largest |S - R o psi| at the grid nodes (a sampled estimate)
     remainder: float    # largest per-cell remainder term
     nodes: tuple        # grid size (nu, nv)
+    map_deviation: float = 0.0   # included in bound: the fitted patch's deviation from the bounded face
 
 
 def _knot_grid(S: Surface, direction: str, target: int, extra=None):

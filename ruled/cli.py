@@ -44,8 +44,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser,
                            metavar="{faces,fit,split,curve-on-surface,cone,machine,demo}")
-    f = sub.add_parser("faces", help="list the faces of a STEP/BREP file")
+    f = sub.add_parser("faces", help="list the faces of a STEP/BREP file (trimmed or not, edges, sides, holes)")
     f.add_argument("input")
+    f.add_argument("--edges", action="store_true",
+                   help="also list each face's outer-wire edges (the indices --rails takes) and its four sides")
     g = sub.add_parser("fit", help="fit the best ruled surface to one face")
     g.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
     g.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
@@ -66,7 +68,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="sum of ruling distances (Elber) or the largest one (minimax)")
     g.add_argument("--max-error", type=float, default=None, help="forbid rulings farther than this from the face")
     g.add_argument("--direction", choices=["auto", "u", "v"], default="auto",
-                   help="v: rulings join the v-min and v-max boundaries; u: the u ones; auto: the better")
+                   help="which pair of opposite sides the rulings join: v, sides 0 and 2 of the face (the v-min and "
+                        "v-max boundaries of an untrimmed face); u, sides 1 and 3; auto: the better")
+    g.add_argument("--rails", type=_rails, default=None, metavar="A,B",
+                   help="the two opposite edges the rulings join (indices as 'ruled faces INPUT --edges' lists them)")
     g.add_argument("--no-refine", action="store_true", help="keep the DP pairing (no continuous refinement)")
     g.add_argument("-o", "--output", required=True, help="STEP file for the ruled face")
     g.add_argument("--report", help="JSON report")
@@ -183,6 +188,8 @@ def _machine_parser(sub) -> None:
                    help="the face is a ruled result already (from 'ruled fit', 'ruled split', 'ruled fit --tol'): "
                         "use it as it is, no fit")
     m.add_argument("--samples", type=int, default=40, help="samples per boundary of the fit (default 40)")
+    m.add_argument("--rails", type=_rails, default=None, metavar="A,B",
+                   help="the two opposite edges the fit's rulings join ('ruled faces INPUT --edges')")
     m.add_argument("-o", "--output", required=True,
                    help="G-code (.ngc) for --xyuv, APT CL data (.apt) for --flank")
     m.add_argument("--csv", help="CSV of the synchronized pairs or CL points (default: OUTPUT with .csv)")
@@ -192,6 +199,15 @@ def _machine_parser(sub) -> None:
     m.add_argument("--plot", help="PNG: the two contours with their synchronisation links")
     m.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
     m.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+def _rails(text: str) -> tuple:
+    try:
+        a, b = (int(x) for x in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--rails {text!r}: give two edge indices as A,B (see 'ruled faces "
+                                         f"INPUT --edges')") from None
+    return a, b
 
 
 def _print_files(output: str, others) -> None:
@@ -223,23 +239,42 @@ def _with_bar(quiet: bool, face_index: int, work):
 
 
 def cmd_faces(args) -> int:
-    from .occ.io import list_faces
-    infos = list_faces(args.input)
-    if not infos:
+    from .occ.io import faces_of, face_info, read_shape
+    from .occ.region import edge_lines, face_region, rect_area_ratio
+    from .region import four_sides
+    faces = faces_of(read_shape(args.input))
+    if not faces:
         raise RuledError(f"{args.input}: the file holds no faces")
-    for info in infos:
-        print(info.line())
+    for i, face in enumerate(faces):
+        info = face_info(i, face)
+        extra = ""
+        try:
+            region = face_region(face)
+            ratio = rect_area_ratio(face, region.surface)
+            trim = "untrimmed" if region.is_rectangle() else f"trimmed {100 * ratio:.0f}%"
+            extra = f"  {trim}  edges {region.size}  holes {len(region.holes)}"
+            sides = four_sides(region) if args.edges and not region.is_rectangle() else None
+        except RuledError as exc:
+            extra, sides = f"  ({exc})", None
+        print(info.line() + extra)
+        if args.edges:
+            for line in edge_lines(face):
+                print(line)
+            if sides is not None:
+                print("    sides: " + "  ".join(f"{k}: [{','.join(map(str, sides.edges(k))) or 'point'}]"
+                                               for k in range(4)) + f"  ({sides.how})")
     return 0
 
 
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
-            elevations=None, step=None, metric="lsad", memory_cap_mb=None) -> dict:
+            elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict."""
-    from .fit import FitOptions, fit_surface
-    from .occ.convert import container_to_face, conversion_slack, face_to_container
-    from .occ.io import get_face, trim_warning, write_step
+    from .fit import FitOptions
+    from .occ.convert import container_to_face
+    from .occ.io import face_area, get_face, write_step
     from .occ.measure import hausdorff
+    from .occ.region import fit_face
     from .progress import Bar
     from .report import plot as make_plot
     from .report import report_dict, write_report
@@ -250,17 +285,15 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     _check_outputs(output, report, plot)
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
-    S = face_to_container(face)
-    slack = conversion_slack(face, S)
-    warnings = trim_warning(face, S, index=face_index)
-    for w in warnings:
-        print(f"ruled: warning: {w}", file=sys.stderr)
     t_read = time.perf_counter() - t0
     bar = Bar(enabled=not quiet and sys.stderr.isatty())
     try:
-        res = fit_surface(S, opts, bar)
+        res, slack = fit_face(face, opts, bar, rails)
     finally:
         bar.done()
+    warnings = list(res.patch.warnings)
+    for w in warnings:
+        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
     t1 = time.perf_counter()
     out_face = container_to_face(res.surface)
     write_step(out_face, output)
@@ -276,6 +309,8 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
                                  "result_to_input": h.max_b_to_a, "samples": h.samples},
                       timings={"read": t_read, "fit": res.timings["total"], "build_and_write": t_write,
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
+    rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
+    rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None
     rep["warnings"] = warnings
     for note in res.notes:
         print(f"ruled: {note}", file=sys.stderr)
@@ -288,7 +323,12 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
 
 def _summary(rep: dict, output: str, report=None, plot=None) -> None:
     h = rep["hausdorff"]
-    print(f"face {rep['face']}: rulings along {rep['direction']}{' (closed)' if rep['closed'] else ''}, "
+    rg = rep.get("region")
+    where = f"along {rep['direction']}"
+    if rg is not None and rg["trimmed"]:
+        where = f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and " \
+                f"{','.join(map(str, rg['rails'][1])) or 'a point'} of the trimmed face"
+    print(f"face {rep['face']}: rulings {where}{' (closed)' if rep['closed'] else ''}, "
           f"{len(rep['pairs'])} DP rulings, result {rep['result']['poles'][0]}x{rep['result']['poles'][1]} poles "
           f"degree {rep['result']['degree'][0]}x{rep['result']['degree'][1]}")
     if rep["method"] == "4d":
@@ -298,7 +338,8 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
         else:
             print(f"4d: {e['levels'] * 2 + 1} elevation levels of {e['step']:.4g} ({e['metric']}); result from "
                   f"the {rep['result_method']} fit")
-    print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g}")
+    print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g}"
+          + (f"   area {rep['area']['ratio']:.4g} x the face's" if rep.get("area", {}).get("ratio") else ""))
     print(f"STEP:   {os.path.abspath(output)}")
     if report:
         print(f"report: {os.path.abspath(report)}")
@@ -317,7 +358,7 @@ def cmd_fit(args) -> int:
                   max_error=args.max_error, direction=args.direction, refine=not args.no_refine,
                   report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet,
                   method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
-                  memory_cap_mb=args.memory_cap)
+                  memory_cap_mb=args.memory_cap, rails=args.rails)
     _summary(rep, args.output, args.report, args.plot)
     return 0
 
@@ -536,7 +577,7 @@ def run_machine(args) -> dict:
     from .fit import FitOptions
     from .machine import MachineOptions
     from .machine_output import plot_path, write_machine
-    from .occ.io import get_face, trim_warning, write_step
+    from .occ.io import get_face, write_step
     from .occ.machine import cam_shapes, machine_of_face
     from .report import write_report
 
@@ -553,14 +594,15 @@ def run_machine(args) -> dict:
         raise RuledError("--measure-samples must be at least 4")
     if args.ruled and args.method != "2d":
         raise RuledError("--ruled machines the face as it is; --method chooses a fit: give one of them")
+    if args.ruled and args.rails is not None:
+        raise RuledError("--ruled machines the face as it is; --rails chooses a fit's rails: give one of them")
     fit_opts = FitOptions(samples=args.samples, method=args.method).checked()
     csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
     _check_outputs(args.output, csv_path, args.step, args.report, args.plot)
     face = get_face(args.input, args.face)
-    warn = trim_warning(face)
     fm = _with_bar(args.quiet, args.face, lambda bar: machine_of_face(
         face, opts, fit_opts, bar, args.measure_samples, 1.0 if args.side == "outside" else -1.0,
-        warnings=warn, given=args.ruled))
+        given=args.ruled, rails=args.rails))
     title = f"face {args.face} of {os.path.basename(args.input)}"
     write_machine(fm.path, args.output, title, csv_path)
     if args.step:

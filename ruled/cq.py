@@ -80,23 +80,23 @@ def _cq(shape, kind: str = "Face"):
 def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optional[float] = None,
              direction: str = "auto", refine: bool = True, measure: bool = True, measure_samples: int = 40,
              progress: Progress = None, method: str = "2d", elevations: Optional[int] = None,
-             step: Optional[float] = None, metric: str = "lsad") -> RuledFit:
-    """Fit the best ruled surface to a face (2D-DP over boundary samples, or 4D-DP with the ruling
-    ends lifted along the normal; refined, certified)."""
-    from .occ.convert import container_to_face, conversion_slack, face_to_container
+             step: Optional[float] = None, metric: str = "lsad", rails=None) -> RuledFit:
+    """Fit the best ruled surface to a face as bounded by its edges (2D-DP over boundary samples, or
+    4D-DP with the ruling ends lifted along the normal; refined, certified).  rails: two edge indices
+    of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join."""
+    from .occ.convert import container_to_face
     from .occ.measure import hausdorff
+    from .occ.region import fit_face as _fit_face
 
+    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
+                      refine=refine, method=method, elevations=elevations, step=step, metric=metric)
     slack = 0.0
     if isinstance(face, Surface):
-        S = face
-        src = container_to_face(S)
+        src = container_to_face(face)
+        res = fit_surface(face, opts, progress)
     else:
         src = _topods(face)
-        S = face_to_container(src)
-        slack = conversion_slack(src, S)
-    res = fit_surface(S, FitOptions(samples=samples, objective=objective, max_error=max_error,
-                                    direction=direction, refine=refine, method=method, elevations=elevations,
-                                    step=step, metric=metric), progress)
+        res, slack = _fit_face(src, opts, progress, rails)
     out = container_to_face(res.surface)
     h = hausdorff(src, out, measure_samples) if measure else None
     return RuledFit(_cq(out), res.surface, res.best.rulings, res.error_bound + slack, h, res)
@@ -220,15 +220,13 @@ class MachineData:
 
 
 def _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress) -> MachineData:
-    from .occ.io import trim_warning
     from .occ.machine import machine_of_face
     if side not in ("outside", "inside"):
         raise BadInputError(f"side must be 'outside' or 'inside', not {side!r}")
     src = _face_of(face)
     res = fit.result if isinstance(fit, RuledFit) else fit
     fm = machine_of_face(src, opts, FitOptions(samples=samples, method=method), progress,
-                         measure_samples if measure else None, 1.0 if side == "outside" else -1.0, res,
-                         trim_warning(src) if not isinstance(face, Surface) else [])
+                         measure_samples if measure else None, 1.0 if side == "outside" else -1.0, res)
     return MachineData(fm.path, _cq(fm.face), fm.report, fm.fit, fm.surface, tuple(fm.warnings))
 
 

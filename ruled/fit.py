@@ -126,6 +126,7 @@ class FitResult:
     timings: dict = field(default_factory=dict)
     notes: tuple = ()             # what the fit decided on its own (e.g. 4D fell back to 2D)
     other: Optional[DirectionFit] = None   # 4D: the fit it was compared with (2D, or the 4D attempt if 2D won)
+    patch: Optional[object] = None         # the face's patch (ruled.facefit.FacePatch) when fitted as a face
 
     @property
     def surface(self) -> Surface:
@@ -286,6 +287,35 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     pc = cost[path[:, 0] % n, path[:, 1] % n]
     return DirectionFit(direction, closed, R, path, rulings, pp, pc, res.score, (sig, dlt, rc), pairing,
                         bd.fit_error, cert, T, bd, So)
+
+
+def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE) -> Optional[DirectionFit]:
+    """The iso-parametric ruled surface between the same two boundaries (the pairing a = b, rulings
+    joining equal parameters: what a CAD system's 'ruled surface between two edges' builds), exact
+    and certified like a fit; None when it cannot be rebuilt exactly."""
+    So, closed = fit.oriented, fit.closed
+    u0, u1, v0, v1 = So.domain
+    L = u1 - u0
+    n = fit.pairs.shape[0]
+    t0 = time.perf_counter()
+    sig = np.linspace(0.0, 1.0, 64, endpoint=not closed)
+    pairing = fit_delta(sig, np.zeros_like(sig), closed, 8)
+    bd = exact_boundaries(So.iso_curve("u", v0), So.iso_curve("u", v1), u0, L, pairing)
+    if bd is None:
+        return None
+    R = ruled_surface(bd)
+    cert = certified_bound(So, pairing, bd, R, *grid)
+    x = np.linspace(0.0, 1.0, n, endpoint=not closed)
+    rc = ruling_distances(So, u0 + L * sig, u0 + L * sig, 15, 4, closed)[1]
+    pc = ruling_distances(So, u0 + L * x, u0 + L * x, FitOptions.points_per_ruling, 3, closed)[1]
+    pp = np.stack([u0 + L * x, u0 + L * x], axis=1)
+    ends = So(np.concatenate([pp[:, 0], pp[:, 1]]), np.concatenate([np.full(n, v0), np.full(n, v1)]))
+    timings = {"iso": time.perf_counter() - t0}
+    return replace(fit, surface=R, pairs=np.stack([np.arange(n), np.arange(n)], axis=1),
+                   rulings=np.stack([ends[:n], ends[n:]], axis=1), pair_params=pp, ruling_costs=pc,
+                   dp_score=float(pc.sum()), refined=(sig, np.zeros_like(sig), rc), pairing=pairing,
+                   boundary_fit_error=bd.fit_error, certificate=cert, timings=timings, boundaries=bd,
+                   elevations=None, lift=None, measured=None, method="iso")
 
 
 def recertify(fit: DirectionFit, grid: tuple = GRID_FINE) -> DirectionFit:

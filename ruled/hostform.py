@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .nurbs import Surface
+from .nurbs import Curve, Surface
 
 
 def full_knots(knots, mults) -> np.ndarray:
@@ -93,6 +93,26 @@ def from_kernel_form(poles, weights, uknots, umults, vknots, vmults, udegree, vd
     kernel's own SetNotPeriodic first and passes the flags it had)."""
     return Surface(np.asarray(poles, float), full_knots(uknots, umults), full_knots(vknots, vmults), int(udegree),
                    int(vdegree), np.asarray(weights, float) if rational else None, bool(uperiodic), bool(vperiodic))
+
+
+def curve_from_kernel_form(poles, weights, knots, mults, degree: int, reversed_: bool = False,
+                           onto=None) -> Curve:
+    """A (2D or 3D) curve container from a kernel's non-periodic form (distinct knots, multiplicities),
+    reversed when the edge runs against its curve in its wire, and, with onto = (a, b), its parameter
+    mapped affinely onto [a, b] (an edge's 3D curve onto its pcurve's range)."""
+    poles = np.asarray(poles, float)
+    w = None if weights is None else np.asarray(weights, float)
+    full = full_knots(knots, mults)
+    if reversed_:
+        poles = poles[::-1].copy()
+        w = None if w is None else w[::-1].copy()
+        full = (full[0] + full[-1]) - full[::-1]
+    if onto is not None:
+        k0, k1 = full[degree], full[-degree - 1]
+        full = onto[0] + (full - k0) * (onto[1] - onto[0]) / (k1 - k0)
+    if w is not None and np.all(w == w[0]):
+        w = None
+    return Curve(poles, full, int(degree), w)
 
 
 def bounds_slack(S: Surface, face_bounds) -> float:

@@ -48,6 +48,8 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
         "version": version,
         "notes": list(res.notes),
     }
+    if res.patch is not None:
+        out["region"] = region_report(res)
     if method == "4d":
         fit4 = b if b.method == "4d" else (res.other if res.other is not None and res.other.method == "4d" else None)
         out["elevation"] = {"levels": fit4.lift["levels"] if fit4 is not None else res.options.elevations,
@@ -61,6 +63,19 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
                                         "poles": list(f.surface.poles.shape[:2])}
                              for f in (b, res.other) if f is not None}
     return out
+
+
+def region_report(res: FitResult) -> dict:
+    """The face as fitted: whether it is trimmed, its sides (loop edge indices, as 'ruled faces --edges'
+    lists them), the rails, and the deviation of its patch (in the bound)."""
+    p = res.patch
+    ra, rb = p.rails(res.direction)
+    d = {"trimmed": not p.identity, "how": p.how, "edges": p.region.size, "holes": len(p.region.holes),
+         "rails": [list(ra), list(rb)], "patch_deviation": p.deviation, "edge_gap": p.edge_gap,
+         "patch_spans": list(p.spans), "face_size": p.face_size}
+    if p.sides is not None:
+        d["sides"] = [list(p.sides.edges(i)) for i in range(4)]
+    return d
 
 
 def _plain(o):

@@ -93,9 +93,31 @@ class Strip:
         lo, hi = self.bounds(S, u.ravel())
         return u, (lo + t.ravel() * (hi - lo)).reshape(u.shape)
 
+    name = "strip's surface"
+    refine_hint = "the split curve is too wiggly: use fewer interior rows (--interior)"
+
     @property
     def whole(self) -> bool:
         return self.lo is None and self.hi is None
+
+    def offset(self, s, t):
+        """None: a strip's side surface is S o Omega itself."""
+        return None
+
+    def breaks(self, S: Surface):
+        """Initial break points in s and t for sampling S o Omega: the surface's and the curves' knots."""
+        u0, u1, _, _ = S.domain
+        bs = {0.0, 1.0}
+        for x in S.interior_knots("u"):
+            bs.add(float((x - u0) / (u1 - u0)))
+        for c in (self.lo, self.hi):
+            if c is not None:
+                kk = np.unique(c.knots)
+                bs.update(float((x - u0) / (u1 - u0)) for x in kk[(kk > u0) & (kk < u1)])
+        bs = np.array(sorted(bs))
+        if bs.size < 9:
+            bs = np.unique(np.concatenate([bs, np.linspace(0.0, 1.0, 9)]))
+        return bs, np.linspace(0.0, 1.0, 5)
 
     def cut(self, S: Surface, c: Curve) -> tuple["Strip", "Strip"]:
         return Strip(self.lo, c), Strip(c, self.hi)
@@ -130,42 +152,44 @@ def _collocate(knots: np.ndarray, sites: np.ndarray, F: np.ndarray) -> np.ndarra
     return splu(csc_matrix(bspline_basis_matrix(knots, DEGREE, sites))).solve(np.ascontiguousarray(F))
 
 
+def _target(S: Surface, strip, ss: np.ndarray, tt: np.ndarray) -> np.ndarray:
+    """The points (N, 3) the side surface interpolates: S o Omega, plus the map's own offset (the
+    blended gaps between a face's edges and its surface) when it has one."""
+    u, v = strip.omega(S, ss, tt)
+    P = S(u.ravel(), v.ravel())
+    off = strip.offset(ss.ravel(), tt.ravel())
+    return P if off is None else P + off
+
+
 def _solve_grid(S: Surface, strip: Strip, ks: np.ndarray, kt: np.ndarray) -> Surface:
     gs, gt = _greville(ks, DEGREE), _greville(kt, DEGREE)
     ss, tt = np.meshgrid(gs, gt, indexing="ij")
-    u, v = strip.omega(S, ss, tt)
-    F = S(u.ravel(), v.ravel()).reshape(gs.size, gt.size, 3)
+    F = _target(S, strip, ss, tt).reshape(gs.size, gt.size, 3)
     X = _collocate(ks, gs, F.reshape(gs.size, -1)).reshape(gs.size, gt.size, 3)
     X = _collocate(kt, gt, np.transpose(X, (1, 0, 2)).reshape(gt.size, -1)).reshape(gt.size, gs.size, 3)
     return Surface(np.transpose(X, (1, 0, 2)), ks, kt, DEGREE, DEGREE)
 
 
-def side_surface(S: Surface, strip: Strip, tol: Optional[float] = None, max_spans: int = 1024) -> SideSurface:
+def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int = 1024,
+                 accept: Optional[float] = None) -> SideSurface:
     """The strip's surface S o Omega over the unit square, interpolated by a bicubic B-spline and
     refined (span by span, in s and t) until its deviation at the span midpoints is below tol
-    (default 1e-6 of the surface's size).  The whole face is S itself (deviation 0)."""
+    (default 1e-6 of the surface's size).  The whole face is S itself (deviation 0).
+
+    strip: a :class:`Strip`, or any map of the unit square into S's domain with the same interface
+    (``omega(S, s, t)``, ``offset(s, t)``, ``whole``, ``breaks(S)``, ``name``, ``refine_hint``), such as
+    the Coons map of a trimmed face (ruled.region.CoonsMap).  When the spans run out, a deviation up
+    to ``accept`` (default tol) is kept (the caller adds it to its bound), a larger one refused."""
     if strip.whole:
         return SideSurface(S, 0.0)
     tol = 1e-6 * S.diagonal() if tol is None else tol
-    u0, u1, _, _ = S.domain
-    bs = {0.0, 1.0}
-    for x in S.interior_knots("u"):
-        bs.add(float((x - u0) / (u1 - u0)))
-    for c in (strip.lo, strip.hi):
-        if c is not None:
-            kk = np.unique(c.knots)
-            bs.update(float((x - u0) / (u1 - u0)) for x in kk[(kk > u0) & (kk < u1)])
-    bs = np.array(sorted(bs))
-    if bs.size < 9:
-        bs = np.unique(np.concatenate([bs, np.linspace(0.0, 1.0, 9)]))
-    bt = np.linspace(0.0, 1.0, 5)
+    bs, bt = strip.breaks(S)
 
     def mids(br):
         return np.concatenate([a + (b - a) * np.array([0.25, 0.5, 0.75]) for a, b in zip(br[:-1], br[1:])])
 
     def dev(side, ss, tt):
-        u, v = strip.omega(S, ss, tt)
-        return np.linalg.norm(S(u.ravel(), v.ravel()) - side(ss.ravel(), tt.ravel()), axis=1).reshape(ss.shape)
+        return np.linalg.norm(_target(S, strip, ss, tt) - side(ss.ravel(), tt.ravel()), axis=1).reshape(ss.shape)
 
     while True:
         ks, kt = _clamped(bs, DEGREE), _clamped(bt, DEGREE)
@@ -184,11 +208,10 @@ def side_surface(S: Surface, strip: Strip, tol: Optional[float] = None, max_span
             bad_s[:] = True
             bad_t[:] = True
         if max(bs.size - 1 + bad_s.sum(), bt.size - 1 + bad_t.sum()) > max_spans:
-            if d <= tol:
+            if d <= max(tol, accept or 0.0):
                 return SideSurface(side, d, (bs.size - 1, bt.size - 1))
-            raise BadInputError(f"the strip's surface could not be interpolated within {tol:.3g} with "
-                                f"{max_spans} spans (deviation {d:.3g}); the split curve is too wiggly: "
-                                f"use fewer interior rows (--interior)")
+            raise BadInputError(f"the {strip.name} could not be interpolated within {tol:.3g} with "
+                                f"{max_spans} spans (deviation {d:.3g}); {strip.refine_hint}")
         if bad_s.any():
             bs = np.unique(np.concatenate([bs, 0.5 * (bs[:-1] + bs[1:])[bad_s]]))
         if bad_t.any():

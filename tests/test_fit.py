@@ -45,24 +45,6 @@ def test_wing_faces_are_exact():
         assert fit.error_bound >= fit.hausdorff.max
 
 
-def test_impeller_bilinear_patches_are_exact():
-    from OCP.BRepAdaptor import BRepAdaptor_Surface
-    faces = faces_of(read_shape(data_file("kj66_impeller.step")))
-    done = 0
-    for face in faces:
-        ad = BRepAdaptor_Surface(face)
-        if ad.GetType().name != "GeomAbs_BSplineSurface":
-            continue
-        bs = ad.BSpline()
-        if (bs.UDegree(), bs.VDegree(), bs.NbUPoles(), bs.NbVPoles()) != (3, 1, 10, 2):
-            continue
-        fit = fit_face(face, samples=40, measure_samples=25)
-        assert fit.hausdorff.max <= 1e-6 * fit.result.best.oriented.diagonal()
-        assert fit.error_bound >= fit.hausdorff.max
-        done += 1
-    assert done == 18
-
-
 def test_hyperboloid_closed_non_isoparametric():
     S = hyperboloid()
     res, h = _fit_and_measure(S, samples=40)

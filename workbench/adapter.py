@@ -11,8 +11,9 @@ import numpy as np
 import FreeCAD
 import Part
 from ruled.errors import BadInputError
-from ruled.hostform import from_kernel_form, kernel_form
-from ruled.nurbs import Surface
+from ruled.hostform import curve_from_kernel_form, from_kernel_form, kernel_form
+from ruled.nurbs import Curve, Surface
+from ruled.region import Region
 
 
 def surface_to_arrays(bs) -> Surface:
@@ -69,6 +70,11 @@ def face_to_arrays(face) -> Surface:
     u0, u1, v0, v1 = face.ParameterRange
     a0, a1, b0, b1 = s.bounds()
     tol = 1e-9 * max(1.0, abs(a1 - a0), abs(b1 - b0))
+    # a periodic direction that the face goes all the way round is kept whole (its range may be shifted)
+    if s.isUPeriodic() and (u1 - u0) >= a1 - a0 - tol:
+        u0, u1 = a0, a1
+    if s.isVPeriodic() and (v1 - v0) >= b1 - b0 - tol:
+        v0, v1 = b0, b1
     if u0 > a0 + tol or u1 < a1 - tol or v0 > b0 + tol or v1 < b1 - tol:
         s = s.copy()
         if s.isUPeriodic() and (u1 - u0) < a1 - a0 - tol:
@@ -78,6 +84,70 @@ def face_to_arrays(face) -> Surface:
         s.segment(max(u0, a0) if not s.isUPeriodic() else u0, min(u1, a1) if not s.isUPeriodic() else u1,
                   max(v0, b0) if not s.isVPeriodic() else v0, min(v1, b1) if not s.isVPeriodic() else v1)
     return surface_to_arrays(s)
+
+
+def _kernel_curve(bc, reversed_: bool, onto=None) -> Curve:
+    """A Part.BSplineCurve / BSplineCurve2d (made non-periodic) as a container (ruled.hostform)."""
+    if bc.isPeriodic():
+        bc = bc.copy()
+        bc.setNotPeriodic()
+    poles = [(p.x, p.y, p.z) if hasattr(p, "z") else (p.x, p.y) for p in bc.getPoles()]
+    weights = bc.getWeights() if bc.isRational() else None
+    return curve_from_kernel_form(poles, weights, bc.getKnots(), bc.getMultiplicities(), bc.Degree, reversed_,
+                                  onto)
+
+
+def _pcurve(face, edge) -> Curve:
+    got = face.curveOnSurface(edge)
+    if not got:
+        raise BadInputError("an edge of the face has no curve on its surface; repair the face (Part > Check "
+                            "geometry, or refine the shape)")
+    c2, a, b = got
+    return _kernel_curve(c2.toBSpline(a, b), edge.Orientation == "Reversed")
+
+
+def _curve3d(edge, pcurve: Curve):
+    if edge.Degenerated:
+        return None
+    a, b = edge.ParameterRange
+    return _kernel_curve(edge.Curve.toBSpline(a, b), edge.Orientation == "Reversed", pcurve.domain)
+
+
+def outer_edges(face) -> list:
+    """The outer wire's edges in wire order (the indices the engine's Region uses)."""
+    return list(face.OuterWire.OrderedEdges)
+
+
+def face_region(face, S: Surface = None) -> Region:
+    """The face as bounded by its edges: its surface (as face_to_arrays) and its outer wire's pcurves in
+    wire order, its holes, seams and degenerate edges; the same Region the OCP adapter reads."""
+    S = face_to_arrays(face) if S is None else S
+    try:
+        edges = outer_edges(face)
+        loop = [_pcurve(face, e) for e in edges]
+        e3 = [_curve3d(e, c) for e, c in zip(edges, loop)]
+        seams = [bool(edge_is_seam(face, e)) for e in edges]
+        degen = [bool(e.Degenerated) for e in edges]
+        holes = [tuple(_pcurve(face, e) for e in w.OrderedEdges) for w in face.Wires
+                 if not w.isSame(face.OuterWire)]
+    except BadInputError:
+        raise
+    except Exception as exc:     # Part.OCCError and friends: a boundary that cannot be read
+        raise BadInputError(f"cannot read the face's boundary ({exc}); repair the face (Part > Check "
+                            f"geometry)") from None
+    surf = face.Surface
+    u0, u1, v0, v1 = S.domain
+    closed = []
+    for per, period, a, b in ((surf.isUPeriodic(), "UPeriod", u0, u1), (surf.isVPeriodic(), "VPeriod", v0, v1)):
+        P = getattr(surf, period)() if per else None
+        closed.append(bool(per and abs((b - a) - P) <= 1e-9 * P))
+    return Region(S, tuple(loop), tuple(seams), tuple(degen), tuple(holes), tuple(e3), tuple(closed))
+
+
+def edge_is_seam(face, edge) -> bool:
+    """The edge is the face's closing line on a closed surface (it bounds the face on both sides)."""
+    n = sum(1 for e in face.OuterWire.Edges if e.isSame(edge))
+    return n > 1
 
 
 def surface_to_face(S: Surface):

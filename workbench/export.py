@@ -79,11 +79,13 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     from ruled.machine import MachineOptions, cut_points, machine_path, swept_surface, tool_envelope
     from ruled.machine_output import path_report, write_machine
 
-    from .adapter import face_to_arrays, surface_to_face
-    from .measure import distances, grid, rectangle
+    from ruled.facefit import face_patch
+
+    from .adapter import face_region, face_to_arrays, surface_to_face
+    from .measure import distances, face_points
     obj, src = _one_fit(objects)
     R = result_arrays(obj.Shape.Faces[0])
-    S = face_to_arrays(src)
+    S = face_patch(face_region(src, face_to_arrays(src))).surface     # the face as bounded by its edges
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
     opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, None, feed)
     mp = machine_path(R, S, opts, out_side, progress)
@@ -94,12 +96,11 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     if kind == "xyuv":
         if measure_samples:
             target = src
-            if kerf:
-                u0, u1, v0, v1 = src.ParameterRange
-                target = Part.Face(Part.OffsetSurface(src.Surface, out_side * kerf), u0, u1, v0, v1)
+            if kerf:     # the offset of the bounded face: the offset surface cut by the face's own wire offset
+                target = src.makeOffsetShape(out_side * kerf, 1e-6).Faces[0]
             n = measure_samples
-            to_cut = distances(grid(target, n), surface_to_face(swept_surface(mp))).max()
-            to_design = distances(cut_points(mp, 3 * n * n), rectangle(target)).max()
+            to_cut = distances(face_points(target, n), surface_to_face(swept_surface(mp))).max()
+            to_design = distances(cut_points(mp, 3 * n * n), target).max()
             rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
                           "cut_to_design": float(to_design), "bound": obj.Hausdorff + mp.stats["cut_bound_beyond_fit"]}
     elif measure_samples:

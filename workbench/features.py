@@ -175,8 +175,9 @@ class RuledFit(_Feature):
               ["sum", "max"], "sum")
         _add(obj, "App::PropertyFloat", "MaxError", FIT_GROUP, "forbid rulings farther than this from the face "
              "(0: no limit)", 0.0)
-        _enum(obj, "Direction", FIT_GROUP, "v: rulings join the v-min and v-max boundaries; u: the u ones; auto: "
-              "the better", ["auto", "u", "v"], "auto")
+        _enum(obj, "Direction", FIT_GROUP, "which pair of opposite sides of the face the rulings join: v, its "
+              "sides 0 and 2 (the v-min and v-max edges of an untrimmed face); u, sides 1 and 3; auto: the better",
+              ["auto", "u", "v"], "auto")
         _add(obj, "App::PropertyInteger", "Elevations", FIT_GROUP, "4d: elevation levels on each side", 10)
         _add(obj, "App::PropertyFloat", "Step", FIT_GROUP, "4d: elevation step in model units (0: the 2d result's "
              "distance / elevations)", 0.0)
@@ -197,6 +198,12 @@ class RuledFit(_Feature):
              None, True)
         _add(obj, "App::PropertyVectorList", "RulingLines", RESULT_GROUP, "end points of the DP rulings on the "
              "source face, two per ruling", None, True)
+        _add(obj, "App::PropertyStringList", "Rails", RESULT_GROUP, "the source's edges the rulings join (two "
+             "opposite sides of the face)", None, True)
+        _add(obj, "App::PropertyBool", "Trimmed", RESULT_GROUP, "the face is trimmed: it is fitted as bounded by "
+             "its edges (its own four-sided patch), not as its surface's rectangle", False, True)
+        _add(obj, "App::PropertyFloat", "PatchDeviation", RESULT_GROUP, "the face's four-sided patch's distance to "
+             "the face (included in ErrorBound)", 0.0, True)
 
     def options(self, obj):
         from ruled import FitOptions
@@ -208,16 +215,23 @@ class RuledFit(_Feature):
                           metric=str(obj.Metric)).checked()
 
     def compute(self, obj):
-        from ruled import fit_surface
+        from ruled.facefit import fit_region
         from ruled.hostform import bounds_slack
 
-        from .adapter import surface_to_face
+        from .adapter import face_region, outer_edges, surface_to_face
         from .measure import hausdorff
         face, opts, S, progress = self.inputs(obj, "fitting")
         try:
-            res = fit_surface(S, opts, progress)
+            res = fit_region(face_region(face, S), opts, progress)
             result = surface_to_face(res.surface)
             obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
+            p = res.patch
+            names = source_edge_names(obj, outer_edges(face))
+            obj.Rails = [" + ".join(names[k] for k in rail) or "a point" for rail in p.rails(res.direction)]
+            obj.Trimmed = not p.identity
+            obj.PatchDeviation = float(p.deviation)
+            for w in p.warnings:
+                FreeCAD.Console.PrintWarning(f"{obj.Label}: {w}\n")
             obj.Rulings = int(len(res.best.rulings))
             obj.RulingLines = [FreeCAD.Vector(*map(float, p)) for p in res.best.rulings.reshape(-1, 3)]
             if obj.MeasureSamples > 1:
@@ -284,6 +298,16 @@ class RuledSplit(_Feature):
         obj.Candidates = [f"{k}: {c.bound:.6g}" for k, c in res.candidates.items()]
         t = np.linspace(*cos.curve.domain, 101)
         obj.SplitCurve = [FreeCAD.Vector(*map(float, p)) for p in cos.curve(t)]
+
+
+def source_edge_names(obj, edges) -> list:
+    """The source object's names ("Edge7") of the given edges of its face."""
+    all_edges = obj.Source[0].Shape.Edges
+    out = []
+    for e in edges:
+        k = next((i for i, x in enumerate(all_edges) if x.isSame(e)), None)
+        out.append("?" if k is None else f"Edge{k + 1}")
+    return out
 
 
 def _make(doc, proxy, source, subname: str, properties: dict):

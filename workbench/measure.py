@@ -1,7 +1,8 @@
-"""Independent error measure inside FreeCAD: the two-sided Hausdorff distance between two faces by
-n x n samples of each over its parameter rectangle, each sample's exact distance to the other face's
-rectangle by OCCT's BRepExtrema (Part's distToShape).  The same samples and the same surfaces as the
-command line's measure (ruled.occ.measure), so both agree."""
+"""Independent error measure inside FreeCAD: the two-sided Hausdorff distance between two faces as
+bounded by their edges: about n x n points of each inside its edges (Part's isPartOfDomain on a grid
+of its parameter range) and n along every edge, each point's exact distance to the other bounded face
+by OCCT's BRepExtrema (Part's distToShape).  The same points and faces as the command line's measure
+(ruled.occ.measure), so both agree."""
 
 from __future__ import annotations
 
@@ -25,10 +26,29 @@ def face_bounds(face):
 
 
 def grid(face, n: int) -> np.ndarray:
+    """n x n points over the face's parameter range (the result's own grid, for colouring)."""
     u0, u1, v0, v1 = face_bounds(face)
     s = face.Surface
     return np.array([tuple(s.value(float(u), float(v))) for u in np.linspace(u0, u1, n)
                      for v in np.linspace(v0, v1, n)])
+
+
+def face_points(face, n: int) -> np.ndarray:
+    """About n x n points of the face inside its edges (a grid of its parameter range as dense as it takes)
+    and n points along every edge."""
+    u0, u1, v0, v1 = face_bounds(face)
+    s = face.Surface
+    m0 = 24
+    frac = np.mean([face.isPartOfDomain(float(u), float(v)) for u in np.linspace(u0, u1, m0)
+                    for v in np.linspace(v0, v1, m0)])
+    m = n if frac > 0.97 else int(min(8 * n, np.ceil(n / np.sqrt(max(frac, 1.0 / (64 * n * n))))))
+    pts = [tuple(s.value(float(u), float(v))) for u in np.linspace(u0, u1, m) for v in np.linspace(v0, v1, m)
+           if m == n or face.isPartOfDomain(float(u), float(v))]
+    for e in face.Edges:
+        if not e.Degenerated:
+            a, b = e.ParameterRange
+            pts += [tuple(e.valueAt(float(t))) for t in np.linspace(a, b, n)]
+    return np.array(pts)
 
 
 def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
@@ -40,15 +60,11 @@ def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
     return out
 
 
-def rectangle(face):
-    """The face's surface over its whole parameter rectangle (the measure, like the fit, ignores trims)."""
-    return face.Surface.toShape(*face_bounds(face))
-
-
 def hausdorff(face_a, face_b, n: int = 40, progress=None) -> Hausdorff:
-    pa, pb = grid(face_a, n), grid(face_b, n)
-    dab = distances(pa, rectangle(face_b), None if progress is None else (lambda f: progress(0.5 * f)))
-    dba = distances(pb, rectangle(face_a), None if progress is None else (lambda f: progress(0.5 + 0.5 * f)))
+    """face_a: a result (its n x n grid's distances are kept, for colouring); face_b: the face it fits."""
+    pa, pb = grid(face_a, n), face_points(face_b, n)
+    dab = distances(pa, face_b, None if progress is None else (lambda f: progress(0.5 * f)))
+    dba = distances(pb, face_a, None if progress is None else (lambda f: progress(0.5 + 0.5 * f)))
     alld = np.concatenate([dab, dba])
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size),
                      tuple(dab))

@@ -90,9 +90,19 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
         warnings.append(f"the face is a {kind}; it is taken as its exact B-spline conversion")
     fitted = None
     if fit:
-        from ..fit import FitOptions, fit_surface
-        fitted = fit_surface(S, fit_options or FitOptions(), progress)
+        from ..fit import FitOptions
+        from .region import fit_face
+        fitted, _ = fit_face(face, fit_options or FitOptions(), progress)
+        warnings += list(fitted.patch.warnings)
         S = fitted.surface
+    else:
+        from ..facefit import face_patch
+        from .region import face_region
+        patch = face_patch(face_region(face, S))
+        if not patch.identity:
+            warnings.append(f"the face is trimmed: its own four-sided patch (within {patch.deviation:.3g} of it) "
+                            f"is cone-splined")
+            S = patch.surface
     res = cone_spline_of_surface(S, tol, step, direction=direction, progress=progress, **kw)
     t1 = time.perf_counter()
     faces = cone_faces(res)

@@ -112,6 +112,11 @@ def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
         return bs
     ku0, ku1, kv0, kv1 = bs.Bounds()
     tol = 1e-9 * max(1.0, abs(ku1 - ku0), abs(kv1 - kv0))
+    # a periodic direction that the face goes all the way round is kept whole (its bounds may be shifted)
+    if bs.IsUPeriodic() and (u1 - u0) >= ku1 - ku0 - tol:
+        u0, u1 = ku0, ku1
+    if bs.IsVPeriodic() and (v1 - v0) >= kv1 - kv0 - tol:
+        v0, v1 = kv0, kv1
     if (u0 > ku0 + tol or u1 < ku1 - tol or v0 > kv0 + tol or v1 < kv1 - tol):
         if bs.IsUPeriodic() and (u1 - u0) < ku1 - ku0 - tol:
             bs.SetUNotPeriodic()

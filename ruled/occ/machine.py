@@ -16,10 +16,11 @@ from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.Geom import Geom_OffsetSurface
 from OCP.TopAbs import TopAbs_REVERSED
 
-from ..fit import FitOptions, FitResult, fit_surface
+from ..fit import FitOptions, FitResult
 from ..machine import Lines, MachineOptions, MachinePath, cut_points, machine_path, swept_surface, tool_envelope
 from ..machine_output import path_report
 from .convert import container_to_face, conversion_slack, face_to_container, segment_edge
+from .region import fit_face
 from .measure import _grid, _Projector, face_bounds, hausdorff, two_sided
 
 
@@ -78,7 +79,7 @@ def measure_cut(target, path: MachinePath, n: int = 30) -> dict:
 
 def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOptions(), progress=None,
                     measure_samples: Optional[int] = 30, side: float = 1.0, fit: Optional[FitResult] = None,
-                    warnings: Optional[list] = None, given: bool = False) -> FaceMachine:
+                    warnings: Optional[list] = None, given: bool = False, rails=None) -> FaceMachine:
     """Fit the face (unless a fit is given, or the face is a ruled result itself: given=True), make the
     machine path on the side `side` (+1: the face's outside) and measure it.  measure_samples=None
     skips the OCCT measures."""
@@ -86,8 +87,13 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     t0 = time.perf_counter()
     S = face_to_container(face)
     slack = conversion_slack(face, S)
-    res = None if given else fit if fit is not None else fit_surface(S, fit_options.checked(), progress)
+    if not given and fit is None:
+        fit, slack = fit_face(face, fit_options.checked(), progress, rails)
+    res = None if given else fit
     R = given_ruled(S) if given else res.surface
+    if res is not None and res.patch is not None:
+        S = res.patch.surface       # the face as bounded by its edges (its own four-sided patch)
+        warnings = list(warnings or []) + [w for w in res.patch.warnings if w not in (warnings or [])]
     out_side = outward(face) * (1.0 if side >= 0 else -1.0)
     t1 = time.perf_counter()
     path = machine_path(R, S, opts, out_side, progress)

@@ -1,5 +1,6 @@
 """Independent error measure: two-sided Hausdorff distance between two faces by dense
-sampling plus exact point projection with OCCT (no code of the engine is used)."""
+sampling plus exact point projection with OCCT (no code of the engine is used).  Trim-aware: the
+samples are points of each face as bounded by its edges, and distances are to the bounded face."""
 
 from __future__ import annotations
 
@@ -14,7 +15,12 @@ from OCP.Geom2dAdaptor import Geom2dAdaptor_Curve
 from OCP.GeomAdaptor import GeomAdaptor_Surface
 from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
 from OCP.ShapeAnalysis import ShapeAnalysis_Surface
-from OCP.gp import gp_Pnt, gp_Vec
+from OCP.BRepAdaptor import BRepAdaptor_Curve
+from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
+from OCP.TopAbs import TopAbs_ShapeEnum, TopAbs_State
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopoDS import TopoDS
+from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 
 from ..hostform import Hausdorff
 
@@ -32,46 +38,91 @@ def face_bounds(face):
 
 
 def _grid(face, n: int):
+    """Points of the face (trim-aware): see face_points."""
+    return face_points(face, n)
+
+
+def _inside_test(face):
+    cls = BRepTopAdaptor_FClass2d(face, 1e-9)
+
+    def inside(u, v) -> bool:
+        return cls.Perform(gp_Pnt2d(float(u), float(v))) in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
+    return inside
+
+
+def _face_edges(face):
+    """The face's edges with a 3D curve (every wire, degenerate edges left out)."""
+    out = []
+    ex = TopExp_Explorer(face, TopAbs_ShapeEnum.TopAbs_EDGE)
+    while ex.More():
+        e = TopoDS.Edge_s(ex.Current())
+        if not BRep_Tool.Degenerated_s(e):
+            out.append(e)
+        ex.Next()
+    return out
+
+
+def face_points(face, n: int) -> np.ndarray:
+    """About n x n points of the face as bounded by its edges: a (u, v) grid of its bounds, as dense
+    as it takes for about n * n of its points to fall inside, kept where OCCT's face classifier puts
+    them inside; and n points along every edge (OCCT evaluation throughout)."""
     u0, u1, v0, v1 = face_bounds(face)
     surf = BRep_Tool.Surface_s(face)
-    us = np.linspace(u0, u1, n)
-    vs = np.linspace(v0, v1, n)
+    inside = _inside_test(face)
+    m0 = 24
+    frac = np.mean([inside(u, v) for u in np.linspace(u0, u1, m0) for v in np.linspace(v0, v1, m0)])
+    m = n if frac > 0.97 else int(min(8 * n, np.ceil(n / np.sqrt(max(frac, 1.0 / (64 * n * n))))))
     pts = []
-    for u in us:
-        for v in vs:
-            p = surf.Value(float(u), float(v))
+    for u in np.linspace(u0, u1, m):
+        for v in np.linspace(v0, v1, m):
+            if m == n or inside(u, v):
+                p = surf.Value(float(u), float(v))
+                pts.append((p.X(), p.Y(), p.Z()))
+    for e in _face_edges(face):
+        c = BRepAdaptor_Curve(e)
+        for t in np.linspace(c.FirstParameter(), c.LastParameter(), n):
+            p = c.Value(float(t))
             pts.append((p.X(), p.Y(), p.Z()))
     return np.array(pts)
 
 
 class _Projector:
+    """Distances to a face as bounded by its edges (OCCT only)."""
+
     def __init__(self, face):
         self.u0, self.u1, self.v0, self.v1 = face_bounds(face)
         self.surf = BRep_Tool.Surface_s(face)
         self.proj = GeomAPI_ProjectPointOnSurf()
         self.proj.Init(self.surf, self.u0, self.u1, self.v0, self.v1)
         self.sas = ShapeAnalysis_Surface(self.surf)
-        # a coarse cloud for the boundary: closest points may lie on the edges
-        n = 200
-        us = np.linspace(self.u0, self.u1, n)
-        vs = np.linspace(self.v0, self.v1, n)
-        edge_uv = np.concatenate([np.stack([us, np.full(n, self.v0)], 1), np.stack([us, np.full(n, self.v1)], 1),
-                                  np.stack([np.full(n, self.u0), vs], 1), np.stack([np.full(n, self.u1), vs], 1)])
-        self.edge_uv = edge_uv
-        self.edge_pts = np.array([self._value(u, v) for u, v in edge_uv])
+        self.inside = _inside_test(face)
+        # a dense cloud of every edge: closest points may lie on the boundary
+        self.curves, pts, ids, ts = [], [], [], []
+        for e in _face_edges(face):
+            c = BRepAdaptor_Curve(e)
+            t = np.linspace(c.FirstParameter(), c.LastParameter(), 200)
+            pts.append(np.array([_p3(c.Value(float(x))) for x in t]))
+            ids.append(np.full(t.size, len(self.curves)))
+            ts.append(t)
+            self.curves.append(c)
+        self.edge_pts = np.concatenate(pts) if pts else np.zeros((0, 3))
+        self.edge_id = np.concatenate(ids) if ids else np.zeros(0, int)
+        self.edge_t = np.concatenate(ts) if ts else np.zeros(0)
 
     def _value(self, u, v):
         p = self.surf.Value(float(u), float(v))
         return (p.X(), p.Y(), p.Z())
 
     def _polish(self, x, u, v, iters: int = 6) -> float:
-        """Newton steps on |S(u, v) - x|^2 with OCCT's D2, clamped to the bounds; the best distance seen."""
+        """Newton steps on |S(u, v) - x|^2 with OCCT's D2, clamped to the bounds; the best distance seen
+        at a point inside the face."""
         best = np.inf
         for _ in range(iters):
             p, du, dv, duu, dvv, duv = gp_Pnt(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec()
             self.surf.D2(float(u), float(v), p, du, dv, duu, dvv, duv)
             r = np.array(p.Coord()) - x
-            best = min(best, float(np.linalg.norm(r)))
+            if self.inside(u, v):
+                best = min(best, float(np.linalg.norm(r)))
             Su, Sv = np.array(du.Coord()), np.array(dv.Coord())
             Suu, Svv, Suv = np.array(duu.Coord()), np.array(dvv.Coord()), np.array(duv.Coord())
             g = np.array([Su @ r, Sv @ r])
@@ -84,47 +135,57 @@ class _Projector:
                 break
             u = min(max(u + step[0], self.u0), self.u1)
             v = min(max(v + step[1], self.v0), self.v1)
-        p = self.surf.Value(float(u), float(v))
-        return min(best, float(np.linalg.norm(np.array(p.Coord()) - x)))
+        if self.inside(u, v):
+            best = min(best, float(np.linalg.norm(np.array(self._value(u, v)) - x)))
+        return best
 
     def distance(self, x) -> float:
-        """Distance from x to the face: the best of OCCT's orthogonal projection, its analysis
-        projection (which also finds boundary points), both polished by Newton steps, and the
-        nearest boundary point (dense edge samples refined along their edge)."""
+        """Distance from x to the face: the nearest of OCCT's extrema on the surface whose foot lies
+        inside the face, its analysis projection when inside, both polished by Newton steps, and the
+        nearest boundary point (dense edge samples refined along their edge): the closest point of a
+        bounded face is an interior extremum or lies on its boundary."""
         P = gp_Pnt(*map(float, x))
-        cands = []
+        best, seed = np.inf, None
         self.proj.Perform(P)
-        if self.proj.IsDone() and self.proj.NbPoints() > 0:
-            cands.append((self.proj.LowerDistance(), *self.proj.LowerDistanceParameters()))
+        if self.proj.IsDone():
+            ext = []
+            for i in range(1, self.proj.NbPoints() + 1):
+                uv = self.proj.Parameters(i)
+                ext.append((float(self.proj.Distance(i)), *uv))
+            for d, u, v in sorted(ext):
+                if self.inside(u, v):
+                    best, seed = d, (u, v)
+                    break
         uv = self.sas.ValueOfUV(P, 1e-10)
         u = min(max(uv.X(), self.u0), self.u1)
         v = min(max(uv.Y(), self.v0), self.v1)
-        cands.append((float(np.linalg.norm(np.array(self._value(u, v)) - x)), u, v))
-        d0, u, v = min(cands)
-        best = min(d0, self._polish(x, u, v, 4))
-        de = np.linalg.norm(self.edge_pts - x, axis=1)
-        k = int(np.argmin(de))
-        if de[k] < 1.5 * best + 1e-12:  # the boundary may hold the closest point
-            eu, ev = self.edge_uv[k]
-            best = min(best, float(de[k]), self._edge_refine(x, eu, ev, k))
+        if self.inside(u, v):
+            d = float(np.linalg.norm(np.array(self._value(u, v)) - x))
+            if d < best:
+                best, seed = d, (u, v)
+        if seed is not None:
+            best = min(best, self._polish(x, *seed, 4))
+        if self.edge_pts.size:
+            de = np.linalg.norm(self.edge_pts - x, axis=1)
+            k = int(np.argmin(de))
+            if de[k] < 1.5 * best + 1e-12:  # the boundary may hold the closest point
+                best = min(best, float(de[k]), self._edge_refine(x, k))
         return best
 
-    def _edge_refine(self, x, eu, ev, k) -> float:
-        n = 200
-        side = k // n
-        i = k % n
-        along_u = side < 2
-        col = 0 if along_u else 1
-        lo, hi = self.edge_uv[max(i - 1, 0) + side * n][col], self.edge_uv[min(i + 1, n - 1) + side * n][col]
+    def _edge_refine(self, x, k) -> float:
+        c = self.curves[self.edge_id[k]]
+        same = self.edge_id == self.edge_id[k]
+        lo = self.edge_t[k - 1] if k > 0 and same[k - 1] else self.edge_t[k]
+        hi = self.edge_t[k + 1] if k + 1 < self.edge_t.size and same[k + 1] else self.edge_t[k]
 
         def f(t):
-            uv = (t, ev) if along_u else (eu, t)
-            return np.linalg.norm(np.array(self._value(*uv)) - x)
+            return np.linalg.norm(_p3(c.Value(float(t))) - x)
         return _golden_min(f, lo, hi, 40)
 
 
 def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
-    """Two-sided Hausdorff distance between two faces (n x n samples of each, projected on the other)."""
+    """Two-sided Hausdorff distance between two faces as bounded by their edges (about n x n samples
+    of each plus n along every edge, projected on the other)."""
     return two_sided(_grid(face_a, n), _grid(face_b, n), _Projector(face_a), _Projector(face_b))
 
 
@@ -294,13 +355,13 @@ class FaceSet:
         from scipy.spatial import cKDTree
 
         self.proj = [_Projector(f) for f in faces]
-        clouds = [_grid(f, n) for f in faces]
+        clouds = [face_points(f, n) for f in faces]
         self.owner = np.concatenate([np.full(len(c), i) for i, c in enumerate(clouds)])
         pts = np.concatenate(clouds)
         self.tree = cKDTree(pts)
-        # half the largest spacing of any cloud: a face can be this much nearer than its cloud
-        self.slack = max(float(np.linalg.norm(np.diff(c.reshape(n, n, 3), axis=ax), axis=2).max())
-                         for c in clouds for ax in (0, 1))
+        # the largest gap between a sample and its nearest neighbour in its own cloud: a face can be
+        # this much nearer than its cloud
+        self.slack = max(float(cKDTree(c).query(c, k=2)[0][:, 1].max()) for c in clouds)
 
     def distance(self, x) -> float:
         d, idx = self.tree.query(x, k=min(64, self.owner.size))
@@ -309,8 +370,8 @@ class FaceSet:
 
 
 def sample_faces(faces, n: int) -> np.ndarray:
-    """n x n samples of each face (OCCT evaluation), stacked."""
-    return np.concatenate([_grid(f, n) for f in faces])
+    """About n x n samples of each face as bounded by its edges (OCCT evaluation), stacked."""
+    return np.concatenate([face_points(f, n) for f in faces])
 
 
 def to_lines(points: np.ndarray, ends, m: int = 2049, iters: int = 40) -> np.ndarray:

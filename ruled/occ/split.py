@@ -13,28 +13,24 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
-from OCP.BRep import BRep_Builder, BRep_Tool
+from OCP.BRep import BRep_Builder
 from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Curve2d
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeVertex, BRepBuilderAPI_Sewing
 from OCP.BRepCheck import BRepCheck_Analyzer
-from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
-from OCP.BRepExtrema import BRepExtrema_DistShapeShape
 from OCP.BRepGProp import BRepGProp
-from OCP.BRepTools import BRepTools
 from OCP.GProp import GProp_GProps
-from OCP.TopAbs import TopAbs_FORWARD, TopAbs_IN, TopAbs_ON, TopAbs_REVERSED, TopAbs_EDGE
+from OCP.TopAbs import TopAbs_FORWARD, TopAbs_REVERSED, TopAbs_EDGE
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Wire
-from OCP.gp import gp_Pnt, gp_Pnt2d
+from OCP.gp import gp_Pnt
 
 from ..curve_on_surface import approximate
 from ..hostform import Hausdorff
 from ..nurbs import Curve, Surface
 from ..strips import EDGE_TOL, input_curve, iso_curve
 from .convert import container_to_bspline, curve2d_to_bspline, curve_to_bspline
-from .io import trim_warning
-from .measure import _grid, _Projector, two_sided
+from .measure import _Projector, face_points, two_sided
 
 
 @dataclass
@@ -192,53 +188,9 @@ def _area(face) -> float:
     return props.Mass()
 
 
-class _TrimmedProjector:
-    """Distances to a trimmed face: the projection onto its surface when the foot lies inside the face,
-    else OCCT's exact shape distance."""
-
-    def __init__(self, face):
-        from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
-        self.face = face
-        self.cls = BRepTopAdaptor_FClass2d(face, 1e-9)
-        self.proj = GeomAPI_ProjectPointOnSurf()
-        self.proj.Init(BRep_Tool.Surface_s(face), *BRepTools.UVBounds_s(face))
-
-    def distance(self, x) -> float:
-        P = gp_Pnt(*map(float, x))
-        self.proj.Perform(P)
-        if self.proj.IsDone() and self.proj.NbPoints() > 0:
-            u, v = self.proj.LowerDistanceParameters()
-            if self.cls.Perform(gp_Pnt2d(u, v)) in (TopAbs_IN, TopAbs_ON):
-                return float(self.proj.LowerDistance())
-        d = BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(P).Vertex(), self.face)
-        return float(d.Value())
-
-
-def trimmed_samples(face, n: int) -> np.ndarray:
-    """Points of a trimmed face: an n x n grid of its UV bounds kept where the classifier puts it inside,
-    and n points along every edge (OCCT evaluation throughout)."""
-    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
-    surf = BRep_Tool.Surface_s(face)
-    pts = []
-    cls = BRepTopAdaptor_FClass2d(face, 1e-9)
-    for u in np.linspace(u0, u1, n):
-        for v in np.linspace(v0, v1, n):
-            if cls.Perform(gp_Pnt2d(float(u), float(v))) in (TopAbs_IN, TopAbs_ON):
-                p = surf.Value(float(u), float(v))
-                pts.append((p.X(), p.Y(), p.Z()))
-    ex = TopExp_Explorer(face, TopAbs_EDGE)
-    while ex.More():
-        c = BRepAdaptor_Curve(TopoDS.Edge_s(ex.Current()))
-        for t in np.linspace(c.FirstParameter(), c.LastParameter(), n):
-            p = c.Value(float(t))
-            pts.append((p.X(), p.Y(), p.Z()))
-        ex.Next()
-    return np.array(pts)
-
-
 def hausdorff_trimmed(split_face: TopoDS_Face, fit_face: TopoDS_Face, n: int = 40) -> Hausdorff:
     """Two-sided Hausdorff distance between a (trimmed) split face and a ruled fit's face."""
-    return two_sided(trimmed_samples(split_face, n), _grid(fit_face, n), _TrimmedProjector(split_face),
+    return two_sided(face_points(split_face, n), face_points(fit_face, n), _Projector(split_face),
                      _Projector(fit_face))
 
 
@@ -279,10 +231,8 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
     import time
 
     from ..partition import SplitOptions, split_face
-    from .convert import face_to_container
     t0 = time.perf_counter()
-    S = face_to_container(face)
-    warnings = trim_warning(face, S, "the split, the fits and the measure")
+    S, warnings = face_patch_surface(face)
     res = split_face(S, opts or SplitOptions(), progress)
     t1 = time.perf_counter()
     faces, fits, measured, checks = {}, {}, {}, {}
@@ -310,9 +260,23 @@ class FacePartition:
 def partition_of_face(face, tol: float, opts=None, progress=None, measure_samples: int = 24) -> FacePartition:
     """Partition a face into strips whose ruled fits are within tol (ruled.partition), built and measured."""
     from ..partition import SplitOptions, partition
-    from .convert import face_to_container
-    S = face_to_container(face)
+    S, warnings = face_patch_surface(face)
     p = partition(S, tol, opts or SplitOptions(), progress)
     curves = [s.strip.hi for s in p.strips[:-1]]
     sf, ck, fits, meas = measure_strips(S, p.strips, p.transposed, curves, measure_samples)
-    return FacePartition(p, sf, ck, fits, meas, trim_warning(face, S, "the split, the fits and the measure"))
+    return FacePartition(p, sf, ck, fits, meas, warnings)
+
+
+def face_patch_surface(face):
+    """The surface a split works on: the face's own surface when the face is its whole (u, v) rectangle,
+    else its four-sided patch (ruled.facefit); and the warnings to show."""
+    from ..facefit import face_patch
+    from .convert import face_to_container
+    from .region import face_region
+    S = face_to_container(face)
+    patch = face_patch(face_region(face, S))
+    warnings = list(patch.warnings)
+    if not patch.identity:
+        warnings.append(f"the face is trimmed: it is split as its own four-sided patch, a B-spline within "
+                        f"{patch.deviation:.3g} of it (the split faces lie on that patch)")
+    return patch.surface, warnings

@@ -1,0 +1,601 @@
+"""The face as bounded by its edges, and its own parametrization.
+
+A :class:`Region` is a surface with the face's outer wire as 2D curves in the surface's (u, v) (the
+edges' pcurves, in wire order, each running along the loop) and its inner wires (holes).  The outer
+loop is grouped into four sides at its corners (:func:`four_sides`): a joint where the image of the
+loop on the surface turns by more than ``CORNER_DEG`` is a corner; edges that continue smoothly merge
+into one side; the four sharpest corners are kept when there are more; a three-sided face gets a
+degenerate side (a point) at its sharpest corner, so that the rulings fan out of it; a face with fewer
+corners is divided at arc-length points.  Sides 0 and 2 are one pair of opposite sides (the rails
+of rulings along t), sides 1 and 3 the other (rulings along s).
+
+:class:`CoonsMap` takes the unit square onto the region: the bilinearly blended Coons patch of the
+four sides, each parametrized by the arc length of its image on the surface,
+
+    Omega(s, t) = (1-t) c0(s) + t c2(1-s) + (1-s) c3(1-t) + s c1(t)
+                  - [(1-s)(1-t) P00 + s(1-t) P10 + s t P11 + (1-s) t P01],
+
+with c0 .. c3 the sides in loop order.  The Jacobian's sign is checked on a grid: a map that folds is
+refused.  The face is then the four-sided patch S o Omega (see ruled.strips.side_surface, which
+samples it into a bicubic B-spline).  A face whose loop runs along its surface's (u, v) rectangle is
+that rectangle: Omega is the identity and the surface is fitted as it is.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from .errors import BadInputError, DegenerateFaceError
+from .nurbs import Curve, Surface, bspline_basis_matrix
+
+CORNER_DEG = 15.0          # a joint where the loop's image turns more than this is a corner
+_TABLE = 96                # arc-length table points per edge piece
+
+
+@dataclass(frozen=True)
+class Region:
+    """A surface and the face's boundary on it, as plain arrays.
+
+    loop: the outer wire's pcurves (2D Curves in the surface's (u, v)), in wire order, each running
+    along the loop; seams / degenerate: per loop edge, whether it is the surface's closing line (a
+    seam, listed twice) or has no 3D length; holes: inner wires, each a tuple of 2D Curves."""
+
+    surface: Surface
+    loop: tuple
+    seams: tuple = ()
+    degenerate: tuple = ()
+    holes: tuple = ()
+    edges3d: tuple = ()     # the edges' own 3D curves (on the pcurves' parameters), when they are known
+    closed: tuple = (False, False)   # the surface closes on itself across its u (v) domain: wrap, not clip
+
+    def __post_init__(self):
+        if len(self.loop) == 0:
+            raise BadInputError("the face has no edges; pick a face bounded by a wire (see 'ruled faces')")
+        for c in self.loop:
+            if not isinstance(c, Curve) or c.poles.shape[1] != 2:
+                raise BadInputError("the face's boundary must be given as 2D (u, v) curves")
+            if not np.isfinite(c.poles).all():
+                raise BadInputError("the face's boundary has non-finite points; repair the face")
+        n = len(self.loop)
+        object.__setattr__(self, "seams", tuple(bool(x) for x in self.seams) or (False,) * n)
+        object.__setattr__(self, "degenerate", tuple(bool(x) for x in self.degenerate) or (False,) * n)
+        object.__setattr__(self, "holes", tuple(tuple(h) for h in self.holes))
+        if self.edges3d and len(self.edges3d) != n:
+            raise BadInputError("the face's 3D edges do not match its boundary curves")
+
+    @property
+    def size(self) -> int:
+        return len(self.loop)
+
+    def rect_offset(self) -> Optional[tuple]:
+        """When every loop edge runs along a side of the surface's (u, v) rectangle within 1e-6 of its
+        range (the loop, closed, then goes round the rectangle): the largest offsets (du, dv) from it;
+        else None."""
+        u0, u1, v0, v1 = self.surface.domain
+        du_max = dv_max = 0.0
+        for c in self.loop:
+            P = c(np.linspace(*c.domain, 33))
+            u, v = P[:, 0], P[:, 1]
+            du = min(np.abs(u - u0).max(), np.abs(u - u1).max())
+            dv = min(np.abs(v - v0).max(), np.abs(v - v1).max())
+            if du <= 1e-6 * (u1 - u0):
+                du_max = max(du_max, du)
+            elif dv <= 1e-6 * (v1 - v0):
+                dv_max = max(dv_max, dv)
+            else:
+                return None
+        return du_max, dv_max
+
+    def is_rectangle(self) -> bool:
+        """True when there are no holes and the loop runs round the surface's (u, v) rectangle (within
+        1e-6 of its range; rect_offset): the face is its whole surface."""
+        return not self.holes and self.rect_offset() is not None
+
+    def rect_slack(self) -> float:
+        """An upper bound of the distance between a rectangle face and its surface's rectangle: the
+        loop's offsets times the largest |S_u|, |S_v| (0 when the loop is the rectangle exactly)."""
+        off = self.rect_offset()
+        if not off or off == (0.0, 0.0):
+            return 0.0
+        b = self.surface.derivative_bounds()
+        return float(off[0] * b["Su"].max() + off[1] * b["Sv"].max())
+
+    def uv(self, k: int, t) -> np.ndarray:
+        """Points (N, 2) of loop edge k, in the surface's domain (see inside)."""
+        return self.inside(self.loop[k](np.clip(t, *self.loop[k].domain)))
+
+    def inside(self, uv: np.ndarray) -> np.ndarray:
+        """(u, v) points brought into the surface's domain: wrapped round a closed direction (a loop on a
+        closed surface may run over its seam), clipped otherwise."""
+        u0, u1, v0, v1 = self.surface.domain
+        out = np.empty_like(uv)
+        for ax, (a, b) in enumerate(((u0, u1), (v0, v1))):
+            x = uv[:, ax]
+            if self.closed[ax]:
+                eps = 1e-12 * (b - a)
+                x = np.where((x < a - eps) | (x > b + eps), a + np.mod(x - a, b - a), x)
+            out[:, ax] = np.clip(x, a, b)
+        return out
+
+    def gap(self, k: int, t) -> np.ndarray:
+        """(N, 3) from the surface at edge k's pcurve to the edge's 3D curve (zero when no 3D curve is
+        known): a smooth least-squares cubic through the offsets to the nearest points of the 3D curve
+        (a CAD kernel's pcurve and 3D curve share their parameter only within the edge's tolerance)."""
+        t = np.asarray(t, float).ravel()
+        g = self._gaps(k)
+        if g is None:
+            return np.zeros((t.size, 3))
+        return g[0](np.clip(t, *g[0].domain))
+
+    def edge_gap(self, k: int) -> float:
+        """The two-sided largest distance between edge k's 3D curve and the surface at its pcurve."""
+        g = self._gaps(k)
+        return 0.0 if g is None else g[1]
+
+    def max_gap(self) -> float:
+        """The largest distance between an edge's 3D curve and the surface at its pcurve (both ways)."""
+        return max(self.edge_gap(k) for k in range(self.size)) if self.edges3d else 0.0
+
+    def _gaps(self, k: int):
+        cache = self.__dict__.setdefault("_gap_cache", {})
+        if k in cache:
+            return cache[k]
+        c3 = self.edges3d[k] if self.edges3d else None
+        if c3 is None or self.degenerate[k]:
+            cache[k] = None
+            return None
+        from scipy.spatial import cKDTree
+
+        t = np.linspace(*self.loop[k].domain, 2001)
+        uv = self.uv(k, t)
+        P = self.surface(uv[:, 0], uv[:, 1])
+        ts = np.linspace(*c3.domain, 4001)
+        X = c3(ts)
+        near = _to_polyline(P, X, cKDTree(X)) - P
+        back = float(np.linalg.norm(_to_polyline(X, P, cKDTree(P)) - X, axis=1).max())
+        same = c3(np.clip(t, *c3.domain)) - P          # the same parameter on both curves
+        if np.linalg.norm(same, axis=1).max() <= 1.5 * max(float(np.linalg.norm(near, axis=1).max()), 1e-300):
+            # the parameters agree: the 3D curve itself (as smooth as both curves)
+            G = _Difference(c3, self, k)
+        else:
+            spans = 64
+            knots = np.concatenate([[t[0]] * 3, np.linspace(t[0], t[-1], spans + 1), [t[-1]] * 3])
+            G = Curve(np.linalg.lstsq(bspline_basis_matrix(knots, 3, t), near, rcond=None)[0], knots, 3)
+        cache[k] = (G, max(float(np.linalg.norm(near, axis=1).max()), back))
+        return cache[k]
+
+    def polygon(self, per_edge: int = 200) -> list:
+        """The outer loop and every hole as closed (u, v) polylines (dense samples of each pcurve)."""
+        def poly(curves):
+            return np.concatenate([c(np.linspace(*c.domain, per_edge)) for c in curves])
+        return [poly(self.loop)] + [poly(h) for h in self.holes]
+
+    def contains(self, uv: np.ndarray, per_edge: int = 200) -> np.ndarray:
+        """(N,) whether each (u, v) point lies inside the face (even-odd rule over the loop and the holes'
+        polylines; points within a hair of the boundary count as inside)."""
+        uv = np.atleast_2d(np.asarray(uv, float))
+        inside = np.zeros(len(uv), bool)
+        near = np.zeros(len(uv), bool)
+        u0, u1, v0, v1 = self.surface.domain
+        eps = 1e-7 * max(u1 - u0, v1 - v0, 1e-300)
+        for P in self.polygon(per_edge):
+            a, b = P, np.roll(P, -1, axis=0)
+            d = b - a
+            x, y = uv[:, :1], uv[:, 1:]
+            cross = ((a[None, :, 1] > y) != (b[None, :, 1] > y))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                xi = a[None, :, 0] + (y - a[None, :, 1]) * (d[None, :, 0] / d[None, :, 1])
+            inside ^= (np.sum(cross & (x < xi), axis=1) % 2).astype(bool)
+            tt = np.clip(((uv[:, None, :] - a[None]) * d[None]).sum(-1) / np.maximum((d * d).sum(-1), 1e-300), 0, 1)
+            dist = np.linalg.norm(uv[:, None, :] - (a[None] + tt[..., None] * d[None]), axis=-1).min(axis=1)
+            near |= dist <= eps
+        return inside | near
+
+    def tangent3d(self, k: int, t: float) -> np.ndarray:
+        """The image's tangent S_u u' + S_v v' of loop edge k at t (one point, (3,))."""
+        c = self.loop[k]
+        p, d = c.evaluate(np.array([float(np.clip(t, *c.domain))]), 1)
+        D = self.surface.evaluate(*self.uv(k, np.array([t])).T, 1)
+        return (D.Su * d[:, :1] + D.Sv * d[:, 1:2])[0]
+
+    def joint_angles(self) -> np.ndarray:
+        """(n,) the turn of the loop's image at the joint after each edge, degrees (180 at a degenerate
+        edge or where a tangent vanishes)."""
+        n = self.size
+        out = np.empty(n)
+        for k in range(n):
+            j = (k + 1) % n
+            if self.degenerate[k] or self.degenerate[j]:
+                out[k] = 180.0
+                continue
+            # one-sided tangents a hair inside each edge (a pcurve's end derivative may vanish)
+            a0, a1 = self.loop[k].domain
+            b0, b1 = self.loop[j].domain
+            ta = self.tangent3d(k, a1 - 1e-9 * (a1 - a0))
+            tb = self.tangent3d(j, b0 + 1e-9 * (b1 - b0))
+            na, nb = np.linalg.norm(ta), np.linalg.norm(tb)
+            if na == 0 or nb == 0:
+                out[k] = 180.0
+            else:
+                out[k] = float(np.degrees(np.arccos(np.clip(ta @ tb / (na * nb), -1.0, 1.0))))
+        return out
+
+    def edge_lengths(self) -> np.ndarray:
+        """(n,) the 3D length of each loop edge's image (dense chords)."""
+        return np.array([_table(self, (k, *self.loop[k].domain))[2][-1] for k in range(self.size)])
+
+
+class _Difference:
+    """t -> c3(t) - S(pcurve(t)), with the domain of the pcurve."""
+
+    def __init__(self, c3: Curve, region: "Region", k: int):
+        self.c3, self.region, self.k = c3, region, k
+        self.domain = region.loop[k].domain
+
+    def __call__(self, t) -> np.ndarray:
+        uv = self.region.uv(self.k, t)
+        return self.c3(np.clip(t, *self.c3.domain)) - self.region.surface(uv[:, 0], uv[:, 1])
+
+
+def _to_polyline(P: np.ndarray, X: np.ndarray, tree) -> np.ndarray:
+    """(N, 3) the nearest points to P on the polyline X: the segments beside its three nearest vertices
+    (a closed polyline's two ends are both near its closing point)."""
+    best = X[tree.query(P)[1]].copy()
+    for i in tree.query(P, k=min(3, len(X)))[1].T:
+        for j in (np.maximum(i - 1, 0), np.minimum(i + 1, len(X) - 1)):
+            a, d = X[i], X[j] - X[i]
+            w = np.clip(((P - a) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0.0, 1.0)
+            Q = a + w[:, None] * d
+            closer = np.linalg.norm(Q - P, axis=1) < np.linalg.norm(best - P, axis=1)
+            best[closer] = Q[closer]
+    return best
+
+
+# a piece of a side: (loop edge index, start parameter, end parameter)
+Piece = tuple
+
+
+def _table(region: Region, piece: Piece, m: int = _TABLE):
+    """Parameters, (u, v) points and cumulative 3D chord length along a piece."""
+    k, a, b = piece
+    t = np.linspace(a, b, m)
+    uv = region.uv(k, t)
+    P = region.surface(uv[:, 0], uv[:, 1])
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+    return t, uv, s
+
+
+@dataclass(frozen=True)
+class Sides:
+    """The four sides of a region in loop order, each a tuple of pieces (empty: a degenerate side, a
+    point at the corner between its neighbours), and the loop edges of each side."""
+
+    pieces: tuple
+    corner_angles: tuple = ()
+    how: str = "corners"
+
+    def edges(self, i: int) -> tuple:
+        return tuple(dict.fromkeys(p[0] for p in self.pieces[i]))
+
+    def rails(self, direction: str) -> tuple:
+        """The loop edges of the two rails of rulings along 'v' (sides 0 and 2) or 'u' (sides 1 and 3)."""
+        a, b = (0, 2) if direction == "v" else (1, 3)
+        return self.edges(a), self.edges(b)
+
+
+def _whole(region: Region, k: int) -> Piece:
+    a, b = region.loop[k].domain
+    return (k, a, b)
+
+
+def _runs(region: Region, corners: list) -> list:
+    """The loop cut at the given joints (joint k: after edge k): runs of whole edges."""
+    n = region.size
+    cs = sorted(corners)
+    out = []
+    for i, c in enumerate(cs):
+        nxt = cs[(i + 1) % len(cs)]
+        run, k = [], (c + 1) % n
+        while True:
+            run.append(_whole(region, k))
+            if k == nxt:
+                break
+            k = (k + 1) % n
+        out.append(tuple(run))
+    return out
+
+
+def _split_run(region: Region, run: tuple, parts: int) -> list:
+    """A run of pieces cut into parts of equal 3D arc length (pieces cut inside edges where needed)."""
+    tabs = [_table(region, p) for p in run]
+    lens = np.array([tb[2][-1] for tb in tabs])
+    cum = np.concatenate([[0.0], np.cumsum(lens)])
+    cuts = list(cum[-1] * np.arange(1, parts) / parts)
+    out, cur = [], []
+    for (k, a, b), (t, _, s), c0, ln in zip(run, tabs, cum[:-1], lens):
+        start = a
+        while cuts and cuts[0] < c0 + ln and ln > 0:
+            x = float(np.interp(cuts.pop(0) - c0, s, t))
+            cur.append((k, start, x))
+            out.append(tuple(cur))
+            cur, start = [], x
+        cur.append((k, start, b))
+    out.append(tuple(cur))
+    while len(out) < parts:      # a run without length: its last piece halved until there are enough
+        k, a, b = out[-1][-1]
+        out[-1] = out[-1][:-1] + ((k, a, 0.5 * (a + b)),)
+        out.append(((k, 0.5 * (a + b), b),))
+    return out
+
+
+def four_sides(region: Region, rails: Optional[tuple] = None, corner_deg: float = CORNER_DEG) -> Sides:
+    """Group the loop into four sides (see the module doc).  rails: two loop edge indices to be the
+    rails (sides 0 and 2): they must be opposite, i.e. not neighbours."""
+    n = region.size
+    ang = region.joint_angles()
+    if rails is not None:
+        a, b = (int(x) for x in rails)
+        for x in (a, b):
+            if not 0 <= x < n:
+                raise BadInputError(f"--rails: the face has no edge {x}; its outer wire has edges 0..{n - 1} "
+                                    f"(see 'ruled faces INPUT --edges')")
+        if a == b:
+            raise BadInputError(f"--rails {a},{b} names one edge twice; name two opposite edges")
+        if (a + 1) % n == b or (b + 1) % n == a:
+            raise BadInputError(f"--rails {a},{b}: edges {a} and {b} are neighbours, not opposite; name two edges "
+                                f"with other edges between them on both sides")
+        runs = _runs(region, [(a - 1) % n, a, (b - 1) % n, b])
+        # the runs start after joint a-1 (edge a), after a, after b-1 (edge b) and after b, in sorted order
+        byfirst = {r[0][0]: r for r in runs}
+        ra, rb = byfirst[a], byfirst[b]
+        r1 = byfirst[(a + 1) % n]
+        r3 = byfirst[(b + 1) % n]
+        return Sides((ra, r1, rb, r3), tuple(ang), "rails")
+    return side_candidates(region, corner_deg)[0]
+
+
+def side_candidates(region: Region, corner_deg: float = CORNER_DEG, most: int = 15) -> list:
+    """The ways of grouping the loop into four sides worth trying, the likeliest first: one side per edge
+    for a face of four edges; else four of the (at most six) sharpest corners, every choice; for three
+    corners, the point side at each corner in turn, and the three corners with each tangent joint as a
+    fourth corner; for fewer, the loop halved or quartered by arc length."""
+    from itertools import combinations
+    n = region.size
+    ang = region.joint_angles()
+    corners = [k for k in range(n) if ang[k] > corner_deg]
+    if n == 4 and not any(region.degenerate):
+        return [Sides(tuple((_whole(region, k),) for k in range(4)), tuple(ang), "four edges, one side each")]
+    out = []
+    if len(corners) >= 4:
+        top = sorted(corners, key=lambda k: -ang[k])[:6]
+        for keep in sorted(combinations(top, 4), key=lambda c: -sum(ang[k] for k in c)):
+            out.append(Sides(tuple(_runs(region, sorted(keep))), tuple(ang),
+                             f"corners after edges {','.join(map(str, sorted(keep)))}"))
+        return out[:most]
+    if len(corners) == 3:
+        runs = _runs(region, corners)
+        cs = sorted(corners)
+        for j in sorted(range(3), key=lambda j: -ang[cs[j]]):    # joint cs[j] ends run j-1 and starts run j
+            order = [runs[(j + i) % 3] for i in range(3)]
+            out.append(Sides((order[0], order[1], order[2], ()), tuple(ang),
+                             f"three corners: the rulings fan out of the corner after edge {cs[j]}"))
+        for k in range(n):
+            if k not in corners:
+                out.append(Sides(tuple(_runs(region, sorted(corners + [k]))), tuple(ang),
+                                 f"three corners and the tangent joint after edge {k}"))
+        return out[:most]
+    if len(corners) == 2:
+        r = _runs(region, corners)
+        s0, s1 = _split_run(region, r[0], 2), _split_run(region, r[1], 2)
+        return [Sides((s0[0], s0[1], s1[0], s1[1]), tuple(ang), "two corners: each side halved")]
+    start = corners[0] if corners else n - 1
+    whole = _runs(region, [start])[0] if n > 1 or corners else (_whole(region, 0),)
+    return [Sides(tuple(_split_run(region, whole, 4)), tuple(ang),
+                  f"{len(corners)} corner{'s' if len(corners) != 1 else ''}: the loop quartered by arc length")]
+
+
+class SideCurve:
+    """One side as a map tau in [0, 1] -> (u, v): its pieces in turn, each over a share of [0, 1]
+    proportional to the 3D length of its image (to its (u, v) length where the side's image has none;
+    a constant for a point side), linear in the piece's own parameter so that the map is as smooth as
+    the pcurves."""
+
+    def __init__(self, region: Region, pieces: tuple, point: Optional[np.ndarray] = None):
+        self.region = region
+        self.pieces = pieces
+        self.point = point
+        self.length = 0.0
+        if not pieces:
+            self.cum = np.array([0.0, 1.0])
+            return
+        tabs = [_table(region, p, 33) for p in pieces]
+        lens = np.array([tb[2][-1] for tb in tabs])
+        self.length = float(lens.sum())
+        if lens.sum() <= 1e-12 * max(region.surface.diagonal(), 1e-300):
+            lens = np.array([np.linalg.norm(np.diff(uv, axis=0), axis=1).sum() for _, uv, _ in tabs])
+        if not lens.sum() > 0:
+            lens = np.ones(len(tabs))
+        self.cum = np.concatenate([[0.0], np.cumsum(lens)]) / lens.sum()
+
+    def breaks(self) -> np.ndarray:
+        """The side's parameters where its pieces join and where their pcurves have knots (at most 48
+        per piece: where the composition with the surface is least smooth)."""
+        out = [self.cum[1:-1]]
+        for i, (k, a, b) in enumerate(self.pieces):
+            kk = np.unique(self.region.loop[k].knots)
+            kk = kk[(kk > min(a, b)) & (kk < max(a, b))]
+            if kk.size > 48:
+                kk = kk[np.linspace(0, kk.size - 1, 48).astype(int)]
+            out.append(self.cum[i] + (self.cum[i + 1] - self.cum[i]) * (kk - a) / (b - a))
+        return np.concatenate(out)
+
+    def _map(self, tau, f, dim: int) -> np.ndarray:
+        tau = np.clip(np.asarray(tau, float).ravel(), 0.0, 1.0)
+        out = np.empty((tau.size, dim))
+        idx = np.clip(np.searchsorted(self.cum, tau, side="right") - 1, 0, len(self.pieces) - 1)
+        for i, (k, a, b) in enumerate(self.pieces):
+            m = idx == i
+            if m.any():
+                lo, hi = self.cum[i], self.cum[i + 1]
+                out[m] = f(k, a + (b - a) * (tau[m] - lo) / max(hi - lo, 1e-300))
+        return out
+
+    def __call__(self, tau) -> np.ndarray:
+        if not self.pieces:
+            return np.repeat(self.point[None, :], np.asarray(tau, float).size, axis=0)
+        return self._map(tau, self.region.uv, 2)
+
+    def gap(self, tau) -> np.ndarray:
+        """(N, 3) the side's 3D edge curves minus the surface at the side's points."""
+        if not self.pieces or not self.region.edges3d:
+            return np.zeros((np.asarray(tau, float).size, 3))
+        return self._map(tau, self.region.gap, 3)
+
+
+@dataclass
+class CoonsMap:
+    """The Coons map of a region's four sides (see the module doc): omega(S, s, t) -> (u, v) arrays of
+    the shape of s and t; the interface of ruled.strips.Strip, so side_surface samples it."""
+
+    region: Region
+    sides: Sides
+    curves: list = field(default_factory=list)
+    flip: bool = False
+    name: str = "face's own parametrization"
+    refine_hint: str = "the face's boundary is too wiggly to parametrize; pick other rails (--rails)"
+
+    def __post_init__(self):
+        pcs = self.sides.pieces
+        self.curves = []
+        for i in range(4):
+            pt = None
+            if not pcs[i]:
+                # a point side: the corner where its neighbours meet
+                prev = pcs[(i - 1) % 4][-1]
+                pt = self.region.uv(prev[0], np.array([prev[2]]))[0]
+            self.curves.append(SideCurve(self.region, pcs[i], pt))
+
+    @property
+    def whole(self) -> bool:
+        return False
+
+    def _raw(self, s, t):
+        c0, c1, c2, c3 = self.curves
+        P00, P10, P11, P01 = c0(0.0)[0], c1(0.0)[0], c2(0.0)[0], c3(0.0)[0]
+        # the corners as the sides' own ends, averaged with their neighbours' (pcurves meet within tolerance)
+        P00 = 0.5 * (P00 + c3(1.0)[0])
+        P10 = 0.5 * (P10 + c0(1.0)[0])
+        P11 = 0.5 * (P11 + c1(1.0)[0])
+        P01 = 0.5 * (P01 + c2(1.0)[0])
+        s, t = s[:, None], t[:, None]
+        out = ((1 - t) * c0(s[:, 0]) + t * c2(1 - s[:, 0]) + (1 - s) * c3(1 - t[:, 0]) + s * c1(t[:, 0])
+               - ((1 - s) * (1 - t) * P00 + s * (1 - t) * P10 + s * t * P11 + (1 - s) * t * P01))
+        return out
+
+    def offset(self, s, t) -> Optional[np.ndarray]:
+        """(N, 3) the Coons blend of the gaps between the sides' 3D edges and the surface, so that the
+        patch's boundary is the face's edges themselves (None when no 3D edges are known)."""
+        if not self.region.edges3d:
+            return None
+        s = np.asarray(s, float).ravel()
+        t = np.asarray(t, float).ravel()
+        if self.flip:
+            s = 1.0 - s
+        c0, c1, c2, c3 = self.curves
+        G00 = 0.5 * (c0.gap(0.0)[0] + c3.gap(1.0)[0])
+        G10 = 0.5 * (c1.gap(0.0)[0] + c0.gap(1.0)[0])
+        G11 = 0.5 * (c2.gap(0.0)[0] + c1.gap(1.0)[0])
+        G01 = 0.5 * (c3.gap(0.0)[0] + c2.gap(1.0)[0])
+        s, t = s[:, None], t[:, None]
+        return ((1 - t) * c0.gap(s[:, 0]) + t * c2.gap(1 - s[:, 0]) + (1 - s) * c3.gap(1 - t[:, 0])
+                + s * c1.gap(t[:, 0]) - ((1 - s) * (1 - t) * G00 + s * (1 - t) * G10 + s * t * G11
+                                         + (1 - s) * t * G01))
+
+    def omega(self, S: Surface, s, t):
+        s, t = np.broadcast_arrays(np.asarray(s, float), np.asarray(t, float))
+        shape = s.shape
+        ss = s.ravel()
+        if self.flip:
+            ss = 1.0 - ss
+        uv = self._raw(ss, t.ravel())
+        uv = self.region.inside(uv)
+        return uv[:, 0].reshape(shape), uv[:, 1].reshape(shape)
+
+    def breaks(self, S: Surface):
+        """Initial break points in s and t for sampling S o Omega: the sides' piece joints and the
+        surface's knot lines crossing the middle of the patch, plus uniform ones."""
+        c0, c1, c2, c3 = self.curves
+        bs = np.concatenate([[0.0, 1.0], c0.breaks(), 1.0 - c2.breaks(), np.linspace(0, 1, 9),
+                             self._knot_crossings(c0), 1.0 - self._knot_crossings(c2)])
+        bt = np.concatenate([[0.0, 1.0], c1.breaks(), 1.0 - c3.breaks(), np.linspace(0, 1, 5),
+                             self._knot_crossings(c1), 1.0 - self._knot_crossings(c3)])
+        if self.flip:
+            bs = 1.0 - bs
+        return _merge(bs), _merge(bt)
+
+    def _knot_crossings(self, c: "SideCurve", n: int = 1025, most: int = 64) -> np.ndarray:
+        """The side's parameters where it crosses the surface's interior knot lines (where S o Omega is
+        least smooth; where the map's lines follow the side, they are the patch's own knot lines)."""
+        S = self.region.surface
+        tau = np.linspace(0.0, 1.0, n)
+        uv = self.region.inside(c(tau))
+        out = []
+        for ax, d in ((0, "u"), (1, "v")):
+            for k in S.interior_knots(d):
+                f = uv[:, ax] - k
+                i = np.nonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)[0]
+                out.extend(tau[i] + (tau[i + 1] - tau[i]) * f[i] / (f[i] - f[i + 1]))
+        out = np.array(sorted(out))
+        if out.size > most:
+            out = out[np.linspace(0, out.size - 1, most).astype(int)]
+        return out
+
+    def jacobian_signs(self, n: int = 48) -> np.ndarray:
+        """det(d Omega / d(s, t)) at the centres of an n x n grid (scaled by the domain's size)."""
+        x = (np.arange(n) + 0.5) / n
+        s, t = np.meshgrid(x, x, indexing="ij")
+        s, t = s.ravel(), t.ravel()
+        h = 0.25 / n
+        u0, u1, v0, v1 = self.region.surface.domain
+        sc = np.array([max(u1 - u0, 1e-300), max(v1 - v0, 1e-300)])
+        ds = (self._raw(s + h, t) - self._raw(s - h, t)) / sc
+        dt = (self._raw(s, t + h) - self._raw(s, t - h)) / sc
+        return (ds[:, 0] * dt[:, 1] - ds[:, 1] * dt[:, 0]).reshape(n, n)
+
+
+def _merge(b: np.ndarray) -> np.ndarray:
+    b = np.unique(np.clip(b, 0.0, 1.0))
+    keep = np.concatenate([[True], np.diff(b) > 1e-3])
+    b = b[keep]
+    b[-1] = 1.0
+    return b
+
+
+def coons_map(region: Region, sides: Sides) -> CoonsMap:
+    """The Coons map of the sides, oriented so that the patch's normal is the surface's (s runs so
+    that det > 0); refused with a one-line reason when it folds."""
+    m = CoonsMap(region, sides)
+    J = m.jacobian_signs()
+    # a few cells of the other sign with a vanishing Jacobian at a sharp corner are round-off, not a fold
+    small = 1e-2 * float(np.median(np.abs(J)))
+    pos, neg = int((J > small).sum()), int((J < -small).sum())
+    if pos and neg:
+        bad = np.argwhere(J < -small if pos >= neg else J > small)[0]
+        x = (bad + 0.5) / J.shape[0]
+        uv = m._raw(np.array([x[0]]), np.array([x[1]]))[0]
+        edges = "; ".join(f"side {i}: edges {','.join(map(str, sides.edges(i))) or 'a point'}" for i in range(4))
+        what = ("pick two other opposite edges as rails (--rails A,B, see 'ruled faces INPUT --edges')"
+                if region.size > 4 else "cut the face into simpler four-sided faces in your CAD system")
+        raise DegenerateFaceError(f"the face's four sides ({edges}) do not bound a region that a Coons map "
+                                  f"parametrizes without folding (it folds near (u, v) = ({uv[0]:.4g}, {uv[1]:.4g})); "
+                                  f"{what}")
+    if pos == 0 and neg == 0:
+        raise DegenerateFaceError("the face's boundary encloses no area in its surface's (u, v); repair the face")
+    m.flip = neg > pos
+    return m
+
+
+__all__ = ["Region", "Sides", "four_sides", "side_candidates", "CoonsMap", "coons_map", "SideCurve", "CORNER_DEG"]

@@ -1,0 +1,159 @@
+"""Trimmed test faces built with OCCT alone (no engine code): a surface and a loop of (u, v) curves on it,
+and the references the trimmed-face tests compare with (FreeCAD's Part "Ruled Surface", i.e. BRepFill,
+between two edges; an untrimmed surface interpolated through the region's Coons map)."""
+
+from __future__ import annotations
+
+import numpy as np
+from OCP.BRep import BRep_Tool
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
+from OCP.BRepFill import BRepFill
+from OCP.BRepLib import BRepLib
+from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
+from OCP.Geom import Geom_BSplineSurface
+from OCP.Geom2dAPI import Geom2dAPI_PointsToBSpline
+from OCP.GeomAbs import GeomAbs_Shape
+from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface
+from OCP.ShapeFix import ShapeFix_Face
+from OCP.TColgp import TColgp_Array1OfPnt2d, TColgp_Array2OfPnt
+from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
+from OCP.TopoDS import TopoDS
+from OCP.gp import gp_Pnt, gp_Pnt2d
+
+
+def bspline_surface(poles, uknots, umults, vknots, vmults, pu, pv, uperiodic=False) -> Geom_BSplineSurface:
+    poles = np.asarray(poles, float)
+    nu, nv = poles.shape[:2]
+    P = TColgp_Array2OfPnt(1, nu, 1, nv)
+    for i in range(nu):
+        for j in range(nv):
+            P.SetValue(i + 1, j + 1, gp_Pnt(*poles[i, j]))
+
+    def arr(vals, cls=TColStd_Array1OfReal):
+        a = cls(1, len(vals))
+        for i, x in enumerate(vals):
+            a.SetValue(i + 1, x)
+        return a
+    return Geom_BSplineSurface(P, arr(uknots), arr(vknots), arr(umults, TColStd_Array1OfInteger),
+                               arr(vmults, TColStd_Array1OfInteger), pu, pv, uperiodic, False)
+
+
+def curve2d(points):
+    """A 2D B-spline through the points (OCCT's approximation, degree 3 unless two points: a line)."""
+    pts = np.asarray(points, float)
+    arr = TColgp_Array1OfPnt2d(1, len(pts))
+    for i, (u, v) in enumerate(pts):
+        arr.SetValue(i + 1, gp_Pnt2d(float(u), float(v)))
+    if len(pts) == 2:
+        return Geom2dAPI_PointsToBSpline(arr, 1, 1, GeomAbs_Shape.GeomAbs_C0, 1e-9).Curve()
+    return Geom2dAPI_PointsToBSpline(arr, 3, 3, GeomAbs_Shape.GeomAbs_C2, 1e-7).Curve()
+
+
+def graph2d(u0: float, u1: float, f, spans: int = 16, reverse: bool = False):
+    """A cubic 2D B-spline (u(t), v(t)) with u(t) = t exactly (poles at the Greville abscissae of uniform
+    clamped knots) and v following f(u) (the poles' v = f at those abscissae): no overshoot in u."""
+    from OCP.Geom2d import Geom2d_BSplineCurve
+    knots = np.linspace(u0, u1, spans + 1)
+    full = np.concatenate([[u0] * 3, knots, [u1] * 3])
+    g = np.array([full[i + 1:i + 4].mean() for i in range(spans + 3)])
+    P = TColgp_Array1OfPnt2d(1, g.size)
+    for i, x in enumerate(g):
+        P.SetValue(i + 1, gp_Pnt2d(float(x), float(f(x))))
+    K = TColStd_Array1OfReal(1, knots.size)
+    M = TColStd_Array1OfInteger(1, knots.size)
+    for i, x in enumerate(knots):
+        K.SetValue(i + 1, float(x))
+        M.SetValue(i + 1, 4 if i in (0, knots.size - 1) else 1)
+    c = Geom2d_BSplineCurve(P, K, M, 3)
+    if reverse:
+        c.Reverse()
+    return c
+
+
+def face_from_loops(surf, loops) -> object:
+    """A face of surf bounded by loops (each a list of 2D curves in the surface's (u, v), end to end;
+    the first is the outer loop), with 3D curves built from the pcurves."""
+    wires = []
+    for loop in loops:
+        mk = BRepBuilderAPI_MakeWire()
+        for c in loop:
+            mk.Add(BRepBuilderAPI_MakeEdge(c, surf).Edge())
+        wires.append(mk.Wire())
+    mf = BRepBuilderAPI_MakeFace(surf, wires[0], True)
+    for w in wires[1:]:
+        mf.Add(w)
+    face = mf.Face()
+    BRepLib.BuildCurves3d_s(face)
+    fix = ShapeFix_Face(face)
+    fix.Perform()
+    return TopoDS.Face_s(fix.Face())
+
+
+def outer_edges(face) -> list:
+    out = []
+    we = BRepTools_WireExplorer(BRepTools.OuterWire_s(face), face)
+    while we.More():
+        out.append(we.Current())
+        we.Next()
+    return out
+
+
+def part_ruled(face, rail_a, rail_b) -> list:
+    """FreeCAD's Part "Ruled Surface" (BRepFill::Face between edges, BRepFill::Shell between wires) between
+    two sides of the face given as lists of outer-wire edge indices, in both orientations."""
+    E = outer_edges(face)
+    if any(BRep_Tool.Degenerated_s(E[k]) for k in list(rail_a) + list(rail_b)):
+        return []
+
+    def wire(ks, reverse):
+        mk = BRepBuilderAPI_MakeWire()
+        for k in ks:
+            mk.Add(E[k])
+        w = mk.Wire()
+        return TopoDS.Wire_s(w.Reversed()) if reverse else w
+    out = []
+    for rev in (False, True):
+        if len(rail_a) == 1 and len(rail_b) == 1:
+            eb = TopoDS.Edge_s(E[rail_b[0]].Reversed()) if rev else E[rail_b[0]]
+            out.append(BRepFill.Face_s(E[rail_a[0]], eb))
+        else:
+            out.append(BRepFill.Shell_s(wire(rail_a, False), wire(rail_b, rev)))
+    return out
+
+
+def measure(face, shape, n: int) -> float:
+    """The two-sided Hausdorff distance between a face and a face or shell (OCCT's projections through
+    ruled.occ.measure, which uses no engine code)."""
+    from OCP.TopAbs import TopAbs_ShapeEnum
+    from OCP.TopExp import TopExp_Explorer
+
+    from ruled.occ.measure import FaceSet, _Projector, face_points, hausdorff, sample_faces, two_sided
+    faces = []
+    ex = TopExp_Explorer(shape, TopAbs_ShapeEnum.TopAbs_FACE)
+    while ex.More():
+        faces.append(TopoDS.Face_s(ex.Current()))
+        ex.Next()
+    if len(faces) == 1:
+        return hausdorff(face, faces[0], n).max
+    return two_sided(face_points(face, n), sample_faces(faces, n), _Projector(face), FaceSet(faces)).max
+
+
+def coons_reference(surf, sides, n: int = 40):
+    """An untrimmed B-spline face through S(Omega(s, t)) on an n x n grid, Omega the bilinearly blended
+    Coons map of the four sides (2D curves in loop order, each on [first, last], parametrized linearly),
+    approximated by OCCT within 1e-6."""
+    def side(c, x):
+        a, b = c.FirstParameter(), c.LastParameter()
+        p = c.Value(a + (b - a) * x)
+        return np.array([p.X(), p.Y()])
+    c0, c1, c2, c3 = sides
+    P00, P10, P11, P01 = side(c0, 0), side(c1, 0), side(c2, 0), side(c3, 0)
+    x = np.linspace(0, 1, n)
+    arr = TColgp_Array2OfPnt(1, n, 1, n)
+    for i, s in enumerate(x):
+        for j, t in enumerate(x):
+            uv = ((1 - t) * side(c0, s) + t * side(c2, 1 - s) + (1 - s) * side(c3, 1 - t) + s * side(c1, t)
+                  - ((1 - s) * (1 - t) * P00 + s * (1 - t) * P10 + s * t * P11 + (1 - s) * t * P01))
+            arr.SetValue(i + 1, j + 1, surf.Value(float(uv[0]), float(uv[1])))
+    bs = GeomAPI_PointsToBSplineSurface(arr, 3, 3, GeomAbs_Shape.GeomAbs_C2, 1e-6).Surface()
+    return BRepBuilderAPI_MakeFace(bs, 1e-7).Face()
