@@ -623,7 +623,11 @@ def cmd_machine(args) -> int:
     if args.ruled:
         print(f"face {rep['face']}: a ruled result, rulings along {f['direction']}")
     else:
-        print(f"face {rep['face']}: ruled fit bound {f['error_bound']:.6g}{meas}, rulings along {f['direction']}")
+        rg = f.get("region")
+        where = (f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and "
+                 f"{','.join(map(str, rg['rails'][1])) or 'a point'}" if rg and rg["trimmed"]
+                 else f"along {f['direction']}")
+        print(f"face {rep['face']}: ruled fit bound {f['error_bound']:.6g}{meas}, rulings {where}")
     if m["mode"] == "xyuv":
         print(f"XYUV: {m['sync_points']} synchronized points, XY path {m['length_xy']:.6g}, UV path "
               f"{m['length_uv']:.6g}, largest taper {m['max_taper_deg']:.3g} deg, planes at "

@@ -16,7 +16,8 @@ from typing import Optional
 import numpy as np
 
 from .errors import BadInputError, DegenerateFaceError, RuledError
-from .fit import GRID_FINE, Direction, FitOptions, FitResult, Progress, fit_surface, iso_fit
+from .fit import (GRID_COARSE, GRID_FINE, Direction, FitOptions, FitResult, Progress, fit_surface, iso_fit,
+                  recertify)
 from .nurbs import Surface
 from .region import Region, Sides, coons_map, four_sides, side_candidates
 from .strips import side_surface
@@ -184,9 +185,8 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     if patch.direction is not None:
         opts = replace(opts, direction=Direction(patch.direction))
     res = fit_surface(patch.surface, opts, progress)
-    res = with_iso(res, progress)
-    if not patch.identity:
-        res = _area_checked(res, patch)
+    if not patch.identity:          # an untrimmed face keeps today's exact path
+        res = _area_checked(with_iso(res, progress), patch)
     return replace(with_deviation(res, patch.deviation), patch=patch)
 
 
@@ -230,7 +230,9 @@ def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
             continue
         if progress is not None:
             progress(f"iso-parametric check ({d})", 0.0)
-        iso = iso_fit(c, GRID_FINE)
+        iso = iso_fit(c, GRID_COARSE)          # a coarse certificate first (an upper bound too) ...
+        if iso is not None and iso.certificate.node_max < c.error_bound:
+            iso = recertify(iso, GRID_FINE)     # ... the fine one only where the iso surface may win
         if progress is not None:
             progress(f"iso-parametric check ({d})", 1.0)
         if iso is not None and iso.error_bound < c.error_bound:

@@ -421,14 +421,14 @@ class SideCurve:
         self.cum = np.concatenate([[0.0], np.cumsum(lens)]) / lens.sum()
 
     def breaks(self) -> np.ndarray:
-        """The side's parameters where its pieces join and where their pcurves have knots (at most 48
+        """The side's parameters where its pieces join and where their pcurves have knots (at most 16
         per piece: where the composition with the surface is least smooth)."""
         out = [self.cum[1:-1]]
         for i, (k, a, b) in enumerate(self.pieces):
             kk = np.unique(self.region.loop[k].knots)
             kk = kk[(kk > min(a, b)) & (kk < max(a, b))]
-            if kk.size > 48:
-                kk = kk[np.linspace(0, kk.size - 1, 48).astype(int)]
+            if kk.size > 16:
+                kk = kk[np.linspace(0, kk.size - 1, 16).astype(int)]
             out.append(self.cum[i] + (self.cum[i + 1] - self.cum[i]) * (kk - a) / (b - a))
         return np.concatenate(out)
 
@@ -536,7 +536,7 @@ class CoonsMap:
             bs = 1.0 - bs
         return _merge(bs), _merge(bt)
 
-    def _knot_crossings(self, c: "SideCurve", n: int = 1025, most: int = 64) -> np.ndarray:
+    def _knot_crossings(self, c: "SideCurve", n: int = 1025, most: int = 16) -> np.ndarray:
         """The side's parameters where it crosses the surface's interior knot lines (where S o Omega is
         least smooth; where the map's lines follow the side, they are the patch's own knot lines)."""
         S = self.region.surface

@@ -156,10 +156,25 @@ def test_kj66_face_with_interior_knots(tmp_path):
     path = data_file("kj66_impeller.step")
     from ruled.occ.convert import face_to_container
     from ruled.occ.io import get_face
-    S = face_to_container(get_face(path, 6))
+    from ruled.occ.region import face_region
+    from ruled.region import coons_map, four_sides
+    face = get_face(path, 6)
+    S = face_to_container(face)
     u0, u1, v0, v1 = S.domain
+    # the face is trimmed to 8 % of its surface's rectangle: a curve across the rectangle leaves it, refused
     D = _cubic_domain_curve(np.random.default_rng(3), np.array([u0, v0]), np.array([u1, v1]))
     cj = tmp_path / "c.json"
+    cj.write_text(json.dumps({"degree": 3, "knots": D.knots.tolist(), "points": D.poles.tolist()}))
+    assert main(["curve-on-surface", path, "--face", "6", "--uv-curve", str(cj), "-o", str(tmp_path / "x.step"),
+                 "--quiet"]) == 2
+    # a wavy cubic inside the face: control points on a diagonal of the face's own Coons map
+    region = face_region(face, S)
+    m = coons_map(region, four_sides(region))
+    x = np.linspace(0.1, 0.9, 8)
+    u, v = m.omega(S, x, 0.5 + 0.3 * np.sin(4 * x))
+    knots = np.concatenate([np.zeros(4), np.linspace(0, 1, 6)[1:-1], np.ones(4)])
+    D = Curve(np.stack([u, v], axis=1), knots, 3)
+    assert region.contains(D(np.linspace(0, 1, 400))).all()
     cj.write_text(json.dumps({"degree": 3, "knots": D.knots.tolist(), "points": D.poles.tolist()}))
     out, rep = tmp_path / "c.step", tmp_path / "r.json"
     tol = 1e-3

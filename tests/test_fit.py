@@ -80,20 +80,19 @@ def test_max_objective_and_constraint(tmp_path):
 
 @pytest.mark.slow
 def test_ruled_fit_on_every_bspline_face_of_the_impeller(tmp_path):
-    """The `ruled fit` job (ruled.cli.run_fit, in process) on all 48 B-spline faces."""
+    """The `ruled fit` job (ruled.cli.run_fit, in process) on a sample of the 48 B-spline faces (every
+    sixth, and the closed hub face 87; the nine blades repeat each other, and tests/test_trimmed.py fits
+    faces 0-20 of the first ones): the bound holds against the bounded face."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from ruled.cli import run_fit
     path = data_file("kj66_impeller.step")
     faces = faces_of(read_shape(path))
-    n = 0
-    for i, face in enumerate(faces):
-        if BRepAdaptor_Surface(face).GetType().name != "GeomAbs_BSplineSurface":
-            continue
+    bspline = [i for i, f in enumerate(faces) if BRepAdaptor_Surface(f).GetType().name == "GeomAbs_BSplineSurface"]
+    assert len(bspline) == 48
+    for i in sorted(set(bspline[5::6]) | {87}):
         rep = run_fit(path, i, str(tmp_path / f"f{i}.step"), samples=40, measure_samples=25, quiet=True)
         assert rep["error_bound"] >= rep["hausdorff"]["max"], (i, rep["error_bound"], rep["hausdorff"])
-        assert (tmp_path / f"f{i}.step").stat().st_size > 0
-        n += 1
-    assert n == 48
+        assert rep["area"]["ratio"] is not None and (tmp_path / f"f{i}.step").stat().st_size > 0
 
 
 def test_cadquery_faces_and_analytic_surfaces():

@@ -69,7 +69,10 @@ SCRIPT = textwrap.dedent("""
         imp = d2.addObject("Part::Feature", "Impeller"); imp.Shape = shape
         k = make_ruled_fit(d2, imp, "Face7", Samples=16, MeasureSamples=12)
         d2.recompute()
-        out["step"] = props(k)
+        out["step"] = dict(props(k), area_ratio=k.Shape.Area / imp.Shape.getElement("Face7").Area,
+                           rails=list(k.Rails), trimmed=k.Trimmed, patch=k.PatchDeviation,
+                           rail_edges=[[imp.Shape.getElement(n).isSame(e) for e in imp.Shape.getElement("Face7").Edges]
+                                       for r in k.Rails for n in r.split(" + ")])
         json.dump(out, open({out!r}, "w"))
         code = 0
     except Exception:
@@ -120,6 +123,11 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert st["valid"], st["status"]
     assert st["bound"] == pytest.approx(c["error_bound"], rel=1e-6)
     assert st["hausdorff"] == pytest.approx(c["hausdorff"]["max"], rel=1e-6, abs=1e-9)
+    # the face as bounded by its edges: the result has the face's extent, the rails are two of its edges
+    assert st["trimmed"] and abs(st["area_ratio"] - 1.0) <= 0.05, st
+    assert len(st["rails"]) == 2 and all(r.startswith("Edge") for r in st["rails"])
+    assert all(any(hits) for hits in st["rail_edges"])          # each rail is an edge of the source face
+    assert st["bound"] >= st["hausdorff"] and 0 < st["patch"] < st["bound"]
 
 
 SPLIT_SCRIPT = textwrap.dedent("""

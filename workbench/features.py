@@ -285,8 +285,15 @@ class RuledSplit(_Feature):
         from ruled.strips import EDGE_TOL, input_curve
 
         from .adapter import curve_to_edge, surface_to_face
-        _, opts, S, progress = self.inputs(obj, "splitting")
+        from ruled.facefit import face_patch
+
+        from .adapter import face_region
+        face, opts, S, progress = self.inputs(obj, "splitting")
         try:
+            patch = face_patch(face_region(face, S))     # the face as bounded by its edges
+            for w in patch.warnings:
+                FreeCAD.Console.PrintWarning(f"{obj.Label}: {w}\n")
+            S = patch.surface
             res = split_face(S, opts, progress)
         finally:
             progress.stop()

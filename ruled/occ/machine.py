@@ -105,6 +105,9 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     else:
         fit_rep = {"method": res.best.method, "direction": res.direction, "closed": res.best.closed,
                    "error_bound": res.error_bound + slack, "notes": list(res.notes)}
+        if res.patch is not None:
+            from ..report import region_report
+            fit_rep["region"] = region_report(res)
     rep = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
     warns = list(warnings or []) + list(path.warnings)
     if measure_samples:

@@ -49,7 +49,11 @@ try:
                      "mode": obj.ViewObject.DisplayMode, "proxy": type(obj.ViewObject.Proxy).__name__}
     imp.ViewObject.Transparency = 70
     view = FreeCADGui.ActiveDocument.ActiveView
-    view.viewIsometric()
+    # look at the result face-on (a blade face is long and thin: seen from an iso view it is a sliver)
+    f = obj.Shape.Faces[0]
+    u0, u1, v0, v1 = f.ParameterRange
+    n = f.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))
+    view.setViewDirection((-n.x, -n.y, -n.z))
     sel.clearSelection()
     sel.addSelection(obj)
     FreeCADGui.SendMsgToActiveView("ViewSelection")
