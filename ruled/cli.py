@@ -250,7 +250,7 @@ def cmd_faces(args) -> int:
         extra = ""
         try:
             region = face_region(face)
-            ratio = rect_area_ratio(face, region.surface)
+            ratio = rect_area_ratio(face, region.surface, info.area)
             trim = "untrimmed" if region.is_rectangle() else f"trimmed {100 * ratio:.0f}%"
             extra = f"  {trim}  edges {region.size}  holes {len(region.holes)}"
             sides = four_sides(region) if args.edges and not region.is_rectangle() else None

@@ -1,7 +1,7 @@
 """Fitting the face the user selected: its region mapped onto the unit square, then fitted.
 
 A face that is its surface's whole (u, v) rectangle is fitted as it is (the exact path).  Any other
-face is first turned into the four-sided patch S o Omega of its Coons map (ruled.region), sampled into
+face is first turned into the four-sided patch S o Omega of its Coons map (ruled.region, ruled.coons), sampled into
 a bicubic B-spline within ``PATCH_TOL`` of the face's size (ruled.strips.side_surface); the patch is
 fitted, and the deviation of the sampled patch from S o Omega is added to the certified bound, which is
 then for the bounded face.  The rails are two opposite sides of the face: the fit's direction 'v'
@@ -19,7 +19,8 @@ from .errors import BadInputError, DegenerateFaceError, RuledError
 from .fit import (GRID_COARSE, GRID_FINE, Direction, FitOptions, FitResult, Progress, fit_surface, iso_fit,
                   recertify)
 from .nurbs import Surface
-from .region import Region, Sides, coons_map, four_sides, side_candidates
+from .coons import coons_map
+from .region import Region, Sides, four_sides, side_candidates
 from .strips import side_surface
 
 PATCH_TOL = 1e-6         # the sampled patch's target deviation from S o Omega, a fraction of the face's size
@@ -48,21 +49,9 @@ class FacePatch:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
         if self.sides is not None:
             return self.sides.rails(direction)
-        # the rectangle: the loop edges along the v-min / v-max (direction v) or u-min / u-max sides
-        S = self.region.surface
-        u0, u1, v0, v1 = S.domain
-        out = ([], [])
-        for k, c in enumerate(self.region.loop):
-            u, v = c.poles[:, 0], c.poles[:, 1]
-            if direction == "v":
-                for i, x in enumerate((v0, v1)):
-                    if np.all(np.abs(v - x) <= 1e-6 * max(v1 - v0, 1e-300)):
-                        out[i].append(k)
-            else:
-                for i, x in enumerate((u0, u1)):
-                    if np.all(np.abs(u - x) <= 1e-6 * max(u1 - u0, 1e-300)):
-                        out[i].append(k)
-        return tuple(out[0]), tuple(out[1])
+        # the rectangle: the loop edges on its v-min / v-max (direction v) or u-min / u-max sides
+        sides = self.region.rect_sides() or []
+        return tuple(tuple(k for k, (n, _) in enumerate(sides) if n == f"{direction}{i}") for i in (0, 1))
 
     @property
     def how(self) -> str:
@@ -82,21 +71,17 @@ def region_size(region: Region) -> float:
 
 def _rect_direction(region: Region, rails) -> str:
     """The fit direction of a rectangle whose rails are the given loop edges."""
-    u0, u1, v0, v1 = region.surface.domain
-    dirs = set()
-    for k in rails:
-        if not 0 <= int(k) < region.size:
+    a, b = (int(x) for x in rails)
+    for k in (a, b):
+        if not 0 <= k < region.size:
             raise BadInputError(f"--rails: the face has no edge {k}; its outer wire has edges 0..{region.size - 1} "
                                 f"(see 'ruled faces INPUT --edges')")
-        v = region.loop[int(k)].poles[:, 1]
-        dirs.add("v" if np.all(np.abs(v - v[0]) <= 1e-6 * max(v1 - v0, 1e-300)) else "u")
-    a, b = (int(x) for x in rails)
-    ca, cb = region.loop[a].poles, region.loop[b].poles
-    same = (len(dirs) == 1 and (np.allclose(ca[:, 1], cb[0, 1]) if "v" in dirs else np.allclose(ca[:, 0], cb[0, 0])))
-    if len(dirs) != 1 or same or a == b:
+    sides = region.rect_sides()
+    na, nb = sides[a][0], sides[b][0]
+    if na[0] != nb[0] or na == nb:
         raise BadInputError(f"--rails {a},{b}: edges {a} and {b} are not opposite sides of the face; name two "
                             f"opposite edges (see 'ruled faces INPUT --edges')")
-    return dirs.pop()
+    return na[0]
 
 
 def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:

@@ -178,7 +178,7 @@ def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int 
 
     strip: a :class:`Strip`, or any map of the unit square into S's domain with the same interface
     (``omega(S, s, t)``, ``offset(s, t)``, ``whole``, ``breaks(S)``, ``name``, ``refine_hint``), such as
-    the Coons map of a trimmed face (ruled.region.CoonsMap).  When the spans run out, a deviation up
+    the Coons map of a trimmed face (ruled.coons.CoonsMap).  When the spans run out, a deviation up
     to ``accept`` (default tol) is kept (the caller adds it to its bound), a larger one refused."""
     if strip.whole:
         return SideSurface(S, 0.0)

@@ -157,7 +157,8 @@ def test_kj66_face_with_interior_knots(tmp_path):
     from ruled.occ.convert import face_to_container
     from ruled.occ.io import get_face
     from ruled.occ.region import face_region
-    from ruled.region import coons_map, four_sides
+    from ruled.coons import coons_map
+    from ruled.region import four_sides
     face = get_face(path, 6)
     S = face_to_container(face)
     u0, u1, v0, v1 = S.domain

@@ -34,7 +34,7 @@ from OCP.gp import gp_Ax3, gp_Cone, gp_Cylinder, gp_Dir, gp_Lin, gp_Pnt  # noqa:
 from ruled.nurbs import Surface  # noqa: E402
 from ruled.occ.convert import container_to_face  # noqa: E402
 from ruled.occ.io import faces_of, get_face, read_shape, write_step  # noqa: E402
-from ruled.occ.measure import _grid, _Projector, hausdorff, two_sided  # noqa: E402
+from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided  # noqa: E402
 
 
 # ------------------------------------------------------------------------------------------- helpers
@@ -132,7 +132,7 @@ def rebuilt_error(target, face, lo, hi, direction, n=40):
     swept = container_to_face(Surface(np.stack([lo, hi], axis=1), np.concatenate([[0.0], np.arange(m, dtype=float),
                                                                                   [m - 1.0]]),
                                       [0.0, 0.0, 1.0, 1.0], 1, 1))
-    return two_sided(_grid(target, n), np.concatenate(pts), _Projector(target), _Projector(swept))
+    return two_sided(face_points(target, n), np.concatenate(pts), _Projector(target), _Projector(swept))
 
 
 def trace_deviation(cam_step, parsed_cut, rep):

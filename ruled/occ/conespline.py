@@ -92,7 +92,7 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
     if fit:
         from ..fit import FitOptions
         from .region import fit_face
-        fitted, _ = fit_face(face, fit_options or FitOptions(), progress)
+        fitted, _ = fit_face(face, fit_options or FitOptions(), progress, S=S)
         warnings += list(fitted.patch.warnings)
         S = fitted.surface
     else:

@@ -124,19 +124,6 @@ def list_faces(path: str) -> list[FaceInfo]:
     return [face_info(i, f) for i, f in enumerate(faces_of(read_shape(path)))]
 
 
-def trim_warning(face, S=None, covers: str = "the fit and the measure", index=None) -> list:
-    """[a warning] when the face covers noticeably less than its surface's (u, v) rectangle (the work
-    named by `covers` spans the whole rectangle), else []."""
-    from ..fit import surface_area
-    from .convert import face_to_container
-    a_face, a_rect = face_area(face), surface_area(S if S is not None else face_to_container(face))
-    if a_rect > 0 and abs(a_face - a_rect) > 0.01 * a_rect:
-        name = "the face" if index is None else f"face {index}"
-        return [f"{name} is trimmed (its area is {100 * a_face / a_rect:.1f}% of its surface's UV rectangle); "
-                f"{covers} cover the whole rectangle"]
-    return []
-
-
 def write_step(shapes, path: str) -> None:
     """Write one shape or a list of shapes (as a compound) to STEP AP214."""
     if not isinstance(shapes, (list, tuple)):
@@ -156,5 +143,5 @@ def write_step(shapes, path: str) -> None:
         raise BadInputError(f"cannot write {path}; check that the folder is writable")
 
 
-__all__ = ["read_shape", "faces_of", "get_face", "face_area", "list_faces", "write_step", "FaceInfo", "trim_warning",
+__all__ = ["read_shape", "faces_of", "get_face", "face_area", "list_faces", "write_step", "FaceInfo",
            "face_to_bspline"]

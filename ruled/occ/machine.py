@@ -21,7 +21,7 @@ from ..machine import Lines, MachineOptions, MachinePath, cut_points, machine_pa
 from ..machine_output import path_report
 from .convert import container_to_face, conversion_slack, face_to_container, segment_edge
 from .region import fit_face
-from .measure import _grid, _Projector, face_bounds, hausdorff, two_sided
+from .measure import _Projector, face_bounds, face_points, hausdorff, two_sided
 
 
 @dataclass
@@ -70,7 +70,7 @@ def measure_cut(target, path: MachinePath, n: int = 30) -> dict:
     onto the target; and the same points on the exact lines (the ruled surface the path follows),
     so that the cut is compared with the fit where it was measured."""
     to_target = _Projector(target)
-    h = two_sided(_grid(target, n), cut_points(path, 3 * n * n), to_target,
+    h = two_sided(face_points(target, n), cut_points(path, 3 * n * n), to_target,
                   _Projector(container_to_face(swept_surface(path))))
     exact = np.array([to_target.distance(x) for x in cut_points(path, 3 * n * n, exact=True)])
     return {"max": h.max, "design_to_cut": h.max_a_to_b, "cut_to_design": h.max_b_to_a, "samples": h.samples,
@@ -88,7 +88,7 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     S = face_to_container(face)
     slack = conversion_slack(face, S)
     if not given and fit is None:
-        fit, slack = fit_face(face, fit_options.checked(), progress, rails)
+        fit, slack = fit_face(face, fit_options.checked(), progress, rails, S)
     res = None if given else fit
     R = given_ruled(S) if given else res.surface
     if res is not None and res.patch is not None:

@@ -37,11 +37,6 @@ def face_bounds(face):
     return u0, u1, v0, v1
 
 
-def _grid(face, n: int):
-    """Points of the face (trim-aware): see face_points."""
-    return face_points(face, n)
-
-
 def _inside_test(face):
     cls = BRepTopAdaptor_FClass2d(face, 1e-9)
 
@@ -186,7 +181,7 @@ class _Projector:
 def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     """Two-sided Hausdorff distance between two faces as bounded by their edges (about n x n samples
     of each plus n along every edge, projected on the other)."""
-    return two_sided(_grid(face_a, n), _grid(face_b, n), _Projector(face_a), _Projector(face_b))
+    return two_sided(face_points(face_a, n), face_points(face_b, n), _Projector(face_a), _Projector(face_b))
 
 
 def two_sided(pa: np.ndarray, pb: np.ndarray, to_a, to_b) -> Hausdorff:

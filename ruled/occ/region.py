@@ -135,22 +135,23 @@ def edge_lines(face) -> list:
 
 
 
-def fit_face(face, options, progress=None, rails=None):
+def fit_face(face, options, progress=None, rails=None, S=None):
     """The ruled fit of the face as bounded by its edges: (FitResult, conversion slack), the slack (the
-    container's round-off overhang of the face's bounds) to be added to the bound."""
+    container's round-off overhang of the face's bounds) to be added to the bound.  S: the face's
+    container when the caller has it already."""
     from ..facefit import fit_region
     from .convert import conversion_slack
-    S = face_to_container(face)
+    S = face_to_container(face) if S is None else S
     return fit_region(face_region(face, S), options, progress, rails), conversion_slack(face, S)
 
 
-def rect_area_ratio(face, S=None) -> float:
-    """The face's area over its surface's (u, v) rectangle's area (1: untrimmed)."""
+def rect_area_ratio(face, S=None, area=None) -> float:
+    """The face's area (given, or OCCT's) over its surface's (u, v) rectangle's area (1: untrimmed)."""
     from ..fit import surface_area
     from .io import face_area
     S = face_to_container(face) if S is None else S
     a = surface_area(S)
-    return face_area(face) / a if a > 0 else 1.0
+    return (face_area(face) if area is None else area) / a if a > 0 else 1.0
 
 
 __all__ = ["face_region", "outer_edges", "edge_lines", "fit_face", "rect_area_ratio"]
