@@ -8,12 +8,23 @@ Data crosses every boundary as plain arrays in small frozen containers.
 
 from .errors import (BadInputError, CancelledError, DegenerateFaceError, InfeasibleError, RuledError,
                      TooBigError)
-from .fit import Direction, FitOptions, FitResult, Method, Metric, Objective, fit_surface
-from .facefit import FacePatch, face_patch, fit_region
-from .nurbs import Curve, Surface
-from .region import Region
+from .lazy import lazy_getattr
 
 __version__ = "0.1.0"
+
+# the public API, imported on first use: `ruled --help` and argument errors answer before numpy,
+# scipy and the numba kernels are loaded
+_LAZY = {"Direction": "options", "FitOptions": "options", "FitResult": "fit", "Method": "options",
+         "Metric": "options", "Objective": "options", "fit_surface": "fit", "FacePatch": "facefit",
+         "face_patch": "facefit", "fit_region": "facefit", "Curve": "nurbs", "Surface": "nurbs", "Region": "region"}
+
+
+__getattr__ = lazy_getattr(__name__, _LAZY, globals())
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = ["Surface", "Curve", "Region", "FacePatch", "face_patch", "fit_region",
            "FitOptions", "FitResult", "Objective", "Direction", "Method", "Metric", "fit_surface",

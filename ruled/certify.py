@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import kernels
-from .nurbs import Curve, SpanRangeMax, Surface, _deriv_net, find_spans
+from .nurbs import Curve, SpanRangeMax, Surface, _deriv_net
 from .reparam import Boundaries, Pairing
 
 
@@ -49,13 +49,21 @@ class Certificate:
 
 
 def _knot_grid(S: Surface, direction: str, target: int, extra=None):
-    """Grid nodes aligned with the knot spans (plus optional extra nodes) and each cell's span."""
+    """About ``target`` grid cells over the domain in one direction (plus optional extra nodes), with a
+    node at every knot where S is not C1 (multiplicity >= degree: a crease, where the interpolation
+    remainder needs a node); and each cell's range of knot spans (lo, hi), inclusive.  A cell may
+    straddle knots where S is C1: its second derivatives are bounded there by the largest of its
+    spans' bounds, which is all the remainder needs."""
     knots = S.knots_u if direction == "u" else S.knots_v
     p = S.degree_u if direction == "u" else S.degree_v
     a, b = (S.domain[0], S.domain[1]) if direction == "u" else (S.domain[2], S.domain[3])
-    br = np.unique(np.concatenate([[a], S.interior_knots(direction), [b]]))
-    k = max(2, int(np.ceil(target / (br.size - 1))))
-    pts = np.concatenate([np.linspace(x0, x1, k, endpoint=False) for x0, x1 in zip(br[:-1], br[1:])] + [[b]])
+    kv, mult = np.unique(knots, return_counts=True)
+    crease = kv[(mult >= p) & (kv > a) & (kv < b)]
+    br = np.unique(np.concatenate([[a], crease, [b]]))
+    # cells per piece in proportion to its length, at least one
+    k = np.maximum(1, np.round(target * np.diff(br) / (b - a))).astype(int)
+    pts = np.concatenate([np.linspace(x0, x1, kk, endpoint=False) for x0, x1, kk in zip(br[:-1], br[1:], k)]
+                         + [[b]])
     if extra is not None:
         pts = np.unique(np.concatenate([pts, extra[(extra > a) & (extra < b)]]))
         keep = np.concatenate([[True], np.diff(pts) > 1e-12 * (b - a)])
@@ -63,9 +71,18 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None):
         pts = pts[keep]
         pts = pts[np.concatenate([np.diff(pts) > 0, [True]])]
     n = S.poles.shape[0] if direction == "u" else S.poles.shape[1]
-    mids = 0.5 * (pts[:-1] + pts[1:])
-    span = find_spans(knots, p, n, mids) - p
-    return pts, span
+    lo = np.clip(np.searchsorted(knots, pts[:-1], side="right") - 1, p, n - 1)
+    hi = np.clip(np.searchsorted(knots, pts[1:], side="left") - 1, p, n - 1)
+    return pts, (lo - p, np.maximum(hi, lo) - p)
+
+
+def _range_max(T: np.ndarray, spans, axis: int = 0) -> np.ndarray:
+    """Per cell, the largest entry of T over the cell's span range (lo, hi) along axis."""
+    lo, hi = spans
+    out = np.take(T, lo, axis=axis)
+    for k in range(1, int((hi - lo).max(initial=0)) + 1):
+        out = np.maximum(out, np.take(T, np.minimum(lo + k, hi), axis=axis))
+    return out
 
 
 def _local_net_max(C: Curve, order: int) -> np.ndarray:
@@ -165,10 +182,11 @@ def sampled_distance(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, n
 
 
 def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
-            target_u: int = 240, target_v: int = 80, rounds: int = 3) -> Certificate:
+            target_u: int = 240, target_v: int = 80, rounds: int = 3, rival: float = np.inf) -> Certificate:
     """Certified bound of H(S, R) for a fit oriented along v (see the module doc); the pairing's
     normalized parameters run over S's u-domain.  Cells whose remainder dominates their bound are
-    split (up to ``rounds`` times), where psi is steep (fans of rulings, twisted or lifted results)."""
+    split (up to ``rounds`` times), where psi is steep (fans of rulings, twisted or lifted results),
+    unless the rounds left cannot bring the bound below ``rival`` (a bound already certified)."""
     closed = pairing.closed
     u0, u1, v0, v1 = S.domain
     L = u1 - u0
@@ -196,7 +214,10 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
         if best is None or cert.bound < best.bound:
             best = cert
         split = _cells_to_split(cert, cell, rem)
-        if rnd == rounds or split is None:
+        # each round about halves the excess over the node maximum: stop where even that would not
+        # bring the bound below the rival's (the other side's certificate)
+        hope = cert.node_max + (cert.bound - cert.node_max) / 2 ** (rounds - rnd)
+        if rnd == rounds or split is None or hope >= rival:
             break
         iu, iv = split
         extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
@@ -306,8 +327,8 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R):
     Rp = R(sw.ravel(), t.ravel()).reshape(nu, nv, 3)
     f = np.linalg.norm(X - Rp, axis=2)
     # per-cell remainder
-    Suu = b["Suu"][span_u[:, None], span_v[None, :]]
-    Svv = b["Svv"][span_u[:, None], span_v[None, :]]
+    Suu = _range_max(_range_max(b["Suu"], span_u, 0), span_v, 1)
+    Svv = _range_max(_range_max(b["Svv"], span_u, 0), span_v, 1)
     hu = np.diff(us)[:, None]
     hv = np.diff(vs)[None, :]
 
@@ -438,7 +459,7 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
             sh = L * np.floor((lo - u0) / L)
             lo, hi = lo - sh, hi - sh
         Muu, Muv, Mvv = M["Suu"](lo, hi), M["Suv"](lo, hi), M["Svv"](lo, hi)
-        rem = (hs ** 2 * Rss_span[span_s][:, None]
+        rem = (hs ** 2 * _range_max(Rss_span, span_s)[:, None]
                + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s + Mvv * dv_s ** 2
                + Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
         cell = _corner_max(f) + rem
@@ -456,10 +477,13 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
 
 
 def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, target_u: int = 240,
-                    target_v: int = 80) -> Certificate:
-    """The smaller of the two certified bounds (both valid): from R's side (certify_reverse) and
-    from S's side (certify, with fewer refinement rounds when the first is already tight)."""
+                    target_v: int = 80, cutoff: float = np.inf) -> Certificate:
+    """The smaller of the two certified bounds (both valid): from R's side (certify_reverse) and,
+    unless that one is already within 2 % of its own node maximum or its node maximum (a sampled
+    distance of the fit) is already at least ``cutoff`` (another candidate's bound: this one cannot
+    win), from S's side (certify)."""
     rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
-    tight = rev.bound <= 1.02 * rev.node_max
-    fwd = certify(S, pairing, bd, R, target_u, target_v, rounds=0 if tight else 3)
+    if rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff:
+        return rev
+    fwd = certify(S, pairing, bd, R, target_u, target_v, rival=rev.bound)
     return fwd if fwd.bound < rev.bound else rev

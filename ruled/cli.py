@@ -270,27 +270,29 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
             elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict."""
-    from .fit import FitOptions
-    from .occ.convert import container_to_face
+    from .options import FitOptions
+    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
+                      refine=refine, method=method, elevations=elevations, step=step, metric=metric,
+                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
+    _check_outputs(output, report, plot)
+    # the face before the engine: a wrong --face is answered without loading it
     from .occ.io import face_area, get_face, write_step
+    t0 = time.perf_counter()
+    face = get_face(input_path, face_index)
+    t_read = time.perf_counter() - t0
+    from .occ.convert import container_to_face
     from .occ.measure import hausdorff
     from .occ.region import fit_face
     from .progress import Bar
     from .report import plot as make_plot
     from .report import report_dict, write_report
-
-    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
-                      refine=refine, method=method, elevations=elevations, step=step, metric=metric,
-                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
-    _check_outputs(output, report, plot)
-    t0 = time.perf_counter()
-    face = get_face(input_path, face_index)
-    t_read = time.perf_counter() - t0
     bar = Bar(enabled=not quiet and sys.stderr.isatty())
+    t_fit = time.perf_counter()
     try:
         res, slack = fit_face(face, opts, bar, rails)
     finally:
         bar.done()
+    t_fit = time.perf_counter() - t_fit
     warnings = list(res.patch.warnings)
     for w in warnings:
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
@@ -307,7 +309,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     rep = report_dict(res, input_path=input_path, face=face_index, method=method,
                       hausdorff={"max": h.max, "mean": h.mean, "input_to_result": h.max_a_to_b,
                                  "result_to_input": h.max_b_to_a, "samples": h.samples},
-                      timings={"read": t_read, "fit": res.timings["total"], "build_and_write": t_write,
+                      timings={"read": t_read, "fit": t_fit, "build_and_write": t_write,
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
     rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
     rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None

@@ -16,7 +16,8 @@ in a fixed order and a move replaces the best so far when its objective is
 smaller by more than a relative 1e-12, or tied within it with a smaller sum.  Start and end
 elevations are free; at the end, among entries with the same objective, the
 least |k| + |l| (the least elevated end ruling) wins.  A closed boundary is
-solved for every shift q of the Q samples (eq. 18–19); each entry records the
+solved for the shifts q of the Q samples (eq. 18–19) in increasing order of a lower bound of their
+score (shift_bounds), until that bound exceeds the best score found; each entry records the
 start elevation its path came from, and the last ruling must return to it,
 so the first and last rulings are the same line (§2.4).
 
@@ -287,20 +288,61 @@ def solve_closed(T: Tables, objective: str = "sum", progress: Optional[Callable]
     return res
 
 
+def shift_bounds(T: Tables, use_max: bool) -> np.ndarray:
+    """A lower bound of every shift's best score (n,): the 2D program over the least cost of a move
+    into each ruling at any elevations and of any pattern (LSAD: the ruling's metric; SSHB: a move's
+    bound is at least what it has with the previous ruling's terms left out, c + es of the new
+    ruling, (Muu du^2 + 2 Muv du dv + Mvv dv^2) / 8 with du = d0u + dku and dv = d0v + dkv of the new
+    ruling, and g0 t0 / 4, every term left out being non-negative; area-weighted for the sum
+    objective; the first ruling costs nothing)."""
+    from .dp import _fill as fill_2d
+    n = T.n
+    if T.sshb:
+        tm = T.terms
+        Muu, Muv, Mvv = tm.M
+        c, es, dku, dkv = (x.reshape(n, n, -1).astype(np.float64) for x in T.ruling)
+        node = np.full((n, n), np.inf)
+        for p in range(tm.area.shape[0]):
+            du, dv = tm.d0u[p][..., None] + dku, tm.d0v[p][..., None] + dkv
+            per = (c + es + 0.125 * ((Muu * du * du + 2.0 * Muv * du * dv) + Mvv * dv * dv)).min(axis=2) \
+                + 0.25 * tm.g0[p] * tm.t0[p]
+            node = np.minimum(node, per if use_max else tm.area[p] * per)
+    else:
+        node = T.lc.reshape(n, n, -1).min(axis=2).astype(np.float64)
+    a = np.arange(n + 1)
+    out = np.empty(n)
+    batch = max(1, min(n, (256 << 20) // ((n + 1) ** 2 * 25)))
+    for q0 in range(0, n, batch):
+        qs = np.arange(q0, min(n, q0 + batch))
+        C = node[a[None, :, None] % n, (a[None, None, :] + qs[:, None, None]) % n]
+        if T.sshb:
+            C[:, 0, 0] = 0.0
+        out[qs] = fill_2d(C, "max" if use_max else "sum")[0][:, n, n]
+    return out
+
+
 def _solve_closed(T: Tables, objective: str, progress: Optional[Callable]) -> DP4Result:
+    """Every shift, in increasing order of its lower bound (shift_bounds), until the bound exceeds
+    the best score found: the same result as solving them all (ties go to the lower shift)."""
     n, m = T.n, (T.K - 1) // 2
+    lb = shift_bounds(T, objective == "max")
     best = None
-    for q in range(n):
+    for cnt, q in enumerate(np.argsort(lb, kind="stable")):
+        q = int(q)
+        if best is not None and lb[q] > best[0] + _TIE * max(1.0, abs(best[0])):
+            break
         prim, sec, back, src = _fill(T, objective == "max", True, q, n + 1)
         end = _end(prim, sec, m)
         if progress is not None:
-            progress(q + 1, n)
+            progress(cnt + 1, n)
         if end is None:
             continue
         p, s = float(prim[-1, -1][end]), float(sec[-1, -1][end])
         if best is None or p < best[0] - _TIE * max(1.0, abs(p)) or (
-                p <= best[0] + _TIE * max(1.0, abs(best[0])) and s < best[1]):
+                p <= best[0] + _TIE * max(1.0, abs(best[0])) and (s < best[1] or (s == best[1] and q < best[2]))):
             best = (p, s, q, _trace(back, (n, n) + end))
+    if progress is not None:
+        progress(n, n)
     if best is None:
         return DP4Result(np.zeros((0, 4), np.int64), np.inf, np.inf, np.inf)
     p, s, q, path = best

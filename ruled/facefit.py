@@ -215,9 +215,9 @@ def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
             continue
         if progress is not None:
             progress(f"iso-parametric check ({d})", 0.0)
-        iso = iso_fit(c, GRID_COARSE)          # a coarse certificate first (an upper bound too) ...
+        iso = iso_fit(c, GRID_COARSE, c.error_bound)   # a coarse certificate first (an upper bound too) ...
         if iso is not None and iso.certificate.node_max < c.error_bound:
-            iso = recertify(iso, GRID_FINE)     # ... the fine one only where the iso surface may win
+            iso = recertify(iso, GRID_FINE, c.error_bound)  # ... the fine one only where it may win
         if progress is not None:
             progress(f"iso-parametric check ({d})", 1.0)
         if iso is not None and iso.error_bound < c.error_bound:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from enum import Enum
 from typing import Callable, Optional
 
 import numpy as np
@@ -13,6 +12,7 @@ from . import dp
 from .certify import Certificate, certified_bound
 from .distance import ruling_distances
 from .errors import BadInputError, DegenerateFaceError, TooBigError
+from .options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
 from .nurbs import Surface
 from .reparam import (Boundaries, Pairing, delta_coefs, exact_boundaries, fit_boundaries, fit_delta, refine_pairing,
                       ruled_surface)
@@ -22,71 +22,6 @@ GRID_FINE = (240, 80)
 GRID_COARSE = (80, 24)
 
 Progress = Optional[Callable[[str, float], None]]
-
-
-class Objective(str, Enum):
-    SUM = "sum"
-    MAX = "max"
-
-
-class Method(str, Enum):
-    D2 = "2d"   # rulings between boundary samples (Elber)
-    D4 = "4d"   # ruling ends lifted along the surface normal too (Wang & Elber)
-
-
-class Metric(str, Enum):
-    SSHB = "sshb"   # surface–bilinear Hausdorff bound of each patch (certified)
-    LSAD = "lsad"   # one-sided line–surface distance of each ruling (cheaper)
-
-
-class Direction(str, Enum):
-    AUTO = "auto"
-    U = "u"   # rulings run along u, joining the u-min and u-max boundaries
-    V = "v"   # rulings run along v, joining the v-min and v-max boundaries
-
-
-@dataclass(frozen=True)
-class FitOptions:
-    """Options of a fit; defaults live here and nowhere else.
-
-    4D only: ``elevations`` m (levels -m..m, default 10, i.e. 21 levels), ``step``
-    tau (model units; default: the 2D result's measured distance spread over the
-    m levels), ``metric``, and ``memory_cap`` (bytes; default 80 % of the free
-    memory) beyond which a table is refused."""
-
-    samples: int = 40
-    objective: Objective = Objective.SUM
-    max_error: Optional[float] = None
-    direction: Direction = Direction.AUTO
-    refine: bool = True
-    points_per_ruling: int = 9
-    method: Method = Method.D2
-    elevations: Optional[int] = None
-    step: Optional[float] = None
-    metric: Metric = Metric.LSAD
-    memory_cap: Optional[float] = None
-
-    def checked(self) -> "FitOptions":
-        if not isinstance(self.samples, (int, np.integer)) or self.samples < 3:
-            raise BadInputError(f"--samples {self.samples} is too small; use at least 3 (40 is a good start)")
-        if self.max_error is not None and not (self.max_error > 0):
-            raise BadInputError(f"--max-error {self.max_error} must be a positive distance in model units")
-        if self.elevations is not None and (not isinstance(self.elevations, (int, np.integer))
-                                            or not 0 <= self.elevations <= 200):
-            raise BadInputError(f"--elevations {self.elevations} must be a whole number of levels from 0 to 200 "
-                                f"(10 gives 21 levels)")
-        if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
-            raise BadInputError(f"--step {self.step} must be a positive distance in model units")
-        if self.memory_cap is not None and not (self.memory_cap > 0):
-            raise BadInputError(f"--memory-cap {self.memory_cap} must be a positive size")
-        try:
-            method, metric = Method(self.method), Metric(self.metric)
-            objective, direction = Objective(self.objective), Direction(self.direction)
-        except ValueError as exc:
-            raise BadInputError(f"{exc}; see 'ruled fit --help'") from None
-        return FitOptions(int(self.samples), objective, self.max_error, direction, self.refine,
-                          self.points_per_ruling, method, None if self.elevations is None else int(self.elevations),
-                          self.step, metric, self.memory_cap)
 
 
 @dataclass(frozen=True)
@@ -213,7 +148,7 @@ def _stage(progress: Progress, name: str, frac: float) -> None:
 
 
 def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None,
-                  grid: tuple = GRID_FINE) -> DirectionFit:
+                  grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
     """Fit along one direction ('v': boundaries v-min/v-max; 'u': the surface is transposed first)."""
     So = S if direction == "v" else S.transposed()
     closed, why = check_direction(So)
@@ -276,7 +211,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)
     t0 = time.perf_counter()
-    cert = certified_bound(So, pairing, bd, R, *grid)
+    cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
     T["certify"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 1.0)
     pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
@@ -289,7 +224,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
                         bd.fit_error, cert, T, bd, So)
 
 
-def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE) -> Optional[DirectionFit]:
+def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> Optional[DirectionFit]:
     """The iso-parametric ruled surface between the same two boundaries (the pairing a = b, rulings
     joining equal parameters: what a CAD system's 'ruled surface between two edges' builds), exact
     and certified like a fit; None when it cannot be rebuilt exactly."""
@@ -304,7 +239,7 @@ def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE) -> Optional[DirectionFit
     if bd is None:
         return None
     R = ruled_surface(bd)
-    cert = certified_bound(So, pairing, bd, R, *grid)
+    cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
     x = np.linspace(0.0, 1.0, n, endpoint=not closed)
     rc = ruling_distances(So, u0 + L * sig, u0 + L * sig, 15, 4, closed)[1]
     pc = ruling_distances(So, u0 + L * x, u0 + L * x, FitOptions.points_per_ruling, 3, closed)[1]
@@ -318,18 +253,21 @@ def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE) -> Optional[DirectionFit
                    elevations=None, lift=None, measured=None, method="iso")
 
 
-def recertify(fit: DirectionFit, grid: tuple = GRID_FINE) -> DirectionFit:
-    """The same fit with its bound computed on another grid."""
+def recertify(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
+    """The same fit with its bound computed on another grid (see certified_bound for cutoff)."""
     t0 = time.perf_counter()
-    cert = certified_bound(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid)
+    cert = certified_bound(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid, cutoff)
     timings = dict(fit.timings)
     timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
     return replace(fit, certificate=cert, timings=timings)
 
 
-def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None) -> FitResult:
+def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None,
+                cutoff: float = np.inf) -> FitResult:
     """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified;
-    with method 4d, the ruling ends also lifted along the normal (see fit4d)."""
+    with method 4d, the ruling ends also lifted along the normal (see fit4d).  cutoff: a bound some
+    other candidate already has; a fit sampled at or above it is certified from one side only (its
+    bound stays valid, only less tight: it cannot win)."""
     opts = options.checked()
     if opts.method == Method.D4:
         from .fit4d import fit_surface_4d
@@ -346,7 +284,8 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
     grid = GRID_FINE if len(dirs) == 1 else GRID_COARSE
     for d in dirs:
         try:
-            cands[d] = fit_direction(S, d, opts, progress, grid)
+            # with two directions, R's side of the certificate only at first (cutoff 0) ...
+            cands[d] = fit_direction(S, d, opts, progress, grid, cutoff if len(dirs) == 1 else 0.0)
         except DegenerateFaceError as exc:
             if len(dirs) == 1:
                 raise
@@ -355,10 +294,15 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
     ok = {d: c for d, c in cands.items() if not isinstance(c, str)}
     if not ok:
         raise DegenerateFaceError("degenerate face: " + "; ".join(str(e) for e in errors))
+    if len(ok) > 1:     # ... then S's side too, where it can make the direction win
+        for d, c in list(ok.items()):
+            rival = min([o.error_bound for e, o in ok.items() if e != d] + [cutoff])
+            if c.certificate.bound >= rival > c.certificate.node_max:
+                ok[d] = cands[d] = recertify(c, grid, rival)
     best = min(ok.values(), key=lambda c: c.error_bound)
     if grid is not GRID_FINE:
         _stage(progress, f"certify ({best.direction})", 0.0)
-        best = recertify(best, GRID_FINE)
+        best = recertify(best, GRID_FINE, min([o.error_bound for o in ok.values() if o is not best] + [cutoff]))
         cands[best.direction] = best
         _stage(progress, f"certify ({best.direction})", 1.0)
     return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})

@@ -403,8 +403,17 @@ class Surface:
         j - pv), plus 'spans_u'/'spans_v', the knot spans' start indices.  The
         bounds use the convex-hull property of the derivative control nets of
         the homogeneous surface and, for rational surfaces, the quotient rule
-        with the smallest local weight.
+        with the smallest local weight.  Computed once per surface (the arrays are shared: read only).
         """
+        cached = self.__dict__.get("_derivative_bounds")
+        if cached is None:
+            cached = self._derivative_bounds()
+            for a in cached.values():
+                a.flags.writeable = False
+            object.__setattr__(self, "_derivative_bounds", cached)
+        return cached
+
+    def _derivative_bounds(self) -> dict:
         pu, pv = self.degree_u, self.degree_v
         H = self._hom
         nets = {}

@@ -111,9 +111,11 @@ def _stage(progress: Progress, name: str, frac: float) -> None:
         progress(name, frac)
 
 
-def fit_strip(S: Surface, strip: Strip, fopts: FitOptions, progress: Progress = None) -> StripFit:
+def fit_strip(S: Surface, strip: Strip, fopts: FitOptions, progress: Progress = None,
+              cutoff: float = np.inf) -> StripFit:
+    """The strip's side surface and its fit (see fit_surface for cutoff)."""
     side = side_surface(S, strip)
-    res = fit_surface(side.surface, replace(fopts, direction=Direction.V), progress)
+    res = fit_surface(side.surface, replace(fopts, direction=Direction.V), progress, cutoff)
     return StripFit(strip, side, res)
 
 
@@ -202,10 +204,12 @@ def split_strip(S: Surface, sf: StripFit, opts: SplitOptions, progress: Progress
     curves, m_uv = split_curves(S, sf.strip, sf.side, opts, sf.bound, sf.fit.best.closed)
     cands = {}
     curves = [c for c in curves if c[0].split(":")[0] in names]
+    best = np.inf       # the best candidate's bound so far: a side sampled above it cannot win
     for k, (name, curve, score, t) in enumerate(curves):
         lo, hi = sf.strip.cut(S, curve)
-        sides = (fit_strip(S, lo, opts.fit), fit_strip(S, hi, opts.fit))
+        sides = (fit_strip(S, lo, opts.fit, cutoff=best), fit_strip(S, hi, opts.fit, cutoff=best))
         c = SplitCandidate(name.split(":")[0], curve, sides, score, t)
+        best = min(best, c.bound)
         if c.name not in cands or c.bound < cands[c.name].bound:
             cands[c.name] = c
         _stage(progress, "fitting the sides", (k + 1) / len(curves))

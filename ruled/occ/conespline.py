@@ -63,14 +63,14 @@ def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_fa
     t0 = time.perf_counter()
     fs = FaceSet(faces)
     design = sample_faces([design_face], n) if design_face is not None else _ruling_points(res, n)
-    d_dc = np.array([fs.distance(x) for x in design])
+    d_dc = fs.distances(design)
     cone_pts = sample_faces(faces, max(8, n // 2))
     d_cr = np.min([to_lines(cone_pts, p.rulings) for p in res.pieces], axis=0)
     out = {"design_to_cone": float(d_dc.max()), "cone_to_ruled": float(d_cr.max()), "cone_to_design": None,
            "samples": int(design.shape[0] + cone_pts.shape[0])}
     if exact_face and design_face is not None:
         fd = FaceSet([design_face])
-        out["cone_to_design"] = float(max(fd.distance(x) for x in cone_pts))
+        out["cone_to_design"] = float(fd.distances(cone_pts).max())
     out["hausdorff"] = max(out["design_to_cone"], out["cone_to_design"] if out["cone_to_design"] is not None
                            else out["cone_to_ruled"])
     out["seconds"] = time.perf_counter() - t0

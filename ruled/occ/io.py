@@ -18,7 +18,6 @@ from OCP.Message import Message, Message_Gravity
 from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 
 from ..errors import BadInputError
-from .convert import face_surface_type, face_to_bspline
 
 # keep OCCT's transfer statistics off the user's terminal
 for _printer in Message.DefaultMessenger_s().Printers():
@@ -103,6 +102,7 @@ class FaceInfo:
 
 
 def face_info(index: int, face) -> FaceInfo:
+    from .convert import face_surface_type
     st = face_surface_type(face)
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     ad = BRepAdaptor_Surface(face)
@@ -143,5 +143,4 @@ def write_step(shapes, path: str) -> None:
         raise BadInputError(f"cannot write {path}; check that the folder is writable")
 
 
-__all__ = ["read_shape", "faces_of", "get_face", "face_area", "list_faces", "write_step", "FaceInfo",
-           "face_to_bspline"]
+__all__ = ["read_shape", "faces_of", "get_face", "face_area", "list_faces", "write_step", "FaceInfo"]

@@ -72,7 +72,7 @@ def measure_cut(target, path: MachinePath, n: int = 30) -> dict:
     to_target = _Projector(target)
     h = two_sided(face_points(target, n), cut_points(path, 3 * n * n), to_target,
                   _Projector(container_to_face(swept_surface(path))))
-    exact = np.array([to_target.distance(x) for x in cut_points(path, 3 * n * n, exact=True)])
+    exact = to_target.distances(cut_points(path, 3 * n * n, exact=True))
     return {"max": h.max, "design_to_cut": h.max_a_to_b, "cut_to_design": h.max_b_to_a, "samples": h.samples,
             "fit_on_the_same_lines": float(exact.max())}
 

@@ -10,7 +10,7 @@ import numpy as np
 from OCP.BRep import BRep_Tool
 from OCP.BRepTools import BRepTools
 from OCP.Adaptor3d import Adaptor3d_CurveOnSurface
-from OCP.Extrema import Extrema_ExtPC
+from OCP.Extrema import Extrema_ExtPC, Extrema_GenLocateExtPS
 from OCP.Geom2dAdaptor import Geom2dAdaptor_Curve
 from OCP.GeomAdaptor import GeomAdaptor_Surface
 from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
@@ -24,6 +24,8 @@ from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 
 from ..hostform import Hausdorff
 
+SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local projections
+
 
 def face_bounds(face):
     """The face's UV bounds, clipped to its surface's own range (faces may overhang it by round-off)."""
@@ -35,14 +37,6 @@ def face_bounds(face):
     if not surf.IsVPeriodic():
         v0, v1 = max(v0, b0), min(v1, b1)
     return u0, u1, v0, v1
-
-
-def _inside_test(face):
-    cls = BRepTopAdaptor_FClass2d(face, 1e-9)
-
-    def inside(u, v) -> bool:
-        return cls.Perform(gp_Pnt2d(float(u), float(v))) in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
-    return inside
 
 
 def _face_edges(face):
@@ -59,26 +53,143 @@ def _face_edges(face):
 
 def face_points(face, n: int) -> np.ndarray:
     """About n x n points of the face as bounded by its edges: a (u, v) grid of its bounds, as dense
-    as it takes for about n * n of its points to fall inside, kept where OCCT's face classifier puts
-    them inside; and n points along every edge (OCCT evaluation throughout)."""
+    as it takes for about n * n of its points to fall inside, kept where they are inside; and n points
+    along every edge (OCCT evaluation throughout)."""
+    pts, _ = interior_grid(face, n)
+    return np.concatenate([pts, edge_points(face, n)])
+
+
+def interior_grid(face, n: int, cls=None):
+    """(points (N, 3), parameters (N, 2)) of a (u, v) grid of the face's bounds inside the face, about
+    n x n of them (the grid is made denser for a trimmed face); cls: the face's _Classifier."""
     u0, u1, v0, v1 = face_bounds(face)
     surf = BRep_Tool.Surface_s(face)
-    inside = _inside_test(face)
     m0 = 24
-    frac = np.mean([inside(u, v) for u in np.linspace(u0, u1, m0) for v in np.linspace(v0, v1, m0)])
+    cls = _Classifier(face) if cls is None else cls
+    frac = float(cls.grid(np.linspace(u0, u1, m0), np.linspace(v0, v1, m0)).mean())
     m = n if frac > 0.97 else int(min(8 * n, np.ceil(n / np.sqrt(max(frac, 1.0 / (64 * n * n))))))
+    us, vs = np.linspace(u0, u1, m), np.linspace(v0, v1, m)
+    keep = np.ones((m, m), bool) if m == n else cls.grid(us, vs)
+    iu, iv = np.nonzero(keep)
+    uv = np.stack([us[iu], vs[iv]], axis=1)
+    pts = np.array([_p3(surf.Value(float(u), float(v))) for u, v in uv]).reshape(-1, 3)
+    return pts, uv
+
+
+def edge_points(face, n: int) -> np.ndarray:
+    """n points along every edge of the face (degenerate edges left out)."""
     pts = []
-    for u in np.linspace(u0, u1, m):
-        for v in np.linspace(v0, v1, m):
-            if m == n or inside(u, v):
-                p = surf.Value(float(u), float(v))
-                pts.append((p.X(), p.Y(), p.Z()))
     for e in _face_edges(face):
         c = BRepAdaptor_Curve(e)
-        for t in np.linspace(c.FirstParameter(), c.LastParameter(), n):
-            p = c.Value(float(t))
-            pts.append((p.X(), p.Y(), p.Z()))
-    return np.array(pts)
+        pts += [_p3(c.Value(float(t))) for t in np.linspace(c.FirstParameter(), c.LastParameter(), n)]
+    return np.array(pts).reshape(-1, 3)
+
+
+def _boundary_polygon(face, per_edge: int = 256):
+    """The pcurves of every edge of the face as polylines in its (u, v) (seam edges once per side), or
+    None when an edge has no pcurve."""
+    out = []
+    ex = TopExp_Explorer(face, TopAbs_ShapeEnum.TopAbs_EDGE)
+    while ex.More():
+        e = TopoDS.Edge_s(ex.Current())
+        a, b = BRep_Tool.Range_s(e, face)
+        c2 = BRep_Tool.CurveOnSurface_s(e, face, a, b)
+        if c2 is None:
+            return None
+        out.append(np.array([(q.X(), q.Y()) for q in (c2.Value(float(t)) for t in np.linspace(a, b, per_edge))]))
+        ex.Next()
+    return out or None
+
+
+class _Classifier:
+    """Which (u, v) are inside a face or on its boundary.  The even-odd rule on its pcurves' polylines
+    decides for points clear of them; OCCT's face classifier decides near them, on rows that graze a
+    vertex, and everywhere when the polylines do not bound the face (a band round a periodic surface
+    without a seam edge: checked once, on a grid, against OCCT)."""
+
+    def __init__(self, face):
+        self._cls = BRepTopAdaptor_FClass2d(face, 1e-9)
+        u0, u1, v0, v1 = face_bounds(face)
+        self.scale = np.array([max(u1 - u0, 1e-300), max(v1 - v0, 1e-300)])
+        self.P = None
+        rings = _boundary_polygon(face)
+        if rings is None:
+            return
+        from scipy.spatial import cKDTree
+        P = np.concatenate([r[:-1] for r in rings])
+        Q = np.concatenate([r[1:] for r in rings])
+        self.lo, self.hi = np.minimum(P[:, 1], Q[:, 1]), np.maximum(P[:, 1], Q[:, 1])
+        self.vert = np.sort(np.concatenate([P[:, 1], Q[:, 1]]))
+        self.tree = cKDTree(np.concatenate(rings) / self.scale)
+        self.seg = float(np.linalg.norm((Q - P) / self.scale, axis=1).max())
+        self.P, self.Q = P, Q
+        us, vs = np.linspace(u0, u1, 12), np.linspace(v0, v1, 12)
+        if (self._poly_grid(us, vs) != self._occt_grid(us, vs)).any():
+            self.P = None
+
+    def __call__(self, u, v) -> bool:
+        return self._cls.Perform(gp_Pnt2d(float(u), float(v))) in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
+
+    def _occt_grid(self, us, vs) -> np.ndarray:
+        return np.array([[self(u, v) for v in vs] for u in us], bool).reshape(us.size, vs.size)
+
+    def _grazing(self, v: np.ndarray) -> np.ndarray:
+        """Rows v within round-off of a polyline vertex (an edge along the row): OCCT decides."""
+        k = np.searchsorted(self.vert, v)
+        near = np.full(v.shape, np.inf)
+        for i in (k - 1, k):
+            ok = (i >= 0) & (i < self.vert.size)
+            near[ok] = np.minimum(near[ok], np.abs(self.vert[i[ok]] - v[ok]))
+        return near <= 1e-6 * self.scale[1]
+
+    def _near(self, uv: np.ndarray) -> np.ndarray:
+        d, _ = self.tree.query(uv / self.scale)
+        return d <= 2.0 * self.seg + 1e-12
+
+    def _poly_grid(self, us, vs) -> np.ndarray:
+        P, Q = self.P, self.Q
+        out = np.zeros((us.size, vs.size), bool)
+        graze = self._grazing(vs)
+        for j, v in enumerate(vs):
+            hit = (self.lo <= v) & (v < self.hi)       # half-open in v: a vertex counts once
+            if hit.sum() % 2 or graze[j]:
+                out[:, j] = [self(u, v) for u in us]
+                continue
+            if not hit.any():
+                continue
+            p, q = P[hit], Q[hit]
+            x = np.sort(p[:, 0] + (v - p[:, 1]) * (q[:, 0] - p[:, 0]) / (q[:, 1] - p[:, 1]))
+            out[:, j] = np.searchsorted(x, us, side="right") % 2 == 1
+        UU, VV = np.meshgrid(us, vs, indexing="ij")
+        for k in np.nonzero(self._near(np.stack([UU.ravel(), VV.ravel()], axis=1)))[0]:
+            i, j = divmod(int(k), vs.size)
+            out[i, j] = self(us[i], vs[j])
+        return out
+
+    def grid(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
+        """(us.size, vs.size) booleans for the grid us x vs."""
+        if self.P is None or us.size * vs.size <= 144:
+            return self._occt_grid(us, vs)
+        return self._poly_grid(us, vs)
+
+    def points(self, uv: np.ndarray) -> np.ndarray:
+        """Booleans for scattered points uv (N, 2)."""
+        uv = np.asarray(uv, float).reshape(-1, 2)
+        if self.P is None or len(uv) <= 64:
+            return np.array([self(u, v) for u, v in uv], bool)
+        P, Q = self.P, self.Q
+        dv = np.where(self.hi > self.lo, Q[:, 1] - P[:, 1], 1.0)
+        out = np.zeros(len(uv), bool)
+        odd = np.zeros(len(uv), bool)       # a row crossing the polylines an odd number of times
+        for i0 in range(0, len(uv), 256):
+            u, v = uv[i0:i0 + 256, :1], uv[i0:i0 + 256, 1:]
+            hit = (self.lo <= v) & (v < self.hi)
+            x = P[:, 0] + (v - P[:, 1]) * (Q[:, 0] - P[:, 0]) / dv
+            out[i0:i0 + 256] = (hit & (x > u)).sum(axis=1) % 2 == 1
+            odd[i0:i0 + 256] = hit.sum(axis=1) % 2 == 1
+        for k in np.nonzero(odd | self._near(uv) | self._grazing(uv[:, 1]))[0]:
+            out[k] = self(*uv[k])
+        return out
 
 
 class _Projector:
@@ -90,7 +201,7 @@ class _Projector:
         self.proj = GeomAPI_ProjectPointOnSurf()
         self.proj.Init(self.surf, self.u0, self.u1, self.v0, self.v1)
         self.sas = ShapeAnalysis_Surface(self.surf)
-        self.inside = _inside_test(face)
+        self.inside = _Classifier(face)
         # a dense cloud of every edge: closest points may lie on the boundary
         self.curves, pts, ids, ts = [], [], [], []
         for e in _face_edges(face):
@@ -103,6 +214,52 @@ class _Projector:
         self.edge_pts = np.concatenate(pts) if pts else np.zeros((0, 3))
         self.edge_id = np.concatenate(ids) if ids else np.zeros(0, int)
         self.edge_t = np.concatenate(ts) if ts else np.zeros(0)
+        self.face = face
+        self._local = None
+
+    def _local_search(self):
+        """The seeds of the local projection (a grid inside the face, KD-tree) and OCCT's local
+        extremum search from a seed (built on first use)."""
+        if self._local is None:
+            from scipy.spatial import cKDTree
+            pts, uv = interior_grid(self.face, SEED_GRID, self.inside)
+            adaptor = GeomAdaptor_Surface(self.surf, self.u0, self.u1, self.v0, self.v1)
+            self._local = (adaptor, Extrema_GenLocateExtPS(adaptor, 1e-10, 1e-10),
+                           cKDTree(pts) if len(pts) else None, uv,
+                           cKDTree(self.edge_pts) if len(self.edge_pts) else None)
+        return self._local
+
+    def upper(self, X: np.ndarray) -> np.ndarray:
+        """Distances from the points X (N, 3) to points of the face (each at least the distance to the
+        bounded face, and equal to it unless a local search misses the global minimum): the nearest
+        seed, OCCT's local extremum from it where its foot is inside the face, and the nearest edge
+        point refined along its edge where the boundary may be nearer."""
+        X = np.asarray(X, float).reshape(-1, 3)
+        _, loc, tree, uv, etree = self._local_search()
+        ub = np.full(len(X), np.inf)
+        if tree is not None:
+            d0, k = tree.query(X)
+            ub = d0.copy()
+            feet, dist = np.zeros((len(X), 2)), np.full(len(X), np.inf)
+            for i, (x, kk) in enumerate(zip(X, k)):
+                loc.Perform(gp_Pnt(*map(float, x)), float(uv[kk, 0]), float(uv[kk, 1]), False)
+                if loc.IsDone():
+                    feet[i] = loc.Point().Parameter()
+                    dist[i] = np.sqrt(loc.SquareDistance())
+            ok = np.isfinite(dist)
+            ok[ok] = self.inside.points(feet[ok])
+            ub[ok] = np.minimum(ub[ok], dist[ok])
+        if etree is not None:
+            de, ke = etree.query(X)
+            ub = np.minimum(ub, de)
+            for i in np.nonzero(de < 1.5 * ub + 1e-12)[0]:
+                ub[i] = min(ub[i], self._edge_refine(X[i], ke[i]))
+        return ub
+
+    def distances(self, X: np.ndarray, progress=None) -> np.ndarray:
+        """Distances from the points X to the bounded face: exact (``distance``) wherever a point can
+        hold the largest, the local search's elsewhere (see ``screened``)."""
+        return screened(self, X, progress)
 
     def _value(self, u, v):
         p = self.surf.Value(float(u), float(v))
@@ -184,10 +341,31 @@ def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     return two_sided(face_points(face_a, n), face_points(face_b, n), _Projector(face_a), _Projector(face_b))
 
 
+def screened(proj, X: np.ndarray, progress=None, cap: int = 400) -> np.ndarray:
+    """Distances from the points X to what proj measures (an object with a vectorized ``upper`` and an
+    exact, slower ``distance``).  Every value is the distance to an actual point of the face, so at
+    least the true one.  The exact search runs on the points in decreasing order of their upper value
+    while that exceeds the largest exact distance found so far: the maximum is then the exact
+    search's own maximum over all points, found with a few hundred exact projections instead of one
+    per point (at most ``cap``; beyond, the upper values stand, which can only raise the maximum)."""
+    X = np.asarray(X, float).reshape(-1, 3)
+    d = proj.upper(X)
+    top = 0.0
+    order = np.argsort(-d, kind="stable")
+    for k, i in enumerate(order[:cap]):
+        if d[i] <= top:
+            break
+        d[i] = min(d[i], proj.distance(X[i]))
+        top = max(top, d[i])
+        if progress is not None and k % 16 == 0:
+            progress(k / min(cap, len(order)))
+    return d
+
+
 def two_sided(pa: np.ndarray, pb: np.ndarray, to_a, to_b) -> Hausdorff:
     """The Hausdorff measure from the samples pa of A and pb of B and the projectors onto each."""
-    dab = np.array([to_b.distance(x) for x in pa])
-    dba = np.array([to_a.distance(x) for x in pb])
+    dab = to_b.distances(pa)
+    dba = to_a.distances(pb)
     alld = np.concatenate([dab, dba])
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size))
 
@@ -358,10 +536,33 @@ class FaceSet:
         # this much nearer than its cloud
         self.slack = max(float(cKDTree(c).query(c, k=2)[0][:, 1].max()) for c in clouds)
 
+    def _candidates(self, X: np.ndarray) -> np.ndarray:
+        """(N, faces) booleans: the faces whose cloud comes near each point."""
+        k = min(64, self.owner.size)
+        d, idx = self.tree.query(X, k=k)
+        d, idx = d.reshape(len(X), k), idx.reshape(len(X), k)
+        near = d <= d[:, :1] + 2 * self.slack
+        out = np.zeros((len(X), len(self.proj)), bool)
+        rows = np.repeat(np.arange(len(X)), k)
+        out[rows[near.ravel()], self.owner[idx.ravel()][near.ravel()]] = True
+        return out
+
     def distance(self, x) -> float:
-        d, idx = self.tree.query(x, k=min(64, self.owner.size))
-        cand = np.unique(self.owner[idx[d <= d[0] + 2 * self.slack]])
+        cand = np.nonzero(self._candidates(np.asarray(x, float).reshape(1, 3))[0])[0]
         return min(self.proj[i].distance(x) for i in cand)
+
+    def upper(self, X: np.ndarray) -> np.ndarray:
+        X = np.asarray(X, float).reshape(-1, 3)
+        cand = self._candidates(X)
+        ub = np.full(len(X), np.inf)
+        for i, p in enumerate(self.proj):
+            m = cand[:, i]
+            if m.any():
+                ub[m] = np.minimum(ub[m], p.upper(X[m]))
+        return ub
+
+    def distances(self, X: np.ndarray, progress=None) -> np.ndarray:
+        return screened(self, X, progress)
 
 
 def sample_faces(faces, n: int) -> np.ndarray:

@@ -172,13 +172,12 @@ def check_split_faces(sf: SplitFaces, input_face, samples: int = 200) -> SplitCh
             ex.Next()
     # the split edges against the input surface (OCCT projection of their points)
     pr = _Projector(input_face)
-    on = 0.0
+    pts = []
     for e in sf.edges:
         c3 = BRepAdaptor_Curve(e)
         a, b = c3.FirstParameter(), c3.LastParameter()
-        for t in np.linspace(a, b, samples):
-            p = c3.Value(float(t))
-            on = max(on, pr.distance(np.array([p.X(), p.Y(), p.Z()])))
+        pts += [(lambda p: (p.X(), p.Y(), p.Z()))(c3.Value(float(t))) for t in np.linspace(a, b, samples)]
+    on = float(pr.distances(np.array(pts)).max()) if pts else 0.0
     return SplitCheck(valid, free, nfaces, gap, on, sum(_area(f) for f in sf.faces), _area(input_face))
 
 
