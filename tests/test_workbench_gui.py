@@ -36,6 +36,8 @@ def test_fit_through_the_task_panel(tmp_path):
         assert not active and msg and "\n" not in msg
         assert ("nothing is selected" in msg) if sub is None else (sub in msg and "not a face" in msg)
     assert r["active_on_face"] and r["panel"] and r["preview"] and r["accept"]
+    # OK keeps what Preview computed (each run writes its own time; a recompute does change it)
+    assert not r["accept_reran"] and not r["split_accept_reran"] and r["recompute_reran"]
     o = r["object"]
     assert o["valid"] and o["status"] == "ok" and o["proxy"] == "ViewProviderRuledFit" and o["mode"] == "Deviation"
     assert o["bound"] >= o["hausdorff"] > 0 and o["lines"] == 2 * o["rulings"] and o["dev"] == 24 * 24

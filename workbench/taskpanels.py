@@ -30,10 +30,22 @@ class _Panel:
         return QtGui.QFormLayout(self.form)
 
     def _recompute(self) -> bool:
+        """Recompute with the panel's values, unless nothing changed since the last recompute (OK right
+        after Preview keeps what Preview computed)."""
         self._apply()
+        if getattr(self, "_done", False) and "Touched" not in self.obj.State:
+            return True
         self.obj.touch()
         self.doc.recompute()
-        return self.obj.isValid() and self.obj.Status == "ok"
+        self._done = self.obj.isValid() and self.obj.Status == "ok"
+        return self._done
+
+    @staticmethod
+    def _set(obj, **values):
+        """Set the properties that differ (setting one touches the object, even to the same value)."""
+        for name, value in values.items():
+            if getattr(obj, name) != value:
+                setattr(obj, name, value)
 
     def accept(self):
         global ACTIVE
@@ -103,11 +115,10 @@ class FitTaskPanel(_Panel):
         self.rulings.toggled.connect(self._show_rulings)
 
     def _apply(self):
-        o = self.obj
-        o.Method, o.Samples, o.Objective = self.method.currentText(), self.samples.value(), self.objective.currentText()
-        o.MaxError, o.Direction = self.max_error.value(), self.direction.currentText()
-        o.Elevations, o.MeasureSamples = self.elevations.value(), self.measure.value()
-        o.Step, o.Metric = self.step.value(), self.metric.currentText()
+        self._set(self.obj, Method=self.method.currentText(), Samples=self.samples.value(),
+                  Objective=self.objective.currentText(), MaxError=self.max_error.value(),
+                  Direction=self.direction.currentText(), Elevations=self.elevations.value(),
+                  MeasureSamples=self.measure.value(), Step=self.step.value(), Metric=self.metric.currentText())
 
     def _show_rulings(self, on):
         if FreeCAD.GuiUp and hasattr(self.obj.ViewObject, "ShowRulings"):
@@ -155,9 +166,8 @@ class SplitTaskPanel(_Panel):
         self.preview_button.clicked.connect(self.preview)
 
     def _apply(self):
-        o = self.obj
-        o.Samples, o.Interior, o.Dims = self.samples.value(), self.interior.value(), self.dims.currentText()
-        o.Objective, o.FitSamples = self.objective.currentText(), self.fit_samples.value()
+        self._set(self.obj, Samples=self.samples.value(), Interior=self.interior.value(), Dims=self.dims.currentText(),
+                  Objective=self.objective.currentText(), FitSamples=self.fit_samples.value())
 
     def preview(self) -> bool:
         o = self.obj

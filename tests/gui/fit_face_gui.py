@@ -9,6 +9,8 @@ OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
 code = 1
 res = {}
+
+
 try:
     import FreeCAD
     import FreeCADGui
@@ -42,8 +44,14 @@ try:
     panel.measure.setValue(24)
     res["preview"] = panel.preview()
     res["panel_text"] = panel.result.text()
+    # OK right after Preview keeps what Preview computed: every run writes its own time in Seconds
+    fit_obj, seconds = panel.obj, panel.obj.Seconds
     res["accept"] = panel.accept()
+    res["accept_reran"] = fit_obj.Seconds != seconds
     obj = doc.getObject("RuledFit")
+    obj.touch()
+    doc.recompute()
+    res["recompute_reran"] = obj.Seconds != seconds
     res["object"] = {"valid": obj.isValid(), "status": obj.Status, "bound": obj.ErrorBound, "hausdorff": obj.Hausdorff,
                      "rulings": obj.Rulings, "lines": len(obj.RulingLines), "dev": len(obj.Deviation),
                      "mode": obj.ViewObject.DisplayMode, "proxy": type(obj.ViewObject.Proxy).__name__}
@@ -99,7 +107,9 @@ try:
     sp.fit_samples.setValue(16)
     res["split_preview"] = sp.preview()
     res["split_text"] = sp.result.text()
+    seconds = sp.obj.Seconds
     res["split_accept"] = sp.accept()
+    res["split_accept_reran"] = doc.getObject("RuledSplit").Seconds != seconds
     so = doc.getObject("RuledSplit")
     res["split"] = {"valid": so.isValid(), "status": so.Status, "chosen": so.Chosen, "bound": so.ErrorBound,
                     "whole": so.WholeBound, "faces": len(so.Shape.Faces), "curve": len(so.SplitCurve)}
