@@ -27,13 +27,14 @@ import os
 import sys
 import time
 
-# the engine's matrices are small: a multi-threaded BLAS only spins (measured: twice the CPU time of
-# a fit, and slower); set before numpy loads, in the command line's own process only
-for _var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_var, "1")
-
 from . import __version__
 from .errors import RuledError
+
+# the engine's matrices are small: a multi-threaded BLAS only spins (measured: twice the CPU time of
+# a fit, and slower); set before numpy loads (the imports above do not load it), in the command
+# line's own process only
+for _var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
 
 
 class _Parser(argparse.ArgumentParser):

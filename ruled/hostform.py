@@ -144,3 +144,101 @@ class Hausdorff:
     max_b_to_a: float
     samples: int
     a_to_b: tuple = ()
+
+
+class PolygonClassifier:
+    """Which (u, v) points are inside a face or on its boundary, for the hosts' independent measures.
+    The even-odd rule on the face's edges' pcurves as polylines (in the host's own evaluation) decides
+    for points clear of them; the host's face classifier ``exact(u, v) -> bool`` decides near them, on
+    rows that graze a vertex or cross them an odd number of times, and everywhere when the polylines
+    do not bound the face (a band round a periodic surface without a seam edge: checked once, on a
+    12 x 12 grid of the bounds, against the host)."""
+
+    def __init__(self, polylines, bounds, exact):
+        self.exact = exact
+        u0, u1, v0, v1 = bounds
+        self.scale = np.array([max(u1 - u0, 1e-300), max(v1 - v0, 1e-300)])
+        self.P = None
+        if not polylines:
+            return
+        from scipy.spatial import cKDTree
+        P = np.concatenate([r[:-1] for r in polylines])
+        Q = np.concatenate([r[1:] for r in polylines])
+        self.lo, self.hi = np.minimum(P[:, 1], Q[:, 1]), np.maximum(P[:, 1], Q[:, 1])
+        self.vert = np.sort(np.concatenate([P[:, 1], Q[:, 1]]))
+        self.tree = cKDTree(np.concatenate(polylines) / self.scale)
+        self.seg = float(np.linalg.norm((Q - P) / self.scale, axis=1).max())
+        self.P, self.Q = P, Q
+        us, vs = np.linspace(u0, u1, 12), np.linspace(v0, v1, 12)
+        if (self._poly_grid(us, vs) != self._exact_grid(us, vs)).any():
+            self.P = None
+
+    def __call__(self, u, v) -> bool:
+        return bool(self.exact(float(u), float(v)))
+
+    def _exact_grid(self, us, vs) -> np.ndarray:
+        return np.array([[self(u, v) for v in vs] for u in us], bool).reshape(us.size, vs.size)
+
+    def _grazing(self, v: np.ndarray) -> np.ndarray:
+        """Rows v within round-off of a polyline vertex (an edge along the row)."""
+        k = np.searchsorted(self.vert, v)
+        near = np.full(v.shape, np.inf)
+        for i in (k - 1, k):
+            ok = (i >= 0) & (i < self.vert.size)
+            near[ok] = np.minimum(near[ok], np.abs(self.vert[i[ok]] - v[ok]))
+        return near <= 1e-6 * self.scale[1]
+
+    def _near(self, uv: np.ndarray) -> np.ndarray:
+        d, _ = self.tree.query(uv / self.scale)
+        return d <= 2.0 * self.seg + 1e-12
+
+    def _poly_grid(self, us, vs) -> np.ndarray:
+        P, Q = self.P, self.Q
+        out = np.zeros((us.size, vs.size), bool)
+        graze = self._grazing(vs)
+        for j, v in enumerate(vs):
+            hit = (self.lo <= v) & (v < self.hi)       # half-open in v: a vertex counts once
+            if hit.sum() % 2 or graze[j]:
+                out[:, j] = [self(u, v) for u in us]
+                continue
+            if not hit.any():
+                continue
+            p, q = P[hit], Q[hit]
+            x = np.sort(p[:, 0] + (v - p[:, 1]) * (q[:, 0] - p[:, 0]) / (q[:, 1] - p[:, 1]))
+            out[:, j] = np.searchsorted(x, us, side="right") % 2 == 1
+        UU, VV = np.meshgrid(us, vs, indexing="ij")
+        for k in np.nonzero(self._near(np.stack([UU.ravel(), VV.ravel()], axis=1)))[0]:
+            i, j = divmod(int(k), vs.size)
+            out[i, j] = self(us[i], vs[j])
+        return out
+
+    def grid(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
+        """(us.size, vs.size) booleans for the grid us x vs."""
+        if self.P is None or us.size * vs.size <= 144:
+            return self._exact_grid(us, vs)
+        return self._poly_grid(us, vs)
+
+    def points(self, uv: np.ndarray) -> np.ndarray:
+        """Booleans for scattered points uv (N, 2)."""
+        uv = np.asarray(uv, float).reshape(-1, 2)
+        if self.P is None or len(uv) <= 64:
+            return np.array([self(u, v) for u, v in uv], bool)
+        P, Q = self.P, self.Q
+        dv = np.where(self.hi > self.lo, Q[:, 1] - P[:, 1], 1.0)
+        out = np.zeros(len(uv), bool)
+        odd = np.zeros(len(uv), bool)       # a row crossing the polylines an odd number of times
+        for i0 in range(0, len(uv), 256):
+            u, v = uv[i0:i0 + 256, :1], uv[i0:i0 + 256, 1:]
+            hit = (self.lo <= v) & (v < self.hi)
+            x = P[:, 0] + (v - P[:, 1]) * (Q[:, 0] - P[:, 0]) / dv
+            out[i0:i0 + 256] = (hit & (x > u)).sum(axis=1) % 2 == 1
+            odd[i0:i0 + 256] = hit.sum(axis=1) % 2 == 1
+        for k in np.nonzero(odd | self._near(uv) | self._grazing(uv[:, 1]))[0]:
+            out[k] = self(*uv[k])
+        return out
+
+
+def grid_size(n: int, frac: float) -> int:
+    """The side of a (u, v) grid of a face's bounds that puts about n x n points inside a face covering
+    the share frac of its bounds (n when it covers nearly all of them; at most 8 n)."""
+    return n if frac > 0.97 else int(min(8 * n, np.ceil(n / np.sqrt(max(frac, 1.0 / (64 * n * n))))))

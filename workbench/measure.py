@@ -10,7 +10,7 @@ import numpy as np
 
 import FreeCAD
 import Part
-from ruled.hostform import Hausdorff
+from ruled.hostform import Hausdorff, PolygonClassifier, grid_size
 
 
 def face_bounds(face):
@@ -33,17 +33,35 @@ def grid(face, n: int) -> np.ndarray:
                      for v in np.linspace(v0, v1, n)])
 
 
+def _polylines(face, per_edge: int = 256):
+    """The pcurves of the face's edges as polylines in its (u, v) (Part's evaluation), or None when an
+    edge has none."""
+    out = []
+    for e in face.Edges:
+        got = face.curveOnSurface(e)
+        if not got:
+            return None
+        c2, a, b = got
+        out.append(np.array([(q.x, q.y) for q in (c2.value(float(t)) for t in np.linspace(a, b, per_edge))]))
+    return out
+
+
+def classifier(face) -> PolygonClassifier:
+    """Which (u, v) are inside the face: its pcurves' polylines, Part's isPartOfDomain near them."""
+    return PolygonClassifier(_polylines(face), face_bounds(face), face.isPartOfDomain)
+
+
 def face_points(face, n: int) -> np.ndarray:
     """About n x n points of the face inside its edges (a grid of its parameter range as dense as it takes)
     and n points along every edge."""
     u0, u1, v0, v1 = face_bounds(face)
     s = face.Surface
-    m0 = 24
-    frac = np.mean([face.isPartOfDomain(float(u), float(v)) for u in np.linspace(u0, u1, m0)
-                    for v in np.linspace(v0, v1, m0)])
-    m = n if frac > 0.97 else int(min(8 * n, np.ceil(n / np.sqrt(max(frac, 1.0 / (64 * n * n))))))
-    pts = [tuple(s.value(float(u), float(v))) for u in np.linspace(u0, u1, m) for v in np.linspace(v0, v1, m)
-           if m == n or face.isPartOfDomain(float(u), float(v))]
+    cls = classifier(face)
+    frac = float(cls.grid(np.linspace(u0, u1, 24), np.linspace(v0, v1, 24)).mean())
+    m = grid_size(n, frac)
+    us, vs = np.linspace(u0, u1, m), np.linspace(v0, v1, m)
+    keep = np.ones((m, m), bool) if m == n else cls.grid(us, vs)
+    pts = [tuple(s.value(float(us[i]), float(vs[j]))) for i, j in zip(*np.nonzero(keep))]
     for e in face.Edges:
         if not e.Degenerated:
             a, b = e.ParameterRange

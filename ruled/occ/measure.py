@@ -22,7 +22,7 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 
-from ..hostform import Hausdorff
+from ..hostform import Hausdorff, PolygonClassifier, grid_size
 
 SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local projections
 
@@ -67,7 +67,7 @@ def interior_grid(face, n: int, cls=None):
     m0 = 24
     cls = _Classifier(face) if cls is None else cls
     frac = float(cls.grid(np.linspace(u0, u1, m0), np.linspace(v0, v1, m0)).mean())
-    m = n if frac > 0.97 else int(min(8 * n, np.ceil(n / np.sqrt(max(frac, 1.0 / (64 * n * n))))))
+    m = grid_size(n, frac)
     us, vs = np.linspace(u0, u1, m), np.linspace(v0, v1, m)
     keep = np.ones((m, m), bool) if m == n else cls.grid(us, vs)
     iu, iv = np.nonzero(keep)
@@ -101,95 +101,13 @@ def _boundary_polygon(face, per_edge: int = 256):
     return out or None
 
 
-class _Classifier:
-    """Which (u, v) are inside a face or on its boundary.  The even-odd rule on its pcurves' polylines
-    decides for points clear of them; OCCT's face classifier decides near them, on rows that graze a
-    vertex, and everywhere when the polylines do not bound the face (a band round a periodic surface
-    without a seam edge: checked once, on a grid, against OCCT)."""
+def _Classifier(face) -> PolygonClassifier:
+    """The face's (u, v) classifier: its pcurves' polylines, OCCT's face classifier near them."""
+    cls = BRepTopAdaptor_FClass2d(face, 1e-9)
 
-    def __init__(self, face):
-        self._cls = BRepTopAdaptor_FClass2d(face, 1e-9)
-        u0, u1, v0, v1 = face_bounds(face)
-        self.scale = np.array([max(u1 - u0, 1e-300), max(v1 - v0, 1e-300)])
-        self.P = None
-        rings = _boundary_polygon(face)
-        if rings is None:
-            return
-        from scipy.spatial import cKDTree
-        P = np.concatenate([r[:-1] for r in rings])
-        Q = np.concatenate([r[1:] for r in rings])
-        self.lo, self.hi = np.minimum(P[:, 1], Q[:, 1]), np.maximum(P[:, 1], Q[:, 1])
-        self.vert = np.sort(np.concatenate([P[:, 1], Q[:, 1]]))
-        self.tree = cKDTree(np.concatenate(rings) / self.scale)
-        self.seg = float(np.linalg.norm((Q - P) / self.scale, axis=1).max())
-        self.P, self.Q = P, Q
-        us, vs = np.linspace(u0, u1, 12), np.linspace(v0, v1, 12)
-        if (self._poly_grid(us, vs) != self._occt_grid(us, vs)).any():
-            self.P = None
-
-    def __call__(self, u, v) -> bool:
-        return self._cls.Perform(gp_Pnt2d(float(u), float(v))) in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
-
-    def _occt_grid(self, us, vs) -> np.ndarray:
-        return np.array([[self(u, v) for v in vs] for u in us], bool).reshape(us.size, vs.size)
-
-    def _grazing(self, v: np.ndarray) -> np.ndarray:
-        """Rows v within round-off of a polyline vertex (an edge along the row): OCCT decides."""
-        k = np.searchsorted(self.vert, v)
-        near = np.full(v.shape, np.inf)
-        for i in (k - 1, k):
-            ok = (i >= 0) & (i < self.vert.size)
-            near[ok] = np.minimum(near[ok], np.abs(self.vert[i[ok]] - v[ok]))
-        return near <= 1e-6 * self.scale[1]
-
-    def _near(self, uv: np.ndarray) -> np.ndarray:
-        d, _ = self.tree.query(uv / self.scale)
-        return d <= 2.0 * self.seg + 1e-12
-
-    def _poly_grid(self, us, vs) -> np.ndarray:
-        P, Q = self.P, self.Q
-        out = np.zeros((us.size, vs.size), bool)
-        graze = self._grazing(vs)
-        for j, v in enumerate(vs):
-            hit = (self.lo <= v) & (v < self.hi)       # half-open in v: a vertex counts once
-            if hit.sum() % 2 or graze[j]:
-                out[:, j] = [self(u, v) for u in us]
-                continue
-            if not hit.any():
-                continue
-            p, q = P[hit], Q[hit]
-            x = np.sort(p[:, 0] + (v - p[:, 1]) * (q[:, 0] - p[:, 0]) / (q[:, 1] - p[:, 1]))
-            out[:, j] = np.searchsorted(x, us, side="right") % 2 == 1
-        UU, VV = np.meshgrid(us, vs, indexing="ij")
-        for k in np.nonzero(self._near(np.stack([UU.ravel(), VV.ravel()], axis=1)))[0]:
-            i, j = divmod(int(k), vs.size)
-            out[i, j] = self(us[i], vs[j])
-        return out
-
-    def grid(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
-        """(us.size, vs.size) booleans for the grid us x vs."""
-        if self.P is None or us.size * vs.size <= 144:
-            return self._occt_grid(us, vs)
-        return self._poly_grid(us, vs)
-
-    def points(self, uv: np.ndarray) -> np.ndarray:
-        """Booleans for scattered points uv (N, 2)."""
-        uv = np.asarray(uv, float).reshape(-1, 2)
-        if self.P is None or len(uv) <= 64:
-            return np.array([self(u, v) for u, v in uv], bool)
-        P, Q = self.P, self.Q
-        dv = np.where(self.hi > self.lo, Q[:, 1] - P[:, 1], 1.0)
-        out = np.zeros(len(uv), bool)
-        odd = np.zeros(len(uv), bool)       # a row crossing the polylines an odd number of times
-        for i0 in range(0, len(uv), 256):
-            u, v = uv[i0:i0 + 256, :1], uv[i0:i0 + 256, 1:]
-            hit = (self.lo <= v) & (v < self.hi)
-            x = P[:, 0] + (v - P[:, 1]) * (Q[:, 0] - P[:, 0]) / dv
-            out[i0:i0 + 256] = (hit & (x > u)).sum(axis=1) % 2 == 1
-            odd[i0:i0 + 256] = hit.sum(axis=1) % 2 == 1
-        for k in np.nonzero(odd | self._near(uv) | self._grazing(uv[:, 1]))[0]:
-            out[k] = self(*uv[k])
-        return out
+    def exact(u, v) -> bool:
+        return cls.Perform(gp_Pnt2d(u, v)) in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
+    return PolygonClassifier(_boundary_polygon(face), face_bounds(face), exact)
 
 
 class _Projector:
