@@ -22,7 +22,7 @@ import numpy as np
 from .errors import BadInputError, InfeasibleError
 from .fit import Direction, FitOptions, FitResult, fit_surface
 from .nurbs import Curve, Surface
-from .split import check_memory, row_tables, split_dp, split_tables
+from .split import check_memory, row_scores, split_dp, split_tables
 from .strips import SideSurface, Strip, graph_curve, side_surface
 
 Progress = Optional[Callable[[str, float], None]]
@@ -187,7 +187,7 @@ def split_curves(S: Surface, strip: Strip, side: SideSurface, opts: SplitOptions
             out.append((f"optimal:{k}", strip.curve_at(S, _smoothed(s, t, max(1, n // level), lo_t, hi_t),
                                                        max(16, n)), path.score, None))
     # the best constant row: the split DP on that row alone (a table of one row)
-    scores = [split_dp(row_tables(T, b), opts.objective, opts.memory_cap).score for b in range(d)]
+    scores = row_scores(T, opts.objective, opts.memory_cap)
     b = int(np.argmin(scores))
     tb = (b + 1.0) / (d + 1)
     out.append(("best-iso", strip.curve_at(S, tb), float(scores[b]), tb))

@@ -153,7 +153,7 @@ def _lexmin(P: np.ndarray, S: np.ndarray, G: np.ndarray, axes: tuple):
             np.take_along_axis(G, k, -1)[..., 0])
 
 
-def _fill_numpy(A, B, use_max: bool, red, back, endp, ends) -> None:
+def _fill_numpy(A, B, use_max: bool, red, back, endp, ends, moves: np.ndarray = MOVES) -> None:
     """The NumPy twin of kernels_split.fill: per cell (i, j, a), every elevation and row at once."""
     n, mp, _, d, mm = A.shape
     mq = B.shape[1]
@@ -163,7 +163,7 @@ def _fill_numpy(A, B, use_max: bool, red, back, endp, ends) -> None:
     shape = (mp, mq, d, mm)
     ep, eq, em = np.arange(mp)[:, None, None], np.arange(mq)[None, :, None], np.arange(mm)[None, None, :]
     G = np.broadcast_to((ep + mp * (eq + mq * em))[:, :, None, :], shape)   # combined index of (ep, eq, em)
-    nmv = len(MOVES)
+    nmv = len(moves)
 
     def shift(X, db):
         """X[..., b - db, ...] along the row axis (axis 2 of the cell shape), inf outside."""
@@ -186,7 +186,7 @@ def _fill_numpy(A, B, use_max: bool, red, back, endp, ends) -> None:
                 else:
                     bp, bs = np.full(shape, np.inf), np.full(shape, np.inf)
                     bk = np.full(shape, -1, dtype=np.int64)
-                    for k, (di, dj, da, db) in enumerate(MOVES):
+                    for k, (di, dj, da, db) in enumerate(moves):
                         if i - di < 0 or j - dj < 0 or a - da < 0:
                             continue
                         if di == 0 and dj == 0:
@@ -247,22 +247,10 @@ def split_dp(tables: SplitTables, objective: str = "sum", memory_cap: Optional[f
     """The optimal M-curve and its pairs of rulings (the 4D, 5D or 7D split DP), from the P-, Q- and
     M-points' first column to their last; the M-curve may start and end on any row (or end on
     end_row).  Tables (n, n, d) are 4D; (n, mp, n, d, mm) carry elevation levels of P (or Q) and M."""
-    if objective not in ("sum", "max"):
-        raise BadInputError(f"unknown objective {objective!r}: use 'sum' or 'max'")
     A, B = _as5(tables.A), _as5(tables.B)
     n, mp, _, d, mm = A.shape
     mq = B.shape[1]
-    if len(MOVES) * mp * mq * mm > 32000:
-        raise BadInputError(f"too many elevation levels ({mp} x {mq} x {mm}); use at most 13 levels per point")
-    check_memory(n, d, mp, mq, mm, memory_cap)
-    red, flat = _buffers(n, d, mp, mq, mm)
-    back = np.empty((n, n, n, mp, mq, d, mm), dtype=np.int16)
-    endp, ends = np.empty((mp, mq, d, mm)), np.empty((mp, mq, d, mm))
-    if kernels.enabled():
-        from .kernels_split import fill
-        fill(A, B, objective == "max", MOVES, red, flat, back, endp, ends)
-    else:
-        _fill_numpy(A, B, objective == "max", red, back, endp, ends)
+    back, endp, ends = _sweep(A, B, objective, memory_cap, MOVES)
     if end_row is not None:
         keep = np.zeros(d, bool)
         keep[end_row] = True
@@ -290,12 +278,32 @@ def split_dp(tables: SplitTables, objective: str = "sum", memory_cap: Optional[f
     return SplitPath(path[:, :4], score, objective, path[:, 4:])
 
 
-def row_tables(tables: SplitTables, b: int) -> SplitTables:
-    """The tables of the one M-row b (the split DP on them is the best split along that row)."""
-    A, B = tables.A, tables.B
-    if A.ndim == 3:
-        return SplitTables(tables.u, tables.v_levels[b:b + 1], A[:, :, b:b + 1], B[:, :, b:b + 1])
-    return SplitTables(tables.u, tables.v_levels[b:b + 1], A[:, :, :, b:b + 1], B[:, :, :, b:b + 1])
+def _sweep(A, B, objective: str, memory_cap, moves: np.ndarray):
+    """One fill of the split DP's tables with the given moves: (back pointers, end primaries, end
+    secondaries)."""
+    if objective not in ("sum", "max"):
+        raise BadInputError(f"unknown objective {objective!r}: use 'sum' or 'max'")
+    n, mp, _, d, mm = A.shape
+    mq = B.shape[1]
+    if len(MOVES) * mp * mq * mm > 32000:
+        raise BadInputError(f"too many elevation levels ({mp} x {mq} x {mm}); use at most 13 levels per point")
+    check_memory(n, d, mp, mq, mm, memory_cap)
+    red, flat = _buffers(n, d, mp, mq, mm)
+    back = np.empty((n, n, n, mp, mq, d, mm), dtype=np.int16)
+    endp, ends = np.empty((mp, mq, d, mm)), np.empty((mp, mq, d, mm))
+    if kernels.enabled():
+        from .kernels_split import fill
+        fill(A, B, objective == "max", moves, red, flat, back, endp, ends)
+    else:
+        _fill_numpy(A, B, objective == "max", red, back, endp, ends, moves)
+    return back, endp, ends
+
+
+def row_scores(tables: SplitTables, objective: str = "sum", memory_cap: Optional[float] = None) -> np.ndarray:
+    """(d,) the split DP's best score along each M-row alone (the split DP on that row's tables), all
+    rows in one sweep: the moves that change row left out, no row ever meets another (inf: none)."""
+    back, endp, _ = _sweep(_as5(tables.A), _as5(tables.B), objective, memory_cap, MOVES[MOVES[:, 3] == 0])
+    return endp.min(axis=(0, 1, 3))
 
 
 def path_score(tables: SplitTables, path: np.ndarray, objective: str, levels: Optional[np.ndarray] = None) -> float:

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from ruled.errors import TooBigError
-from ruled.split import MOVES, SplitTables, m_grid, path_score, split_dp, split_tables
+from ruled.split import MOVES, SplitTables, m_grid, path_score, row_scores, split_dp, split_tables
 
 
 def _brute(A, B, objective):
@@ -65,6 +65,23 @@ def test_kernel_and_numpy_twin_agree(monkeypatch):
         slow = split_dp(T, objective)
         monkeypatch.undo()
         assert fast.score == slow.score and np.array_equal(fast.path, slow.path)
+
+
+@pytest.mark.parametrize("objective", ["sum", "max"])
+@pytest.mark.parametrize("numba", [True, False])
+def test_row_scores_are_each_rows_own_split(objective, numba, monkeypatch):
+    """All rows' best iso splits in one sweep: each the brute force of its row's tables alone."""
+    from ruled import kernels
+    if not numba:
+        monkeypatch.setattr(kernels, "enabled", lambda: False)
+    elif not kernels.AVAILABLE:
+        pytest.skip("numba not installed")
+    rng = np.random.default_rng(11)
+    for n, d in ((3, 3), (4, 2)):
+        T = _tables(rng, n, d)
+        got = row_scores(T, objective)
+        want = [_brute(T.A[:, :, b:b + 1], T.B[:, :, b:b + 1], objective) for b in range(d)]
+        np.testing.assert_allclose(got, want, rtol=1e-12)
 
 
 def test_tables_are_line_metrics_of_the_rulings():
