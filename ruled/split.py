@@ -140,8 +140,10 @@ def _buffers(n, d, mp, mq, mm):
 
 
 def _lexmin(P: np.ndarray, S: np.ndarray, G: np.ndarray, axes: tuple):
-    """Over the given axes (moved last, in their order: the last varies fastest), the first entry with
-    the smallest (primary, secondary) pair; G holds each entry's combined index."""
+    """Over the given axes of each cell (a leading axis of cells, then the cell's axes; the listed
+    axes moved last, in their order: the last varies fastest), the first entry with the smallest
+    (primary, secondary) pair; G holds each entry's combined index."""
+    axes = tuple(x + 1 for x in axes)
     keep = [k for k in range(P.ndim) if k not in axes]
     order = keep + list(axes)
     shape = [P.shape[k] for k in keep] + [-1]
@@ -154,7 +156,9 @@ def _lexmin(P: np.ndarray, S: np.ndarray, G: np.ndarray, axes: tuple):
 
 
 def _fill_numpy(A, B, use_max: bool, red, back, endp, ends, moves: np.ndarray = MOVES) -> None:
-    """The NumPy twin of kernels_split.fill: per cell (i, j, a), every elevation and row at once."""
+    """The NumPy twin of kernels_split.fill: per layer i, the cells (j, a) of one anti-diagonal at once
+    (a cell reads only earlier diagonals of its layer and the previous layer's P-reductions), every
+    elevation and row of each at once; per entry the same operations in the same order as the kernel."""
     n, mp, _, d, mm = A.shape
     mq = B.shape[1]
     (cQp, cQs, cQa, cMp, cMs, cMa, cQMp, cQMs, cQMa,
@@ -162,71 +166,77 @@ def _fill_numpy(A, B, use_max: bool, red, back, endp, ends, moves: np.ndarray = 
      nPp, nPs, nPa, nPQp, nPQs, nPQa, nPMp, nPMs, nPMa, nPQMp, nPQMs, nPQMa) = red
     shape = (mp, mq, d, mm)
     ep, eq, em = np.arange(mp)[:, None, None], np.arange(mq)[None, :, None], np.arange(mm)[None, None, :]
-    G = np.broadcast_to((ep + mp * (eq + mq * em))[:, :, None, :], shape)   # combined index of (ep, eq, em)
+    G1 = np.broadcast_to((ep + mp * (eq + mq * em))[:, :, None, :], shape)   # combined index of (ep, eq, em)
     nmv = len(moves)
 
     def shift(X, db):
-        """X[..., b - db, ...] along the row axis (axis 2 of the cell shape), inf outside."""
-        out = np.full(shape, np.inf) if X.dtype.kind == "f" else np.zeros(shape, X.dtype)
+        """X[:, ..., b - db, ...] along the row axis (axis 3: after the cells' axis), inf outside."""
+        out = np.full(X.shape, np.inf) if X.dtype.kind == "f" else np.zeros(X.shape, X.dtype)
         if db == 0:
             out[...] = X
         elif db > 0:
-            out[:, :, 1:] = X[:, :, :-1]
+            out[:, :, :, 1:] = X[:, :, :, :-1]
         else:
-            out[:, :, :-1] = X[:, :, 1:]
+            out[:, :, :, :-1] = X[:, :, :, 1:]
         return out
 
     for i in range(n):
-        for j in range(n):
-            for a in range(n):
-                c = np.maximum(A[i, :, a][:, None, :, :], B[j, :, a][None, :, :, :])
-                if i == 0 and j == 0 and a == 0:
-                    Vp, Vs = c.copy(), c.copy()
-                    back[0, 0, 0] = -1
-                else:
-                    bp, bs = np.full(shape, np.inf), np.full(shape, np.inf)
-                    bk = np.full(shape, -1, dtype=np.int64)
-                    for k, (di, dj, da, db) in enumerate(moves):
-                        if i - di < 0 or j - dj < 0 or a - da < 0:
-                            continue
-                        if di == 0 and dj == 0:
-                            src = [X[j, a - 1][:, :, :, None] for X in (cMp, cMs, cMa)]
-                        elif di == 0 and da == 0:
-                            src = [X[j - 1, a][:, None, :, :] for X in (cQp, cQs, cQa)]
-                        elif di == 0:
-                            src = [X[j - 1, a - 1][:, None, :, None] for X in (cQMp, cQMs, cQMa)]
-                        elif dj == 0 and da == 0:
-                            src = [X[j, a][None] for X in (pPp, pPs, pPa)]
-                        elif da == 0:
-                            src = [X[j - 1, a][None, None] for X in (pPQp, pPQs, pPQa)]
-                        elif dj == 0:
-                            src = [X[j, a - 1][None, :, :, None] for X in (pPMp, pPMs, pPMa)]
-                        else:
-                            src = [X[j - 1, a - 1][None, None, :, None] for X in (pPQMp, pPQMs, pPQMa)]
-                        p, s, g = (shift(np.broadcast_to(X, shape), db) for X in src)
-                        if use_max:
-                            q, qs = np.maximum(p, c), s + c
-                        else:
-                            q = p + c
-                            qs = q
-                        better = ((q < bp) | ((q == bp) & (qs < bs))) & np.isfinite(p)
-                        bp, bs = np.where(better, q, bp), np.where(better, qs, bs)
-                        bk = np.where(better, k + nmv * g, bk)
-                    Vp, Vs = bp, bs
-                    back[i, j, a] = bk
-                # reductions (axes of the cell: 0 ep, 1 eq, 2 b, 3 em; the later listed axis varies fastest)
-                cQp[j, a], cQs[j, a], cQa[j, a] = _lexmin(Vp, Vs, G, (1,))
-                cMp[j, a], cMs[j, a], cMa[j, a] = _lexmin(Vp, Vs, G, (3,))
-                cQMp[j, a], cQMs[j, a], cQMa[j, a] = _lexmin(Vp, Vs, G, (3, 1))
-                nPp[j, a], nPs[j, a], nPa[j, a] = _lexmin(Vp, Vs, G, (0,))
-                nPQp[j, a], nPQs[j, a], nPQa[j, a] = _lexmin(Vp, Vs, G, (1, 0))
-                nPMp[j, a], nPMs[j, a], nPMa[j, a] = _lexmin(Vp, Vs, G, (3, 0))
-                nPQMp[j, a], nPQMs[j, a], nPQMa[j, a] = _lexmin(Vp, Vs, G, (3, 1, 0))
+        for sd in range(2 * n - 1):
+            J = np.arange(max(0, sd - n + 1), min(n - 1, sd) + 1)
+            Aa = sd - J
+            m = J.size
+            full = (m,) + shape
+            G = np.broadcast_to(G1, full)
+            c = np.maximum(A[i, :, Aa][:, :, None, :, :], B[J, :, Aa][:, None, :, :, :])
+            if i == 0 and sd == 0:
+                Vp, Vs = c.copy(), c.copy()
+                back[0, 0, 0] = -1
+            else:
+                bp, bs = np.full(full, np.inf), np.full(full, np.inf)
+                bk = np.full(full, -1, dtype=np.int64)
+                for k, (di, dj, da, db) in enumerate(moves):
+                    ok = (i - di >= 0) & (J - dj >= 0) & (Aa - da >= 0)
+                    if not ok.any():
+                        continue
+                    jj, aa = np.maximum(J - dj, 0), np.maximum(Aa - da, 0)
+                    if di == 0 and dj == 0:
+                        src = [X[jj, aa][:, :, :, :, None] for X in (cMp, cMs, cMa)]
+                    elif di == 0 and da == 0:
+                        src = [X[jj, aa][:, :, None, :, :] for X in (cQp, cQs, cQa)]
+                    elif di == 0:
+                        src = [X[jj, aa][:, :, None, :, None] for X in (cQMp, cQMs, cQMa)]
+                    elif dj == 0 and da == 0:
+                        src = [X[jj, aa][:, None] for X in (pPp, pPs, pPa)]
+                    elif da == 0:
+                        src = [X[jj, aa][:, None, None] for X in (pPQp, pPQs, pPQa)]
+                    elif dj == 0:
+                        src = [X[jj, aa][:, None, :, :, None] for X in (pPMp, pPMs, pPMa)]
+                    else:
+                        src = [X[jj, aa][:, None, None, :, None] for X in (pPQMp, pPQMs, pPQMa)]
+                    p, s, g = (shift(np.broadcast_to(X, full), db) for X in src)
+                    if use_max:
+                        q, qs = np.maximum(p, c), s + c
+                    else:
+                        q = p + c
+                        qs = q
+                    better = ((q < bp) | ((q == bp) & (qs < bs))) & np.isfinite(p) & ok[:, None, None, None, None]
+                    bp, bs = np.where(better, q, bp), np.where(better, qs, bs)
+                    bk = np.where(better, k + nmv * g, bk)
+                Vp, Vs = bp, bs
+                back[i, J, Aa] = bk
+            # reductions (axes of a cell: 0 ep, 1 eq, 2 b, 3 em; the later listed axis varies fastest)
+            cQp[J, Aa], cQs[J, Aa], cQa[J, Aa] = _lexmin(Vp, Vs, G, (1,))
+            cMp[J, Aa], cMs[J, Aa], cMa[J, Aa] = _lexmin(Vp, Vs, G, (3,))
+            cQMp[J, Aa], cQMs[J, Aa], cQMa[J, Aa] = _lexmin(Vp, Vs, G, (3, 1))
+            nPp[J, Aa], nPs[J, Aa], nPa[J, Aa] = _lexmin(Vp, Vs, G, (0,))
+            nPQp[J, Aa], nPQs[J, Aa], nPQa[J, Aa] = _lexmin(Vp, Vs, G, (1, 0))
+            nPMp[J, Aa], nPMs[J, Aa], nPMa[J, Aa] = _lexmin(Vp, Vs, G, (3, 0))
+            nPQMp[J, Aa], nPQMs[J, Aa], nPQMa[J, Aa] = _lexmin(Vp, Vs, G, (3, 1, 0))
         for dst, src in zip((pPp, pPs, pPa, pPQp, pPQs, pPQa, pPMp, pPMs, pPMa, pPQMp, pPQMs, pPQMa),
                             (nPp, nPs, nPa, nPQp, nPQs, nPQa, nPMp, nPMs, nPMa, nPQMp, nPQMs, nPQMa)):
             dst[...] = src
-    endp[...] = Vp
-    ends[...] = Vs
+    endp[...] = Vp[-1]
+    ends[...] = Vs[-1]
 
 
 def check_memory(n: int, d: int, mp: int = 1, mq: int = 1, mm: int = 1, memory_cap: Optional[float] = None) -> None:
