@@ -216,8 +216,10 @@ def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
         if progress is not None:
             progress(f"iso-parametric check ({d})", 0.0)
         iso = iso_fit(c, GRID_COARSE, c.error_bound)   # a coarse certificate first (an upper bound too) ...
-        if iso is not None and iso.certificate.node_max < c.error_bound:
-            iso = recertify(iso, GRID_FINE, c.error_bound)  # ... the fine one only where it may win
+        # ... the fine one only where it may win: against this direction's fit, and the best bound yet
+        rival = min([c.error_bound] + [o.error_bound for o in cands.values() if not isinstance(o, str)])
+        if iso is not None and iso.certificate.node_max < rival:
+            iso = recertify(iso, GRID_FINE, rival)
         if progress is not None:
             progress(f"iso-parametric check ({d})", 1.0)
         if iso is not None and iso.error_bound < c.error_bound:

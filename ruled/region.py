@@ -158,8 +158,10 @@ class Region:
         back = float(np.linalg.norm(_to_polyline(X, P, cKDTree(P)) - X, axis=1).max())
         same = c3(np.clip(t, *c3.domain)) - P          # the same parameter on both curves
         if np.linalg.norm(same, axis=1).max() <= 1.5 * max(float(np.linalg.norm(near, axis=1).max()), 1e-300):
-            # the parameters agree: the 3D curve itself (as smooth as both curves)
-            G = _Difference(c3, self, k)
+            # the parameters agree: the 3D curve itself, tabulated densely (the patch's sampling asks
+            # for it many times; linear interpolation of so small and smooth a difference errs by
+            # h^2/8 of its second derivative, h a 8192th of the edge)
+            G = _Tabled(_Difference(c3, self, k), 8193)
         else:
             spans = 64
             knots = np.concatenate([[t[0]] * 3, np.linspace(t[0], t[-1], spans + 1), [t[-1]] * 3])
@@ -235,6 +237,19 @@ class _Difference:
     def __call__(self, t) -> np.ndarray:
         uv = self.region.uv(self.k, t)
         return self.c3(np.clip(t, *self.c3.domain)) - self.region.surface(uv[:, 0], uv[:, 1])
+
+
+class _Tabled:
+    """A vector function of t sampled once at m parameters of its domain, linearly interpolated."""
+
+    def __init__(self, f, m: int):
+        self.domain = f.domain
+        self.t = np.linspace(*f.domain, m)
+        self.y = f(self.t)
+
+    def __call__(self, t) -> np.ndarray:
+        t = np.asarray(t, float).ravel()
+        return np.stack([np.interp(t, self.t, self.y[:, c]) for c in range(self.y.shape[1])], axis=1)
 
 
 def _to_polyline(P: np.ndarray, X: np.ndarray, tree) -> np.ndarray:
