@@ -152,13 +152,21 @@ class PolygonClassifier:
     for points clear of them; the host's face classifier ``exact(u, v) -> bool`` decides near them, on
     rows that graze a vertex or cross them an odd number of times, and everywhere when the polylines
     do not bound the face (a band round a periodic surface without a seam edge: checked once, on a
-    12 x 12 grid of the bounds, against the host)."""
+    12 x 12 grid of the bounds, against the host).  polylines: a function giving them (or None), called
+    on the first question about more than a few points."""
 
     def __init__(self, polylines, bounds, exact):
-        self.exact = exact
+        self.exact, self.bounds, self._polylines = exact, bounds, polylines
         u0, u1, v0, v1 = bounds
         self.scale = np.array([max(u1 - u0, 1e-300), max(v1 - v0, 1e-300)])
+        self._built = False
         self.P = None
+
+    def _build(self) -> None:
+        if self._built:
+            return
+        self._built = True
+        polylines = self._polylines()
         if not polylines:
             return
         from scipy.spatial import cKDTree
@@ -169,6 +177,7 @@ class PolygonClassifier:
         self.tree = cKDTree(np.concatenate(polylines) / self.scale)
         self.seg = float(np.linalg.norm((Q - P) / self.scale, axis=1).max())
         self.P, self.Q = P, Q
+        u0, u1, v0, v1 = self.bounds
         us, vs = np.linspace(u0, u1, 12), np.linspace(v0, v1, 12)
         if (self._poly_grid(us, vs) != self._exact_grid(us, vs)).any():
             self.P = None
@@ -214,6 +223,8 @@ class PolygonClassifier:
 
     def grid(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
         """(us.size, vs.size) booleans for the grid us x vs."""
+        if us.size * vs.size > 144:
+            self._build()
         if self.P is None or us.size * vs.size <= 144:
             return self._exact_grid(us, vs)
         return self._poly_grid(us, vs)
@@ -221,6 +232,8 @@ class PolygonClassifier:
     def points(self, uv: np.ndarray) -> np.ndarray:
         """Booleans for scattered points uv (N, 2)."""
         uv = np.asarray(uv, float).reshape(-1, 2)
+        if len(uv) > 64:
+            self._build()
         if self.P is None or len(uv) <= 64:
             return np.array([self(u, v) for u, v in uv], bool)
         P, Q = self.P, self.Q

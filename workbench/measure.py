@@ -48,7 +48,7 @@ def _polylines(face, per_edge: int = 256):
 
 def classifier(face) -> PolygonClassifier:
     """Which (u, v) are inside the face: its pcurves' polylines, Part's isPartOfDomain near them."""
-    return PolygonClassifier(_polylines(face), face_bounds(face), face.isPartOfDomain)
+    return PolygonClassifier(lambda: _polylines(face), face_bounds(face), face.isPartOfDomain)
 
 
 def face_points(face, n: int) -> np.ndarray:

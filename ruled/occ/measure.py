@@ -107,7 +107,7 @@ def _Classifier(face) -> PolygonClassifier:
 
     def exact(u, v) -> bool:
         return cls.Perform(gp_Pnt2d(u, v)) in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
-    return PolygonClassifier(_boundary_polygon(face), face_bounds(face), exact)
+    return PolygonClassifier(lambda: _boundary_polygon(face), face_bounds(face), exact)
 
 
 class _Projector:
