@@ -116,14 +116,8 @@ def solve_closed(cost: np.ndarray, objective: str = "sum", progress=None,
     filled in batches of at most ``batch_bytes``.
     """
     n = cost.shape[0]
-    a = np.arange(n + 1)
-    per_table = (n + 1) ** 2 * (8 * 3 + 1)
-    B = max(1, min(n, batch_bytes // per_table))
     best = (np.inf, np.inf, None, 0)
-    for start in range(0, n, B):
-        shifts = np.arange(start, min(n, start + B))
-        # C_b[a, b] = cost[(i0 + a) % n, b % n]
-        C = cost[(shifts[:, None, None] + a[None, :, None]) % n, a[None, None, :] % n]
+    for shifts, C in _shifted(cost, batch_bytes):
         prim, sec, back = _fill(C, objective, None)
         end_p = prim[:, n, n]
         end_s = sec[:, n, n]
@@ -133,13 +127,36 @@ def solve_closed(cost: np.ndarray, objective: str = "sum", progress=None,
             if p < best[0] - _TIE * max(1.0, abs(p)) or (p <= lim and s < best[1]):
                 best = (p, s, back[k].copy(), int(shifts[k]))
         if progress is not None:
-            progress(min(n, start + B), n)
+            progress(int(shifts[-1]) + 1, n)
     if not np.isfinite(best[0]):
         return DPResult(np.zeros((0, 2), np.int64), np.inf, np.inf)
     path = _trace(best[2], (n, n))
     path[:, 0] += best[3]
     costs = cost[path[:, 0] % n, path[:, 1] % n]
     return DPResult(path, float(best[0]), float(costs.max()), best[3])
+
+
+def _shifted(cost: np.ndarray, batch_bytes: int):
+    """The tables of every start shift i0 of a closed boundary, C_b[a, b] = cost[(i0 + a) % n, b % n]
+    over a, b in 0..n, in batches of at most batch_bytes of DP tables: yields (shifts, C)."""
+    n = cost.shape[0]
+    a = np.arange(n + 1)
+    B = max(1, min(n, batch_bytes // ((n + 1) ** 2 * (8 * 3 + 1))))
+    for start in range(0, n, B):
+        shifts = np.arange(start, min(n, start + B))
+        yield shifts, cost[(shifts[:, None, None] + a[None, :, None]) % n, a[None, None, :] % n]
+
+
+def shift_scores(cost: np.ndarray, objective: str = "sum", free_start: bool = False,
+                 batch_bytes: int = 256 << 20) -> np.ndarray:
+    """(n,) the closed program's best score for every start shift (solve_closed's candidates);
+    free_start: the first ruling costs nothing (it is counted again as the last)."""
+    out = np.empty(cost.shape[0])
+    for shifts, C in _shifted(cost, batch_bytes):
+        if free_start:
+            C[:, 0, 0] = 0.0
+        out[shifts] = _fill(C, objective)[0][:, -1, -1]
+    return out
 
 
 def solve(cost: np.ndarray, closed: bool, objective: str = "sum", max_error: Optional[float] = None,

@@ -294,8 +294,9 @@ def shift_bounds(T: Tables, use_max: bool) -> np.ndarray:
     bound is at least what it has with the previous ruling's terms left out, c + es of the new
     ruling, (Muu du^2 + 2 Muv du dv + Mvv dv^2) / 8 with du = d0u + dku and dv = d0v + dkv of the new
     ruling, and g0 t0 / 4, every term left out being non-negative; area-weighted for the sum
-    objective; the first ruling costs nothing)."""
-    from .dp import _fill as fill_2d
+    objective; the first ruling costs nothing).  The shift here moves Q (j): the 2D program's, which
+    moves its first index, on the transposed costs (its moves are symmetric)."""
+    from .dp import shift_scores
     n = T.n
     if T.sshb:
         tm = T.terms
@@ -309,16 +310,7 @@ def shift_bounds(T: Tables, use_max: bool) -> np.ndarray:
             node = np.minimum(node, per if use_max else tm.area[p] * per)
     else:
         node = T.lc.reshape(n, n, -1).min(axis=2).astype(np.float64)
-    a = np.arange(n + 1)
-    out = np.empty(n)
-    batch = max(1, min(n, (256 << 20) // ((n + 1) ** 2 * 25)))
-    for q0 in range(0, n, batch):
-        qs = np.arange(q0, min(n, q0 + batch))
-        C = node[a[None, :, None] % n, (a[None, None, :] + qs[:, None, None]) % n]
-        if T.sshb:
-            C[:, 0, 0] = 0.0
-        out[qs] = fill_2d(C, "max" if use_max else "sum")[0][:, n, n]
-    return out
+    return shift_scores(np.ascontiguousarray(node.T), "max" if use_max else "sum", free_start=T.sshb)
 
 
 def _solve_closed(T: Tables, objective: str, progress: Optional[Callable]) -> DP4Result:

@@ -222,7 +222,8 @@ class PolygonClassifier:
         return out
 
     def grid(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
-        """(us.size, vs.size) booleans for the grid us x vs."""
+        """(us.size, vs.size) booleans for the grid us x vs (row by row: a row's crossings serve all its
+        points, many times faster than ``points`` on a dense grid)."""
         if us.size * vs.size > 144:
             self._build()
         if self.P is None or us.size * vs.size <= 144:

@@ -51,21 +51,21 @@ def _face_edges(face):
     return out
 
 
-def face_points(face, n: int) -> np.ndarray:
+def face_points(face, n: int, cls=None) -> np.ndarray:
     """About n x n points of the face as bounded by its edges: a (u, v) grid of its bounds, as dense
     as it takes for about n * n of its points to fall inside, kept where they are inside; and n points
-    along every edge (OCCT evaluation throughout)."""
-    pts, _ = interior_grid(face, n)
+    along every edge (OCCT evaluation throughout).  cls: the face's classifier, when one exists."""
+    pts, _ = interior_grid(face, n, cls)
     return np.concatenate([pts, edge_points(face, n)])
 
 
 def interior_grid(face, n: int, cls=None):
     """(points (N, 3), parameters (N, 2)) of a (u, v) grid of the face's bounds inside the face, about
-    n x n of them (the grid is made denser for a trimmed face); cls: the face's _Classifier."""
+    n x n of them (the grid is made denser for a trimmed face); cls: the face's classifier."""
     u0, u1, v0, v1 = face_bounds(face)
     surf = BRep_Tool.Surface_s(face)
     m0 = 24
-    cls = _Classifier(face) if cls is None else cls
+    cls = _classifier(face) if cls is None else cls
     frac = float(cls.grid(np.linspace(u0, u1, m0), np.linspace(v0, v1, m0)).mean())
     m = grid_size(n, frac)
     us, vs = np.linspace(u0, u1, m), np.linspace(v0, v1, m)
@@ -101,7 +101,7 @@ def _boundary_polygon(face, per_edge: int = 256):
     return out or None
 
 
-def _Classifier(face) -> PolygonClassifier:
+def _classifier(face) -> PolygonClassifier:
     """The face's (u, v) classifier: its pcurves' polylines, OCCT's face classifier near them."""
     cls = BRepTopAdaptor_FClass2d(face, 1e-9)
 
@@ -119,7 +119,7 @@ class _Projector:
         self.proj = GeomAPI_ProjectPointOnSurf()
         self.proj.Init(self.surf, self.u0, self.u1, self.v0, self.v1)
         self.sas = ShapeAnalysis_Surface(self.surf)
-        self.inside = _Classifier(face)
+        self.inside = _classifier(face)
         # a dense cloud of every edge: closest points may lie on the boundary
         self.curves, pts, ids, ts = [], [], [], []
         for e in _face_edges(face):
@@ -137,7 +137,7 @@ class _Projector:
 
     def _local_search(self):
         """The seeds of the local projection (a grid inside the face, KD-tree) and OCCT's local
-        extremum search from a seed (built on first use)."""
+        extremum search from a seed (built on first use; the adaptor is kept: the search refers to it)."""
         if self._local is None:
             from scipy.spatial import cKDTree
             pts, uv = interior_grid(self.face, SEED_GRID, self.inside)
@@ -174,10 +174,10 @@ class _Projector:
                 ub[i] = min(ub[i], self._edge_refine(X[i], ke[i]))
         return ub
 
-    def distances(self, X: np.ndarray, progress=None) -> np.ndarray:
+    def distances(self, X: np.ndarray) -> np.ndarray:
         """Distances from the points X to the bounded face: exact (``distance``) wherever a point can
         hold the largest, the local search's elsewhere (see ``screened``)."""
-        return screened(self, X, progress)
+        return screened(self, X)
 
     def _value(self, u, v):
         p = self.surf.Value(float(u), float(v))
@@ -256,10 +256,11 @@ class _Projector:
 def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     """Two-sided Hausdorff distance between two faces as bounded by their edges (about n x n samples
     of each plus n along every edge, projected on the other)."""
-    return two_sided(face_points(face_a, n), face_points(face_b, n), _Projector(face_a), _Projector(face_b))
+    to_a, to_b = _Projector(face_a), _Projector(face_b)
+    return two_sided(face_points(face_a, n, to_a.inside), face_points(face_b, n, to_b.inside), to_a, to_b)
 
 
-def screened(proj, X: np.ndarray, progress=None, cap: int = 400) -> np.ndarray:
+def screened(proj, X: np.ndarray, cap: int = 400) -> np.ndarray:
     """Distances from the points X to what proj measures (an object with a vectorized ``upper`` and an
     exact, slower ``distance``).  Every value is the distance to an actual point of the face, so at
     least the true one.  The exact search runs on the points in decreasing order of their upper value
@@ -270,13 +271,11 @@ def screened(proj, X: np.ndarray, progress=None, cap: int = 400) -> np.ndarray:
     d = proj.upper(X)
     top = 0.0
     order = np.argsort(-d, kind="stable")
-    for k, i in enumerate(order[:cap]):
+    for i in order[:cap]:
         if d[i] <= top:
             break
         d[i] = min(d[i], proj.distance(X[i]))
         top = max(top, d[i])
-        if progress is not None and k % 16 == 0:
-            progress(k / min(cap, len(order)))
     return d
 
 
@@ -479,8 +478,8 @@ class FaceSet:
                 ub[m] = np.minimum(ub[m], p.upper(X[m]))
         return ub
 
-    def distances(self, X: np.ndarray, progress=None) -> np.ndarray:
-        return screened(self, X, progress)
+    def distances(self, X: np.ndarray) -> np.ndarray:
+        return screened(self, X)
 
 
 def sample_faces(faces, n: int) -> np.ndarray:

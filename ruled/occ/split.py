@@ -30,7 +30,7 @@ from ..hostform import Hausdorff
 from ..nurbs import Curve, Surface
 from ..strips import EDGE_TOL, input_curve, iso_curve
 from .convert import container_to_bspline, curve2d_to_bspline, curve_to_bspline
-from .measure import _Projector, face_points, two_sided
+from .measure import _Projector, hausdorff
 
 
 @dataclass
@@ -187,12 +187,6 @@ def _area(face) -> float:
     return props.Mass()
 
 
-def hausdorff_trimmed(split_face: TopoDS_Face, fit_face: TopoDS_Face, n: int = 40) -> Hausdorff:
-    """Two-sided Hausdorff distance between a (trimmed) split face and a ruled fit's face."""
-    return two_sided(face_points(split_face, n), face_points(fit_face, n), _Projector(split_face),
-                     _Projector(fit_face))
-
-
 # ------------------------------------------------------------------------------ whole jobs
 @dataclass
 class FaceSplit:
@@ -220,7 +214,7 @@ def measure_strips(S: Surface, strip_fits: list, transposed: bool, curves: list,
     sf = build_split_faces(S, curves, transposed, closed=closed)
     ck = check_split_faces(sf, container_to_face(S))
     fits = [container_to_face(s.fit.surface) for s in strip_fits]
-    meas = [_hd(hausdorff_trimmed(f, g, n)) for f, g in zip(sf.faces, fits)]
+    meas = [_hd(hausdorff(f, g, n)) for f, g in zip(sf.faces, fits)]
     return sf, ck, fits, meas
 
 
