@@ -12,6 +12,7 @@ bicubic B-spline), its sides moved onto the edges' own 3D curves by the blended 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Optional
 
 import numpy as np
@@ -106,14 +107,23 @@ class CoonsMap:
     def whole(self) -> bool:
         return False
 
+    def _corner_values(self, f) -> tuple:
+        """f at the four corners (00, 10, 11, 01), each the sides' own ends averaged with their
+        neighbours' (the pcurves meet within tolerance)."""
+        c = self.curves
+        return tuple(0.5 * (f(c[i], 0.0) + f(c[(i - 1) % 4], 1.0)) for i in range(4))
+
+    @cached_property
+    def _corners(self) -> tuple:
+        return self._corner_values(lambda c, x: c(x)[0])
+
+    @cached_property
+    def _gap_corners(self) -> tuple:
+        return self._corner_values(lambda c, x: c.gap(x)[0])
+
     def _raw(self, s, t):
         c0, c1, c2, c3 = self.curves
-        P00, P10, P11, P01 = c0(0.0)[0], c1(0.0)[0], c2(0.0)[0], c3(0.0)[0]
-        # the corners as the sides' own ends, averaged with their neighbours' (pcurves meet within tolerance)
-        P00 = 0.5 * (P00 + c3(1.0)[0])
-        P10 = 0.5 * (P10 + c0(1.0)[0])
-        P11 = 0.5 * (P11 + c1(1.0)[0])
-        P01 = 0.5 * (P01 + c2(1.0)[0])
+        P00, P10, P11, P01 = self._corners
         s, t = s[:, None], t[:, None]
         out = ((1 - t) * c0(s[:, 0]) + t * c2(1 - s[:, 0]) + (1 - s) * c3(1 - t[:, 0]) + s * c1(t[:, 0])
                - ((1 - s) * (1 - t) * P00 + s * (1 - t) * P10 + s * t * P11 + (1 - s) * t * P01))
@@ -129,10 +139,7 @@ class CoonsMap:
         if self.flip:
             s = 1.0 - s
         c0, c1, c2, c3 = self.curves
-        G00 = 0.5 * (c0.gap(0.0)[0] + c3.gap(1.0)[0])
-        G10 = 0.5 * (c1.gap(0.0)[0] + c0.gap(1.0)[0])
-        G11 = 0.5 * (c2.gap(0.0)[0] + c1.gap(1.0)[0])
-        G01 = 0.5 * (c3.gap(0.0)[0] + c2.gap(1.0)[0])
+        G00, G10, G11, G01 = self._gap_corners
         s, t = s[:, None], t[:, None]
         return ((1 - t) * c0.gap(s[:, 0]) + t * c2.gap(1 - s[:, 0]) + (1 - s) * c3.gap(1 - t[:, 0])
                 + s * c1.gap(t[:, 0]) - ((1 - s) * (1 - t) * G00 + s * (1 - t) * G10 + s * t * G11

@@ -215,9 +215,11 @@ def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
             continue
         if progress is not None:
             progress(f"iso-parametric check ({d})", 0.0)
-        iso = iso_fit(c, GRID_COARSE, c.error_bound)   # a coarse certificate first (an upper bound too) ...
-        # ... the fine one only where it may win: against this direction's fit, and the best bound yet
-        rival = min(o.error_bound for o in cands.values() if not isinstance(o, str))   # c is among them
+        # a coarse certificate first (an upper bound too), one-sided where it cannot beat the best bound
+        # yet (c is among them) ...
+        rival = min(o.error_bound for o in cands.values() if not isinstance(o, str))
+        iso = iso_fit(c, GRID_COARSE, rival)
+        # ... the fine one only where it may win
         if iso is not None and iso.certificate.node_max < rival:
             iso = recertify(iso, GRID_FINE, rival)
         if progress is not None:
