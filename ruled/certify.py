@@ -39,6 +39,13 @@ from .nurbs import Curve, SpanRangeMax, Surface, _deriv_net
 from .reparam import Boundaries, Pairing
 
 
+# the second-order remainder is tried where the bound exceeds the node maximum by this factor
+SECOND_ORDER_WHEN = 1.1
+FEET_ITERS = 40
+# a fit whose typical node distance is below this fraction of its size counts as nearly exact
+NEAR_EXACT = 1e-5
+
+
 @dataclass(frozen=True)
 class Certificate:
     bound: float        # certified upper bound of H(S, R)
@@ -132,6 +139,24 @@ def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool
         den = np.einsum("ij,ij->i", Fs, Fs)
         s = sw + np.einsum("ij,ij->i", r, Fs) / np.where(den > 0, den, 1.0)
     return best_s, best_t
+
+
+def _polished_feet(bd: Boundaries, R: Surface, X: np.ndarray, s0: np.ndarray, closed: bool):
+    """_segment_feet; on a (nearly) exact fit, more iterations for the points not yet at round-off
+    (the iteration converges linearly along twisted rulings, and there the node values are all the
+    bound has besides the remainder)."""
+    s, t = _segment_feet(bd.A, bd.B, X, s0, closed)
+    d = np.linalg.norm(X - R(np.mod(s, 1.0) if closed else s, t), axis=1)
+    size = R.diagonal()
+    if np.median(d) > NEAR_EXACT * size:
+        return s, t
+    sel = np.nonzero(d > 1e-12 * size)[0]
+    if sel.size:
+        s2, t2 = _segment_feet(bd.A, bd.B, np.ascontiguousarray(X[sel]), s[sel], closed, iters=FEET_ITERS)
+        d2 = np.linalg.norm(X[sel] - R(np.mod(s2, 1.0) if closed else s2, t2), axis=1)
+        better = d2 < d[sel]
+        s[sel[better]], t[sel[better]] = s2[better], t2[better]
+    return s, t
 
 
 def _pairing_s(pairing: Pairing, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
@@ -253,7 +278,7 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u):
     x = (us - u0) / L
     tau = (vs - v0) / (v1 - v0)
     s_init = _pairing_s(pairing, x, tau)
-    s_feet, t_feet = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s_init.ravel(), closed)
+    s_feet, t_feet = _polished_feet(bd, R, X.reshape(-1, 3), s_init.ravel(), closed)
     jump = np.abs(s_feet - s_init.ravel())
     if closed:
         jump = np.minimum(jump, 1.0 - jump)
@@ -281,12 +306,23 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u):
         s = (s_init + _smooth(ds, sweeps)).ravel()
         _, t = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s, closed, iters=0)
         maps.append((s, t))
-    best = None
-    for s, t in maps:
+    best, which = None, 0
+    for k, (s, t) in enumerate(maps):
         out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(), t.reshape(nu, nv).copy(),
                          pairing, bd, R)
         if best is None or out[0].bound < best[0].bound:
-            best = out
+            best, which = out, k
+    if best[0].bound > SECOND_ORDER_WHEN * best[0].node_max:
+        # the remainder dominates (an exact or nearly exact fit): the second-order remainder may be far
+        # smaller (see _remainder2); the closest points (smooth where the fit is exact) and the best map
+        # again, each cell keeping the smaller of the two
+        D = S.evaluate(UU.ravel(), VV.ravel(), 2)
+        second = (D.Suu.reshape(nu, nv, 3), D.Svv.reshape(nu, nv, 3))
+        for s, t in {0: maps[0], which: maps[which]}.values():
+            out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(),
+                             t.reshape(nu, nv).copy(), pairing, bd, R, second)
+            if out[0].bound < best[0].bound:
+                best = out
     return best
 
 
@@ -299,8 +335,10 @@ def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
     return g
 
 
-def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R):
-    """The bound of the module doc for one map psi = (s, t) on the grid (us, vs)."""
+def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, second=None):
+    """The bound of the module doc for one map psi = (s, t) on the grid (us, vs); with ``second``
+    (S_uu and S_vv at the nodes), each cell's remainder is the smaller of the first- and the
+    second-order one (_remainder2)."""
     closed = pairing.closed
     nu, nv = us.size, vs.size
     # boundary rows and columns fixed so that psi maps sides to sides
@@ -372,8 +410,113 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R):
             for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
                 hit |= (lo <= sk + shift) & (hi >= sk + shift)
             rem = rem + np.where(hit, J * (dsu + dsv) / 4.0, 0.0)
+    if second is not None:
+        rem = np.minimum(rem, _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R, bd))
     cell = _corner_max(f) + rem
     return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, rem
+
+
+def _soft_knots(C_knots: np.ndarray, p: int, lo: float, hi: float) -> tuple:
+    """Interior knots of a degree-p spline where its second derivative may jump (multiplicity at
+    least p - 1), with their multiplicities."""
+    kv, mult = np.unique(C_knots, return_counts=True)
+    sel = (kv > lo) & (kv < hi) & (mult >= max(p - 1, 1))
+    return kv[sel], mult[sel]
+
+
+def _contains(knots: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Whether some knot lies strictly inside each interval (a, b)."""
+    return np.searchsorted(knots, b, side="left") > np.searchsorted(knots, a, side="right")
+
+
+def _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R, bd) -> np.ndarray:
+    """Per cell, the interpolation remainder (h_u^2 sup|f_uu| + h_v^2 sup|f_vv|) / 8 with sup|f_uu|
+    bounded from its values at the cell's corners and third-derivative bounds:
+
+        sup|f_uu| <= max_corners |f_uu| + (h_u sup|f_uuu| + h_v sup|f_uuv|) / 2   (+ jumps),
+
+    f_uu = S_uu - (R_ss s_u^2 + 2 R_st s_u t_u) at a corner, with the cell's own (bilinear) slopes
+    along the edge through it; f_uuu and f_uuv by the chain rule (psi bilinear: s_uu = 0; R linear in
+    t: R_tt = R_stt = 0) from the control-net bounds of S and R.  Where S o psi is exactly R o psi up
+    to the bilinear map's own error, f_uu is that error's second derivative: the bound follows the
+    fit down to round-off, where the first-order remainder stays at h^2 |S_uu| / 8.  f_uu jumps where
+    R's second derivative does (knots of multiplicity p - 1): each crossing adds the jump (a straight
+    path crosses such a line at most twice in a bilinear cell).  Cells where this does not hold (S
+    less than C2 inside, R less than C1) get infinity."""
+    Suu_n, Svv_n = second
+    nu, nv = us.size, vs.size
+    Rd = R.evaluate(sw.ravel(), t.ravel(), 2)
+    Rss_n, Rst_n = Rd.Suu.reshape(nu, nv, 3), Rd.Suv.reshape(nu, nv, 3)
+    hu = np.diff(us)[:, None]
+    hv = np.diff(vs)[None, :]
+
+    def rel(q):
+        return q - np.round(q) if closed else q
+
+    su_b, su_t = rel(s[1:, :-1] - s[:-1, :-1]) / hu, rel(s[1:, 1:] - s[:-1, 1:]) / hu
+    tu_b, tu_t = (t[1:, :-1] - t[:-1, :-1]) / hu, (t[1:, 1:] - t[:-1, 1:]) / hu
+    sv_l, sv_r = rel(s[:-1, 1:] - s[:-1, :-1]) / hv, rel(s[1:, 1:] - s[1:, :-1]) / hv
+    tv_l, tv_r = (t[:-1, 1:] - t[:-1, :-1]) / hv, (t[1:, 1:] - t[1:, :-1]) / hv
+    s_uv = np.abs(su_t - su_b) / hv
+    t_uv = np.abs(tu_t - tu_b) / hv
+
+    def corner(D2, i, j, a, c):
+        # |D2 - (R_ss a^2 + 2 R_st a c)| at the corner (i, j) of every cell, with slopes a, c
+        sl = (slice(i, nu - 1 + i), slice(j, nv - 1 + j))
+        g = D2[sl] - (Rss_n[sl] * (a * a)[..., None] + 2.0 * Rst_n[sl] * (a * c)[..., None])
+        return np.linalg.norm(g, axis=2)
+
+    Fuu = np.maximum(np.maximum(corner(Suu_n, 0, 0, su_b, tu_b), corner(Suu_n, 1, 0, su_b, tu_b)),
+                     np.maximum(corner(Suu_n, 0, 1, su_t, tu_t), corner(Suu_n, 1, 1, su_t, tu_t)))
+    Fvv = np.maximum(np.maximum(corner(Svv_n, 0, 0, sv_l, tv_l), corner(Svv_n, 0, 1, sv_l, tv_l)),
+                     np.maximum(corner(Svv_n, 1, 0, sv_r, tv_r), corner(Svv_n, 1, 1, sv_r, tv_r)))
+    a_u, b_u = np.maximum(np.abs(su_b), np.abs(su_t)), np.maximum(np.abs(tu_b), np.abs(tu_t))
+    a_v, b_v = np.maximum(np.abs(sv_l), np.abs(sv_r)), np.maximum(np.abs(tv_l), np.abs(tv_r))
+    # S's third derivatives over the cell's spans
+    b3 = S.third_derivative_bounds()
+    M3 = {k: _range_max(_range_max(b3[k], span_u, 0), span_v, 1) for k in ("Suuu", "Suuv", "Suvv", "Svvv")}
+    # R's second and third derivatives over the cell's s-range
+    rb, rb3 = R.derivative_bounds(), R.third_derivative_bounds()
+    Mss = _spanmax(bd.A, rb["Suu"][:, 0], slo, shi)
+    Mst = _spanmax(bd.A, rb["Suv"][:, 0], slo, shi)
+    Msss = _spanmax(bd.A, rb3["Suuu"][:, 0], slo, shi)
+    Msst = _spanmax(bd.A, rb3["Suuv"][:, 0], slo, shi)
+    r_uuu = Msss * a_u ** 3 + 3 * Msst * a_u ** 2 * b_u
+    r_vvv = Msss * a_v ** 3 + 3 * Msst * a_v ** 2 * b_v
+    r_uuv = ((Msss * a_v + Msst * b_v) * a_u ** 2 + 2 * Mss * a_u * s_uv + 2 * Msst * a_v * a_u * b_u
+             + 2 * Mst * (s_uv * b_u + a_u * t_uv))
+    r_vvu = ((Msss * a_u + Msst * b_u) * a_v ** 2 + 2 * Mss * a_v * s_uv + 2 * Msst * a_u * a_v * b_v
+             + 2 * Mst * (s_uv * b_v + a_v * t_uv))
+    Guu = Fuu + 0.5 * hu * (M3["Suuu"] + r_uuu) + 0.5 * hv * (M3["Suuv"] + r_uuv)
+    Gvv = Fvv + 0.5 * hv * (M3["Svvv"] + r_vvv) + 0.5 * hu * (M3["Suvv"] + r_vvu)
+    bad = np.zeros(Guu.shape, bool)
+    # S less than C2 inside a cell (creases, multiplicity >= p, are grid lines already)
+    u0, u1, v0, v1 = S.domain
+    ku, _ = _soft_knots(S.knots_u, S.degree_u, u0, u1)
+    kv, _ = _soft_knots(S.knots_v, S.degree_v, v0, v1)
+    bad |= _contains(ku, us[:-1], us[1:])[:, None] | _contains(kv, vs[:-1], vs[1:])[None, :]
+    # R's knots where R_ss jumps, inside a cell's s-range
+    kr, mr = _soft_knots(bd.A.knots, bd.A.degree, 0.0, 1.0)
+    if closed:     # the seam of a periodic result is a knot too
+        kr, mr = np.concatenate([[0.0], kr]), np.concatenate([[bd.A.degree], mr])
+    h = 1e-9
+    for sk, m in zip(kr, mr):
+        lo_ = sk - h if sk - h > 0.0 else 1.0 - h
+        ev = np.array([lo_, sk + h, lo_, sk + h])
+        tt = np.array([0.0, 0.0, 1.0, 1.0])
+        E = R.evaluate(ev, tt, 2)
+        J1 = max(np.linalg.norm(E.Su[1] - E.Su[0]), np.linalg.norm(E.Su[3] - E.Su[2]))
+        J2 = max(np.linalg.norm(E.Suu[1] - E.Suu[0]), np.linalg.norm(E.Suu[3] - E.Suu[2]))
+        hit = np.zeros(Guu.shape, bool)
+        for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
+            hit |= (slo <= sk + shift) & (shi >= sk + shift)
+        if m >= bd.A.degree and J1 > 1e-9 * max(float(np.abs(E.Su).max()), 1e-300):
+            bad |= hit      # a kink of R: the first-order remainder's kink term handles it
+            continue
+        Guu = Guu + np.where(hit, 2.0 * J2 * a_u ** 2, 0.0)
+        Gvv = Gvv + np.where(hit, 2.0 * J2 * a_v ** 2, 0.0)
+    rem2 = (hu ** 2 * Guu + hv ** 2 * Gvv) / 8.0
+    return np.where(bad, np.inf, rem2)
 
 
 def _curve_feet(S: Surface, Y: np.ndarray, u: np.ndarray, v: float, closed: bool, iters: int = 8) -> np.ndarray:

@@ -20,6 +20,9 @@ from .reparam import (Boundaries, Pairing, delta_coefs, exact_boundaries, fit_bo
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
 GRID_FINE = (240, 80)
 GRID_COARSE = (80, 24)
+# rulings at most this fraction of the size from the face count as exact (the pairing then follows them)
+EXACT_RULINGS = 1e-4
+MAX_DELTA_COEFS = 48
 
 Progress = Optional[Callable[[str, float], None]]
 
@@ -198,14 +201,15 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
         sig = sp[0] + np.arange(G) / G if closed else np.linspace(0, 1, G)
         dlt = np.interp(sig, sp, 0.5 * (ab[:, 1] - ab[:, 0]))
         rc = ruling_distances(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)[1]
-    n_coef = delta_coefs(n)
-    pairing = fit_delta(sig, dlt, closed, n_coef)
+    pairing = fit_delta(sig, dlt, closed, delta_coefs(n))
+    if opts.refine:
+        pairing, sig, dlt, rc = _follow_exact(So, closed, ab, h, (sig, dlt, rc), pairing, delta_coefs(n))
     T["refine"] = time.perf_counter() - t0
     # rebuild
     t0 = time.perf_counter()
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
-    tol = max(2e-6 * diag, 0.02 * float(np.max(rc)))
+    tol = max(2e-7 * diag, 0.02 * float(np.max(rc)))
     bd = exact_boundaries(C0, C1, u0, L, pairing) or fit_boundaries(C0, C1, u0, L, pairing, tol)
     R = ruled_surface(bd)
     T["rebuild"] = time.perf_counter() - t0
@@ -222,6 +226,41 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     pc = cost[path[:, 0] % n, path[:, 1] % n]
     return DirectionFit(direction, closed, R, path, rulings, pp, pc, res.score, (sig, dlt, rc), pairing,
                         bd.fit_error, cert, T, bd, So)
+
+
+def _follow_exact(So: Surface, closed: bool, ab: np.ndarray, h: float, refined: tuple, pairing,
+                  n_coef: int, rounds: int = 6):
+    """Where the refined rulings are (nearly) exact, a smooth pairing that follows them: while the
+    cubic delta(sigma) misses them (its rulings' distances, checked between the refined samples too,
+    above twice the refined ones), the knot spans where it misses are halved, each new span pinned
+    by refined samples of its own.  Elsewhere the pairing as it is.  Returns (pairing, sigma, delta,
+    cost)."""
+    sig, dlt, rc = refined
+    u0, u1, v0, v1 = So.domain
+    L = u1 - u0
+    diag = So.diagonal()
+    if float(np.max(rc)) > EXACT_RULINGS * diag:
+        return pairing, sig, dlt, rc
+    s0 = float(sig[0])
+    for _ in range(rounds):
+        knots = pairing.delta.knots
+        br = np.unique(knots)
+        chk = s0 + np.unique(np.concatenate([np.linspace(br[i], br[i + 1], 9) - s0 for i in range(br.size - 1)]))
+        a, b = pairing.ab(chk - s0)
+        miss = ruling_distances(So, u0 + L * a, u0 + L * b, 15, 4, closed)[1]
+        bad = miss > 2.0 * float(np.max(rc)) + 1e-7 * diag
+        if not bad.any() or br.size - 1 >= 4 * MAX_DELTA_COEFS:
+            break
+        span = np.unique(np.clip(np.searchsorted(br, chk[bad], side="right") - 1, 0, br.size - 2))
+        mids = 0.5 * (br[span] + br[span + 1])
+        new = np.concatenate([np.linspace(br[i], br[i + 1], 6)[1:-1] for i in span])
+        s2, d2, c2 = refine_pairing(So, u0, L, closed, ab, h, 0, at=new)
+        order = np.argsort(np.concatenate([sig, s2]), kind="stable")
+        sig, dlt, rc = (np.concatenate([sig, s2])[order], np.concatenate([dlt, d2])[order],
+                        np.concatenate([rc, c2])[order])
+        interior = np.concatenate([br[1:-1], mids])
+        pairing = fit_delta(sig, dlt, closed, 0, interior=interior)
+    return pairing, sig, dlt, rc
 
 
 def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> Optional[DirectionFit]:

@@ -405,20 +405,31 @@ class Surface:
         the homogeneous surface and, for rational surfaces, the quotient rule
         with the smallest local weight.  Computed once per surface (the arrays are shared: read only).
         """
-        cached = self.__dict__.get("_derivative_bounds")
+        cached = self.__dict__.get("_db2_cache")
         if cached is None:
             cached = self._derivative_bounds()
             for a in cached.values():
                 a.flags.writeable = False
-            object.__setattr__(self, "_derivative_bounds", cached)
+            object.__setattr__(self, "_db2_cache", cached)
         return cached
 
-    def _derivative_bounds(self) -> dict:
+    def third_derivative_bounds(self) -> dict:
+        """Rigorous per-span bounds of the third derivatives |S_uuu|, |S_uuv|, |S_uvv|, |S_vvv| (same
+        layout and caching as derivative_bounds; the quotient rule continued to third order)."""
+        cached = self.__dict__.get("_db3_cache")
+        if cached is None:
+            cached = self._derivative_bounds(3)
+            for a in cached.values():
+                a.flags.writeable = False
+            object.__setattr__(self, "_db3_cache", cached)
+        return cached
+
+    def _derivative_bounds(self, order: int = 2) -> dict:
         pu, pv = self.degree_u, self.degree_v
         H = self._hom
         nets = {}
-        for a in range(3):
-            for b in range(3 - a):
+        for a in range(order + 1):
+            for b in range(order + 1 - a):
                 D = H
                 ku, kv = self.knots_u, self.knots_v
                 for s in range(a):
@@ -449,12 +460,21 @@ class Surface:
             d3 = Dl[:, :, :3] - c[:, :, :, None, None] * Dl[:, :, 3:4]
             hd[(a, b)] = np.sqrt((d3 ** 2).sum(axis=2)).max(axis=(2, 3))
             wd[(a, b)] = np.abs(Dl[:, :, 3]).max(axis=(2, 3))
+        # w (S - c) = H - c w, differentiated (Leibniz), |S - c| <= Sm and w >= wmin on the span
         S1u = (hd[(1, 0)] + wd[(1, 0)] * Sm) / wmin
         S1v = (hd[(0, 1)] + wd[(0, 1)] * Sm) / wmin
         Suu = (hd[(2, 0)] + 2 * wd[(1, 0)] * S1u + wd[(2, 0)] * Sm) / wmin
         Svv = (hd[(0, 2)] + 2 * wd[(0, 1)] * S1v + wd[(0, 2)] * Sm) / wmin
         Suv = (hd[(1, 1)] + wd[(1, 0)] * S1v + wd[(0, 1)] * S1u + wd[(1, 1)] * Sm) / wmin
-        return {"Su": S1u, "Sv": S1v, "Suu": Suu, "Suv": Suv, "Svv": Svv}
+        if order == 2:
+            return {"Su": S1u, "Sv": S1v, "Suu": Suu, "Suv": Suv, "Svv": Svv}
+        Suuu = (hd[(3, 0)] + 3 * wd[(1, 0)] * Suu + 3 * wd[(2, 0)] * S1u + wd[(3, 0)] * Sm) / wmin
+        Svvv = (hd[(0, 3)] + 3 * wd[(0, 1)] * Svv + 3 * wd[(0, 2)] * S1v + wd[(0, 3)] * Sm) / wmin
+        Suuv = (hd[(2, 1)] + 2 * wd[(1, 0)] * Suv + wd[(2, 0)] * S1v + wd[(0, 1)] * Suu
+                + 2 * wd[(1, 1)] * S1u + wd[(2, 1)] * Sm) / wmin
+        Suvv = (hd[(1, 2)] + 2 * wd[(0, 1)] * Suv + wd[(0, 2)] * S1u + wd[(1, 0)] * Svv
+                + 2 * wd[(1, 1)] * S1v + wd[(1, 2)] * Sm) / wmin
+        return {"Suuu": Suuu, "Suuv": Suuv, "Suvv": Suvv, "Svvv": Svvv}
 
 
 class SpanRangeMax:

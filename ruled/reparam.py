@@ -66,15 +66,18 @@ class Pairing:
 # ----------------------------------------------------------------------------- refinement
 def refine_pairing(S: Surface, u0: float, L: float, closed: bool, path_ab: np.ndarray, step: float,
                    grid: int, m: int = 11, iters: int = 3, rounds: int = 18,
-                   progress: Optional[Callable] = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   progress: Optional[Callable] = None,
+                   at: Optional[np.ndarray] = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Continuous refinement of a DP path (normalized (a, b) pairs, (K, 2)).
 
-    Returns (sigma (G,), delta (G,), cost (G,)) on a uniform sigma grid.
+    Returns (sigma (G,), delta (G,), cost (G,)) on a uniform sigma grid (or at the given sigmas).
     """
     sig_p = 0.5 * (path_ab[:, 0] + path_ab[:, 1])
     del_p = 0.5 * (path_ab[:, 1] - path_ab[:, 0])
     s0 = sig_p[0]
-    if closed:
+    if at is not None:
+        sig = np.asarray(at, float)
+    elif closed:
         sig = s0 + np.arange(grid) / grid
     else:
         sig = np.linspace(0.0, 1.0, grid)
@@ -127,13 +130,18 @@ def delta_coefs(n: int) -> int:
 
 
 def fit_delta(sig: np.ndarray, delta: np.ndarray, closed: bool, n_coef: int, eps: float = 0.01,
-              weights: Optional[np.ndarray] = None) -> Pairing:
-    """Least-squares cubic delta(sigma) with |delta'| <= 1 - eps (strictly monotone pairing)."""
+              weights: Optional[np.ndarray] = None, interior: Optional[np.ndarray] = None) -> Pairing:
+    """Least-squares cubic delta(sigma) with |delta'| <= 1 - eps (strictly monotone pairing); uniform
+    knots, or the given interior knots (then n_coef is ignored)."""
     p = 3
     s0 = float(sig[0])
     s1 = s0 + 1.0
-    n = max(n_coef, p + 2)
-    t = _clamped_knots(n, p, s0, s1)
+    if interior is None:
+        n = max(n_coef, p + 2)
+        t = _clamped_knots(n, p, s0, s1)
+    else:
+        t = np.concatenate([np.full(p + 1, s0), np.sort(interior), np.full(p + 1, s1)])
+        n = t.size - p - 1
     g = (t[p + 1: p + n] - t[1:n]) / p  # c_{i+1} - c_i = g_i d_i
     Nmat = bspline_basis_matrix(t, p, sig)
     y = delta

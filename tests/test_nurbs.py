@@ -110,6 +110,29 @@ def test_derivative_bounds_hold(rng):
             assert (np.linalg.norm(val, axis=1) <= b[key][iu, iv] * (1 + 1e-12)).all(), key
 
 
+@pytest.mark.parametrize("degrees", [(3, 2), (4, 3), (2, 2)])
+def test_third_derivative_bounds_hold_against_occt(rng, degrees):
+    """Per-span bounds of the third derivatives (the certificate's second-order remainder) against
+    OCCT's own third derivatives (Geom_BSplineSurface::D3) at random points, rational surfaces too."""
+    from OCP.gp import gp_Pnt, gp_Vec
+    from ruled.occ.convert import container_to_bspline
+    for rational in (False, True):
+        S = random_surface(rng, pu=degrees[0], pv=degrees[1], nu=8, nv=6, rational=rational)
+        bs = container_to_bspline(S)
+        b = S.third_derivative_bounds()
+        u = rng.uniform(0, 1, 300)
+        v = rng.uniform(0, 1, 300)
+        iu = find_spans(S.knots_u, S.degree_u, S.poles.shape[0], u) - S.degree_u
+        iv = find_spans(S.knots_v, S.degree_v, S.poles.shape[1], v) - S.degree_v
+        for k in range(u.size):
+            p, vs = gp_Pnt(), [gp_Vec() for _ in range(9)]
+            bs.D3(float(u[k]), float(v[k]), p, *vs)
+            # D3 order: D1U D1V D2U D2V D2UV D3U D3V D3UUV D3UVV
+            ref = {"Suuu": vs[5], "Svvv": vs[6], "Suuv": vs[7], "Suvv": vs[8]}
+            for key, vec in ref.items():
+                assert vec.Magnitude() <= b[key][iu[k], iv[k]] * (1 + 1e-9) + 1e-9, (key, rational)
+
+
 @pytest.mark.skipif(not kernels.AVAILABLE, reason="numba is not installed")
 def test_numba_and_numpy_paths_agree(rng, monkeypatch):
     from ruled.distance import ruling_distances
