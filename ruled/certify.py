@@ -203,6 +203,13 @@ def sampled_distance(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, n
     seeds = np.stack([u0 + L * (np.mod(xs, 1.0) if closed else np.clip(xs, 0.0, 1.0)),
                       v0 + (v1 - v0) * TT.ravel()], axis=1)
     _, d2 = project_points(S, Y, seeds, 8, closed)
+    # and from the nearest of S's own samples (the pairing's seed can lead the projection into a local
+    # minimum, or against the domain's edge, far from the closest point)
+    from scipy.spatial import cKDTree
+    near = cKDTree(X).query(Y)[1]
+    grid = np.stack([UU.ravel(), VV.ravel()], axis=1)
+    _, d2b = project_points(S, Y, grid[near], 8, closed)
+    d2 = np.minimum(d2, d2b)
     return float(max(d1.max(), d2.max()))
 
 
@@ -510,7 +517,9 @@ def _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R
         hit = np.zeros(Guu.shape, bool)
         for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
             hit |= (slo <= sk + shift) & (shi >= sk + shift)
-        if m >= bd.A.degree and J1 > 1e-9 * max(float(np.abs(E.Su).max()), 1e-300):
+        # a true kink jumps by O(|R_s|); a smooth joint's difference over 2h is O(h |R_ss|)
+        smooth = 1e-6 * float(np.linalg.norm(E.Su, axis=1).max()) + 4 * h * float(np.linalg.norm(E.Suu, axis=1).max())
+        if m >= bd.A.degree and J1 > smooth:
             bad |= hit      # a kink of R: the first-order remainder's kink term handles it
             continue
         Guu = Guu + np.where(hit, 2.0 * J2 * a_u ** 2, 0.0)

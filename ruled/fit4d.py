@@ -15,8 +15,10 @@
    (certify.certified_bound bounds H(S, R) directly, so the rebuild error is
    inside the reported bound).
 4. Never worse than 2D: both results are measured (certify.sampled_distance)
-   and the 4D one is kept only if it is closer; otherwise the 2D result is
-   returned with a note saying so.
+   and the 4D one is kept only if it is closer and its certified bound is
+   below the 2D result's measured distance (so that the 4D result's true
+   distance cannot exceed the 2D one's, whatever the sampling missed);
+   otherwise the 2D result is returned with a note saying so.
 """
 
 from __future__ import annotations
@@ -324,9 +326,16 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
                          "refined_lifts": None if eA is None else (sig, eA, eB)},
                         m4)
     total = {"total": time.perf_counter() - t_start}
+    # kept only where it cannot be worse: its certified bound below the 2D result's measured distance
+    # (a sampled maximum, at most the 2D result's true distance)
     if not m4 < m2:
         notes.append(f"elevation did not lower the measured distance (2D {m2:.6g}, 4D {m4:.6g}): "
                      f"the 2D result is returned")
+        return FitResult(b2, {**base.candidates, b2.direction: b2}, opts, total, tuple(notes), fit4)
+    if not cert.bound < m2:
+        notes.append(f"elevation lowered the measured distance from {m2:.6g} (2D) to {m4:.6g} (4D) but its "
+                     f"certified bound ({cert.bound:.6g}) is not below the 2D distance: the 2D result is "
+                     f"returned")
         return FitResult(b2, {**base.candidates, b2.direction: b2}, opts, total, tuple(notes), fit4)
     notes.append(f"elevation lowered the measured distance from {m2:.6g} (2D) to {m4:.6g} (4D)")
     return FitResult(fit4, {**base.candidates, fit4.direction: fit4}, opts, total, tuple(notes), b2)

@@ -265,13 +265,21 @@ def _design(knots, p, n_unique, s, closed):
     return M
 
 
+# the two boundaries' knots mapped through the pairing closer than this (in s) become one break: a
+# cluster of knots a few 1e-6 apart makes a span whose derivative bounds (and the certificate) explode
+KNOT_MERGE = 1e-4
+
+
 def _merge(breaks, mult, tol=1e-7):
-    """Sorted breaks with near-duplicates merged (keeping the larger multiplicity)."""
+    """Sorted breaks with near-duplicates merged (keeping the larger multiplicity, at the position of
+    the break that has it)."""
     order = np.argsort(breaks)
     b, k = breaks[order], mult[order]
     out_b, out_k = [], []
     for x, kk in zip(b, k):
         if out_b and x - out_b[-1] < tol:
+            if kk > out_k[-1]:
+                out_b[-1] = x
             out_k[-1] = max(out_k[-1], kk)
             continue
         out_b.append(x)
@@ -298,7 +306,7 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
     p = 1 if (C0.degree == 1 and C1.degree == 1) else max(3, C0.degree, C1.degree)
     sa, ka = _mapped_knots(C0, u0, L, pairing, "a", p)
     sb, kb = _mapped_knots(C1, u0, L, pairing, "b", p)
-    br, kk = _merge(np.concatenate([sa, sb]), np.concatenate([ka, kb]))
+    br, kk = _merge(np.concatenate([sa, sb]), np.concatenate([ka, kb]), KNOT_MERGE)
     uni = (np.arange(1, n_uniform) / n_uniform)
     if br.size:
         dmin = np.min(np.abs(uni[:, None] - br[None, :]), axis=1)

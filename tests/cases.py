@@ -102,6 +102,18 @@ def random_surface(rng, pu=3, pv=2, nu=7, nv=5, rational=True, periodic_u=False)
     return Surface(P, ku, kv, pu, pv, W, periodic_u=periodic_u)
 
 
+def wavy_sheet(rng, rational: bool = False) -> Surface:
+    """A random doubly curved sheet about 5 x 3 (a grid of poles with random offsets of 0.4): random
+    faces a CAD user could meet, unlike random_surface's tangles."""
+    nu, nv, pu, pv = 6, 4, 3, 2
+    X, Y = np.meshgrid(np.linspace(0, 5, nu), np.linspace(0, 3, nv), indexing="ij")
+    P = np.stack([X, Y, np.zeros_like(X)], axis=2) + rng.normal(scale=0.4, size=(nu, nv, 3))
+    ku = np.concatenate([np.zeros(pu + 1), np.sort(rng.uniform(0.2, 0.8, nu - pu - 1)), np.ones(pu + 1)])
+    kv = np.concatenate([np.zeros(pv + 1), np.sort(rng.uniform(0.2, 0.8, nv - pv - 1)), np.ones(pv + 1)])
+    W = rng.uniform(0.8, 1.25, (nu, nv)) if rational else None
+    return Surface(P, ku, kv, pu, pv, W)
+
+
 def nearly_closed_strip(gap: float = 1e-3, width: float = 0.02) -> Surface:
     """A narrow strip S(u, v) = C(v) + u w(v) along a curve C that almost closes on itself.
 

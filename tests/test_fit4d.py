@@ -4,7 +4,7 @@ never loses to 2D, closes closed faces, and refuses tables that do not fit."""
 import numpy as np
 import pytest
 
-from cases import barrel, random_surface, reparametrized_ruled
+from cases import barrel, random_surface, reparametrized_ruled, wavy_sheet
 from conftest import data_file
 from ruled import FitOptions, TooBigError, dp4d, fit_surface, metrics4d, sampling
 from ruled.examples import elber_ex1, elber_ex2
@@ -101,6 +101,27 @@ def test_exactly_ruled_faces_lose_nothing_to_elevation():
         h2, h4 = _measure(S, r2.surface), _measure(S, r4.surface)
         assert h4.max <= h2.max + 1e-9 * S.diagonal()
         assert r4.best.method == "2d" and r4.notes
+
+
+def test_4d_is_never_worse_than_2d_by_the_independent_measure():
+    """Random sheets: the 4D result is kept only where its certified bound is below the 2D result's
+    measured distance, so by OCCT's measure it is never worse than the 2D fit of the same face; where the
+    2D bound is within 2x its measure, so is the 4D one."""
+    rng = np.random.default_rng(7)
+    kept = 0
+    for k in range(6):
+        S = wavy_sheet(rng, rational=bool(k % 2))
+        r = fit_surface(S, FitOptions(samples=20, method="4d", elevations=6))
+        b2 = r.best if r.best.method == "2d" else r.other
+        h, h2 = _measure(S, r.surface), _measure(S, b2.surface)
+        assert r.error_bound >= h.max and b2.error_bound >= h2.max
+        assert h.max <= 1.01 * h2.max, (k, h.max, h2.max)
+        if r.best.method == "4d":
+            kept += 1
+            assert r.error_bound < b2.measured
+            if b2.error_bound <= 2 * h2.max:
+                assert r.error_bound <= 2 * h.max, (k, r.error_bound, h.max)
+    assert kept >= 3       # elevation pays on most of them
 
 
 def test_closed_face_has_coincident_first_and_last_ruling():
