@@ -43,7 +43,7 @@ from .reparam import Boundaries, Pairing
 SECOND_ORDER_WHEN = 1.1
 FEET_ITERS = 40
 # a fit whose typical node distance is below this fraction of its size counts as nearly exact
-NEAR_EXACT = 1e-5
+NEAR_EXACT = 1e-4
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,7 @@ from typing import Optional
 
 import numpy as np
 
+from .blas import one_thread
 from .errors import BadInputError, DegenerateFaceError, RuledError
 from .fit import (GRID_COARSE, GRID_FINE, Direction, FitOptions, FitResult, Progress, fit_surface, iso_fit,
                   recertify)
@@ -157,6 +158,7 @@ def with_deviation(res: FitResult, dev: float) -> FitResult:
                    other=up(res.other))
 
 
+@one_thread
 def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Progress = None,
                rails: Optional[tuple] = None, patch: Optional[FacePatch] = None) -> FitResult:
     """The globally optimal ruled fit of the face as bounded by its edges (fit_surface on its patch);

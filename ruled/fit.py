@@ -9,6 +9,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from . import dp
+from .blas import one_thread
 from .certify import Certificate, certified_bound
 from .distance import ruling_distances
 from .errors import BadInputError, DegenerateFaceError, TooBigError
@@ -301,6 +302,7 @@ def recertify(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf
     return replace(fit, certificate=cert, timings=timings)
 
 
+@one_thread
 def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None,
                 cutoff: float = np.inf) -> FitResult:
     """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified;

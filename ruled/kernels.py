@@ -32,7 +32,7 @@ if os.environ.get("RULED_NO_NUMBA", "") not in ("1", "true", "yes"):
 _POOL = None
 
 
-def _run_chunks(fn, N: int, min_chunk: int = 2048) -> None:
+def _run_chunks(fn, N: int, min_chunk: int = 16384) -> None:
     """Run fn(start, stop) over [0, N) on all cores (the kernels release the GIL)."""
     global _POOL
     k = min(os.cpu_count() or 1, max(1, N // min_chunk))
@@ -303,7 +303,7 @@ if AVAILABLE:
         def run(a, b):
             _rulings_range(hom, ku, kv, tu, tv, pu, pv, dom, closed, uP, uQ, m, iters, ub, dist, feet, tau_out,
                            foot_out, a, b)
-        _run_chunks(run, uP.shape[0], 64)
+        _run_chunks(run, uP.shape[0], 512)
 
     def surface_eval(hom, ku, kv, tu, tv, pu, pv, u, v, nder, out):
         """out (N, 6, 3): P, Su, Sv, Suu, Suv, Svv (orders above nder left untouched)."""

@@ -137,3 +137,31 @@ def test_direction_is_chosen_by_the_two_sided_bound_not_the_ruling_costs():
     assert h.max <= 1e-6 * S.diagonal()
     assert res.error_bound >= h.max
     assert trap.error_bound > 100 * res.error_bound
+
+
+def test_blas_runs_on_one_thread_during_a_fit_and_is_restored(monkeypatch):
+    """A threaded OpenBLAS spins between the engine's small calls (half again a fit's CPU time): the fit
+    runs it on one thread and gives the caller's setting back."""
+    import ruled.fit as fit_mod
+    from ruled import blas
+    handles = blas._handles()
+    if not handles:
+        pytest.skip("no OpenBLAS loaded in this process")
+    before = [get() for get, _ in handles]
+    for _, set_ in handles:
+        set_(2)
+    seen = []
+    orig = fit_mod.fit_direction
+
+    def spy(*a, **k):
+        seen.append([get() for get, _ in handles])
+        return orig(*a, **k)
+    monkeypatch.setattr(fit_mod, "fit_direction", spy)
+    try:
+        fit_surface(elber_ex1(), FitOptions(samples=12))
+        after = [get() for get, _ in handles]
+    finally:
+        for (_, set_), n in zip(handles, before):
+            set_(n)
+    assert seen and all(n == 1 for row in seen for n in row)
+    assert after == [2] * len(handles)
