@@ -245,10 +245,10 @@ def _with_bar(quiet: bool, face_index: int, work):
 
 
 def cmd_faces(args) -> int:
-    from .occ.io import faces_of, face_info, read_shape
+    from .occ.io import face_info, read_faces
     from .occ.region import edge_lines, face_region, rect_area_ratio
     from .region import four_sides
-    faces = faces_of(read_shape(args.input))
+    faces = read_faces(args.input)
     if not faces:
         raise RuledError(f"{args.input}: the file holds no faces")
     for i, face in enumerate(faces):
@@ -699,6 +699,9 @@ def cmd_demo(args) -> int:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
+        if isinstance(getattr(args, "face", None), int) and isinstance(getattr(args, "input", None), str):
+            from .facecount import check_known     # a file read before: a wrong --face without OCCT
+            check_known(args.input, args.face)
         return {"faces": cmd_faces, "fit": cmd_fit, "split": cmd_split, "curve-on-surface": cmd_curve_on_surface,
                 "cone": cmd_cone, "machine": cmd_machine, "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:

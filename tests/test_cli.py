@@ -93,6 +93,30 @@ def _degenerate_files(tmp_path):
     write_step(mk.Face(), str(tmp_path / "flat.step"))
 
 
+def test_a_wrong_face_of_a_file_read_before_is_answered_without_occt(tmp_path, monkeypatch, capsys):
+    """The face count is remembered (ruled.facecount): a second wrong --face does not load OCCT, and a
+    changed file is read again."""
+    import shutil
+    from ruled import cli
+    from ruled.facecount import known_count
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    wing = str(tmp_path / "wing.brep")
+    shutil.copy(data_file("occt_wing.brep"), wing)
+    assert known_count(wing) is None
+    assert cli.main(["faces", wing]) == 0
+    assert known_count(wing) == 4
+    capsys.readouterr()
+    monkeypatch.setitem(sys.modules, "ruled.occ.io", None)      # OCCT's reader unavailable: the cache answers
+    assert cli.main(["fit", wing, "--face", "7", "-o", str(tmp_path / "o.step")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--face 7 is out of range" in err and "4 faces" in err
+    with open(wing, "ab") as fh:                                # the file changes: no longer known
+        fh.write(b"\n")
+    assert known_count(wing) is None
+    monkeypatch.setenv("RULED_NO_CACHE", "1")
+    assert known_count(data_file("occt_wing.brep")) is None
+
+
 def test_bad_inputs_give_one_line_and_exit_2(tmp_path):
     wing = data_file("occt_wing.brep")
     o = str(tmp_path / "o.step")

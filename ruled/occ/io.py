@@ -18,6 +18,7 @@ from OCP.Message import Message, Message_Gravity
 from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 
 from ..errors import BadInputError
+from ..facecount import out_of_range, remember
 
 # keep OCCT's transfer statistics off the user's terminal
 for _printer in Message.DefaultMessenger_s().Printers():
@@ -67,13 +68,18 @@ def faces_of(shape: TopoDS_Shape) -> list:
 
 
 def get_face(path: str, index: int):
-    faces = faces_of(read_shape(path))
-    if not faces:
-        raise BadInputError(f"{path}: the file holds no faces")
-    if index < 0 or index >= len(faces):
-        raise BadInputError(f"--face {index} is out of range: {path} has {len(faces)} faces (0..{len(faces) - 1}); "
-                            f"run 'ruled faces {path}' to list them")
+    faces = read_faces(path)
+    err = out_of_range(path, index, len(faces))
+    if err is not None:
+        raise err
     return faces[index]
+
+
+def read_faces(path: str) -> list:
+    """The file's faces (see faces_of); their count is remembered for a later wrong --face."""
+    faces = faces_of(read_shape(path))
+    remember(path, len(faces))
+    return faces
 
 
 def face_area(face) -> float:
@@ -121,7 +127,7 @@ def face_info(index: int, face) -> FaceInfo:
 
 
 def list_faces(path: str) -> list[FaceInfo]:
-    return [face_info(i, f) for i, f in enumerate(faces_of(read_shape(path)))]
+    return [face_info(i, f) for i, f in enumerate(read_faces(path))]
 
 
 def write_step(shapes, path: str) -> None:
