@@ -42,8 +42,8 @@ from .reparam import Boundaries, Pairing
 # the second-order remainder is tried where the bound exceeds the node maximum by this factor
 SECOND_ORDER_WHEN = 1.1
 FEET_ITERS = 40
-# a fit whose typical node distance is below this fraction of its size counts as nearly exact
-NEAR_EXACT = 1e-4
+# the refinement rounds stop before a grid this many times the first one
+GRID_GROWTH = 8
 
 
 @dataclass(frozen=True)
@@ -121,41 +121,63 @@ def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool
     best_s = s.copy()
     best_t = np.zeros_like(s)
     best_d = np.full(s.shape, np.inf)
+    s = s.copy()
+    # A and B share their knots (and weights) in a ruled result: one evaluation of both
+    AB = None
+    if np.array_equal(A.knots, B.knots) and A.degree == B.degree and (
+            (A.weights is None and B.weights is None)
+            or (A.weights is not None and B.weights is not None and np.array_equal(A.weights, B.weights))):
+        AB = Curve(np.hstack([A.poles, B.poles]), A.knots, A.degree, A.weights, A.periodic)
+    act = np.arange(s.shape[0])                    # the points still moving
     for it in range(iters + 1):
-        sw = np.mod(s, 1.0) if closed else np.clip(s, 0.0, 1.0)
-        a0, a1 = A.evaluate(sw, 1)
-        b0, b1 = B.evaluate(sw, 1)
+        sa = s[act]
+        sw = np.mod(sa, 1.0) if closed else np.clip(sa, 0.0, 1.0)
+        if AB is not None:
+            e0, e1 = AB.evaluate(sw, 1)
+            a0, b0, a1, b1 = e0[:, :3], e0[:, 3:], e1[:, :3], e1[:, 3:]
+        else:
+            a0, a1 = A.evaluate(sw, 1)
+            b0, b1 = B.evaluate(sw, 1)
         d = b0 - a0
         dd = np.einsum("ij,ij->i", d, d)
-        t = np.clip(np.einsum("ij,ij->i", X - a0, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+        Xa = X[act]
+        t = np.clip(np.einsum("ij,ij->i", Xa - a0, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
         F = a0 + t[:, None] * d
-        r = X - F
+        r = Xa - F
         dist = np.linalg.norm(r, axis=1)
-        better = dist < best_d
-        best_d = np.where(better, dist, best_d)
-        best_s = np.where(better, sw, best_s)
-        best_t = np.where(better, t, best_t)
+        better = dist < best_d[act]
+        idx = act[better]
+        best_d[idx] = dist[better]
+        best_s[idx] = sw[better]
+        best_t[idx] = t[better]
         Fs = (1 - t)[:, None] * a1 + t[:, None] * b1
         den = np.einsum("ij,ij->i", Fs, Fs)
-        s = sw + np.einsum("ij,ij->i", r, Fs) / np.where(den > 0, den, 1.0)
+        sn = sw + np.einsum("ij,ij->i", r, Fs) / np.where(den > 0, den, 1.0)
+        s[act] = sn
+        act = act[np.abs(sn - sw) > 1e-15]
+        if act.size == 0:
+            break
     return best_s, best_t
 
 
 def _polished_feet(bd: Boundaries, R: Surface, X: np.ndarray, s0: np.ndarray, closed: bool):
-    """_segment_feet; on a (nearly) exact fit, more iterations for the points not yet at round-off
-    (the iteration converges linearly along twisted rulings, and there the node values are all the
-    bound has besides the remainder)."""
+    """_segment_feet, with more iterations for the points still moving after the usual ones (the
+    iteration converges only linearly along twisted rulings; on an exact fit the node values, which
+    should be round-off, are then all the bound has besides the remainder)."""
+    def dist(s, t):
+        return np.linalg.norm(X - R(np.mod(s, 1.0) if closed else s, t), axis=1)
     s, t = _segment_feet(bd.A, bd.B, X, s0, closed)
-    d = np.linalg.norm(X - R(np.mod(s, 1.0) if closed else s, t), axis=1)
-    size = R.diagonal()
-    if np.median(d) > NEAR_EXACT * size:
-        return s, t
-    sel = np.nonzero(d > 1e-12 * size)[0]
+    d = dist(s, t)
+    s2, t2 = _segment_feet(bd.A, bd.B, X, s, closed, iters=2)
+    d2 = dist(s2, t2)
+    better = d2 < d
+    s, t, d0, d = np.where(better, s2, s), np.where(better, t2, t), d, np.minimum(d, d2)
+    sel = np.nonzero((d < 0.9 * d0) & (d > 1e-12 * R.diagonal()))[0]     # still moving fast
     if sel.size:
-        s2, t2 = _segment_feet(bd.A, bd.B, np.ascontiguousarray(X[sel]), s[sel], closed, iters=FEET_ITERS)
-        d2 = np.linalg.norm(X[sel] - R(np.mod(s2, 1.0) if closed else s2, t2), axis=1)
-        better = d2 < d[sel]
-        s[sel[better]], t[sel[better]] = s2[better], t2[better]
+        s3, t3 = _segment_feet(bd.A, bd.B, np.ascontiguousarray(X[sel]), s[sel], closed, iters=FEET_ITERS)
+        d3 = np.linalg.norm(X[sel] - R(np.mod(s3, 1.0) if closed else s3, t3), axis=1)
+        ok = d3 < d[sel]
+        s[sel[ok]], t[sel[ok]] = s3[ok], t3[ok]
     return s, t
 
 
@@ -254,6 +276,9 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
         iu, iv = split
         extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
         extra_v = np.concatenate([extra_v, 0.5 * (vs[iv] + vs[iv + 1])])
+        grown = (us.size + np.unique(iu).size) * (vs.size + np.unique(iv).size)
+        if grown > GRID_GROWTH * (target_u + 1) * (target_v + 1):
+            break       # the next grid would cost more than the bound is worth (an exact fit asks for ever more)
     return best
 
 

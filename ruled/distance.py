@@ -45,15 +45,19 @@ def project_points(S: Surface, X: np.ndarray, uv: np.ndarray, iters: int = 3, cl
     v = wrap_u((b0, b1), uv[:, 1].copy(), closed_v)
     best_uv = np.stack([u, v], axis=1)
     best_d = np.full(X.shape[0], np.inf)
+    still = 1e-14 * ((a1 - a0) + (b1 - b0))       # a step below this leaves the point where it is
+    act = np.arange(X.shape[0])                    # the points still moving
     for it in range(iters + 1):
         need_d = it < iters
-        D = S.evaluate(u, v, 1 if need_d else 0)
-        r = D.P - X
+        ua, va = u[act], v[act]
+        D = S.evaluate(ua, va, 1 if need_d else 0)
+        r = D.P - X[act]
         d = np.sqrt(np.einsum("ij,ij->i", r, r))
-        better = d < best_d
-        best_d = np.where(better, d, best_d)
-        best_uv[better, 0] = u[better]
-        best_uv[better, 1] = v[better]
+        better = d < best_d[act]
+        idx = act[better]
+        best_d[idx] = d[better]
+        best_uv[idx, 0] = ua[better]
+        best_uv[idx, 1] = va[better]
         if not need_d:
             break
         Su, Sv = D.Su, D.Sv
@@ -67,10 +71,13 @@ def project_points(S: Surface, X: np.ndarray, uv: np.ndarray, iters: int = 3, cl
         c = c + lam
         det = a * c - b * b
         det = np.where(np.abs(det) > 0, det, 1e-300)
-        du = -(c * g1 - b * g2) / det
-        dv = -(a * g2 - b * g1) / det
-        u = wrap_u((a0, a1), u + du, closed_u)
-        v = wrap_u((b0, b1), v + dv, closed_v)
+        un = wrap_u((a0, a1), ua - (c * g1 - b * g2) / det, closed_u)
+        vn = wrap_u((b0, b1), va - (a * g2 - b * g1) / det, closed_v)
+        moving = np.abs(un - ua) + np.abs(vn - va) > still
+        u[act], v[act] = un, vn
+        act = act[moving]
+        if act.size == 0:
+            break
     return best_uv, best_d
 
 

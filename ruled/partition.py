@@ -188,7 +188,11 @@ def split_curves(S: Surface, strip: Strip, side: SideSurface, opts: SplitOptions
                                                        max(16, n)), path.score, None))
     # the best constant row: the split DP on that row alone (a table of one row)
     scores = row_scores(T, opts.objective, opts.memory_cap)
-    b = int(np.argmin(scores))
+    # rows that tie (to round-off, which differs between the kernels and their NumPy twins): the one
+    # nearest the middle, then the lower
+    rows = (np.arange(d) + 1.0) / (d + 1)
+    tie = np.nonzero(scores <= scores.min() + 1e-9 * max(abs(float(scores.min())), 1e-300))[0]
+    b = int(tie[np.lexsort((rows[tie], np.round(np.abs(rows[tie] - 0.5), 12)))[0]])
     tb = (b + 1.0) / (d + 1)
     out.append(("best-iso", strip.curve_at(S, tb), float(scores[b]), tb))
     if abs(tb - 0.5) > 1e-12:
