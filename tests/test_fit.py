@@ -165,3 +165,35 @@ def test_blas_runs_on_one_thread_during_a_fit_and_is_restored(monkeypatch):
             set_(n)
     assert seen and all(n == 1 for row in seen for n in row)
     assert after == [2] * len(handles)
+
+
+def _occt_exact_faces():
+    """Exactly ruled faces as OCCT builds them: the hyperboloid of a surface of revolution of a line whose
+    rulings climb 127 degrees (not a whole number of the circle's knot spans), converted to a rational
+    B-spline; and the ruled surface between a circular and an elliptic arc (BRepFill, as FreeCAD's Part
+    Ruled Surface), converted to NURBS."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_NurbsConvert
+    from OCP.BRepFill import BRepFill
+    from OCP.GC import GC_MakeArcOfCircle, GC_MakeArcOfEllipse, GC_MakeSegment
+    from OCP.Geom import Geom_SurfaceOfRevolution
+    from OCP.GeomConvert import GeomConvert
+    from OCP.gp import gp_Ax1, gp_Ax2, gp_Circ, gp_Dir, gp_Elips, gp_Pnt
+    seg = GC_MakeSegment(gp_Pnt(1, -2, -1), gp_Pnt(1, 2, 1)).Value()
+    rev = Geom_SurfaceOfRevolution(seg, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)))
+    hyp = BRepBuilderAPI_MakeFace(GeomConvert.SurfaceToBSplineSurface_s(rev), 1e-7).Face()
+    c = GC_MakeArcOfCircle(gp_Circ(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 2.0), 0.2, 2.4, True).Value()
+    e = GC_MakeArcOfEllipse(gp_Elips(gp_Ax2(gp_Pnt(0.3, 0, 3), gp_Dir(0.1, 0, 1)), 3.0, 1.2), 0.5, 2.9, True).Value()
+    arcs = BRepFill.Face_s(BRepBuilderAPI_MakeEdge(c).Edge(), BRepBuilderAPI_MakeEdge(e).Edge())
+    return {"hyperboloid": hyp, "arcs": faces_of(BRepBuilderAPI_NurbsConvert(arcs).Shape())[0]}
+
+
+@pytest.mark.parametrize("name", ["hyperboloid", "arcs"])
+def test_exactly_ruled_occt_faces_come_back_exact(name):
+    from ruled.occ.convert import face_to_container
+    S = face_to_container(_occt_exact_faces()[name])
+    res, h = _fit_and_measure(S)
+    size = S.diagonal()
+    assert h.max <= 1e-6 * size, h.max / size
+    assert res.error_bound >= h.max
+    if name == "arcs":
+        assert res.error_bound <= 1e-6 * size
