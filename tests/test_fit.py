@@ -197,3 +197,20 @@ def test_exactly_ruled_occt_faces_come_back_exact(name):
     assert res.error_bound >= h.max
     if name == "arcs":
         assert res.error_bound <= 1e-6 * size
+
+
+def test_bounded_least_squares_matches_scipy(rng):
+    """The pairing's bounded least squares (its own active-set solver, so that scipy.optimize is not
+    loaded): feasible, and never a larger residual than scipy's bounded-variable least squares."""
+    from scipy.optimize import lsq_linear
+    from ruled.reparam import bounded_lstsq
+    for _ in range(200):
+        m = int(rng.integers(10, 80))
+        n = min(m, int(rng.integers(3, 30)))
+        A = rng.normal(size=(m, n))
+        b = rng.normal(size=m) * rng.uniform(0.1, 10)
+        lb, ub = -rng.uniform(0.05, 1, n), rng.uniform(0.05, 1, n)
+        x = bounded_lstsq(A, b, lb, ub)
+        y = lsq_linear(A, b, bounds=(lb, ub), method="bvls").x
+        assert np.all(x >= lb) and np.all(x <= ub)
+        assert np.linalg.norm(A @ x - b) <= np.linalg.norm(A @ y - b) * (1 + 1e-10) + 1e-12
