@@ -662,5 +662,5 @@ def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, ta
     rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
     if rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff:
         return rev
-    fwd = certify(S, pairing, bd, R, target_u, target_v, rival=rev.bound)
+    fwd = certify(S, pairing, bd, R, target_u, target_v, rival=min(rev.bound, cutoff))
     return fwd if fwd.bound < rev.bound else rev

@@ -125,7 +125,8 @@ class CoonsMap:
         c0, c1, c2, c3 = self.curves
         P00, P10, P11, P01 = self._corners
         s, t = s[:, None], t[:, None]
-        out = ((1 - t) * c0(s[:, 0]) + t * c2(1 - s[:, 0]) + (1 - s) * c3(1 - t[:, 0]) + s * c1(t[:, 0])
+        out = ((1 - t) * _on(c0, s[:, 0]) + t * _on(c2, 1 - s[:, 0]) + (1 - s) * _on(c3, 1 - t[:, 0])
+               + s * _on(c1, t[:, 0])
                - ((1 - s) * (1 - t) * P00 + s * (1 - t) * P10 + s * t * P11 + (1 - s) * t * P01))
         return out
 
@@ -141,9 +142,9 @@ class CoonsMap:
         c0, c1, c2, c3 = self.curves
         G00, G10, G11, G01 = self._gap_corners
         s, t = s[:, None], t[:, None]
-        return ((1 - t) * c0.gap(s[:, 0]) + t * c2.gap(1 - s[:, 0]) + (1 - s) * c3.gap(1 - t[:, 0])
-                + s * c1.gap(t[:, 0]) - ((1 - s) * (1 - t) * G00 + s * (1 - t) * G10 + s * t * G11
-                                         + (1 - s) * t * G01))
+        return ((1 - t) * _on(c0.gap, s[:, 0]) + t * _on(c2.gap, 1 - s[:, 0]) + (1 - s) * _on(c3.gap, 1 - t[:, 0])
+                + s * _on(c1.gap, t[:, 0]) - ((1 - s) * (1 - t) * G00 + s * (1 - t) * G10 + s * t * G11
+                                              + (1 - s) * t * G01))
 
     def omega(self, S: Surface, s, t):
         s, t = np.broadcast_arrays(np.asarray(s, float), np.asarray(t, float))
@@ -195,6 +196,15 @@ class CoonsMap:
         ds = (self._raw(s + h, t) - self._raw(s - h, t)) / sc
         dt = (self._raw(s, t + h) - self._raw(s, t - h)) / sc
         return (ds[:, 0] * dt[:, 1] - ds[:, 1] * dt[:, 0]).reshape(n, n)
+
+
+def _on(f, x: np.ndarray) -> np.ndarray:
+    """f at x, evaluated once per distinct value (the map is sampled on grids: a side's parameter takes
+    one value per row or column)."""
+    u, inv = np.unique(x, return_inverse=True)
+    if u.size * 2 > x.size:
+        return f(x)
+    return f(u)[inv.ravel()]
 
 
 def _merge(b: np.ndarray) -> np.ndarray:

@@ -205,6 +205,9 @@ def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:
     return res if best is res.best else replace(res, best=best, candidates=cands)
 
 
+ISO_MARGIN = 1e-3
+
+
 def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
     """The fit, where in either direction the iso-parametric ruled surface between the same rails has
     the lower certified bound, with that surface instead (the DP's objective is a sum over its rulings,
@@ -221,8 +224,9 @@ def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
         # yet (c is among them) ...
         rival = min(o.error_bound for o in cands.values() if not isinstance(o, str))
         iso = iso_fit(c, GRID_COARSE, rival)
-        # ... the fine one only where it may win
-        if iso is not None and iso.certificate.node_max < rival:
+        # ... the fine one only where it may win by more than 0.1 % (a tie within that is not worth a
+        # fine certificate: either surface is as good)
+        if iso is not None and iso.certificate.node_max < (1.0 - ISO_MARGIN) * rival:
             iso = recertify(iso, GRID_FINE, rival)
         if progress is not None:
             progress(f"iso-parametric check ({d})", 1.0)
