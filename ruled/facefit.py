@@ -224,9 +224,9 @@ def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
         # yet (c is among them) ...
         rival = min(o.error_bound for o in cands.values() if not isinstance(o, str))
         iso = iso_fit(c, GRID_COARSE, rival)
-        # ... the fine one only where it may win by more than 0.1 % (a tie within that is not worth a
-        # fine certificate: either surface is as good)
-        if iso is not None and iso.certificate.node_max < (1.0 - ISO_MARGIN) * rival:
+        # ... the fine one only where it may win by more than 0.1 %, and samples closer than the DP's fit
+        # (a tie within that is not worth a fine certificate: either surface is as good)
+        if iso is not None and iso.certificate.node_max < (1.0 - ISO_MARGIN) * min(rival, c.certificate.node_max):
             iso = recertify(iso, GRID_FINE, rival)
         if progress is not None:
             progress(f"iso-parametric check ({d})", 1.0)

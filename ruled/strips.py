@@ -198,16 +198,21 @@ def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int 
         # each direction's error where the other is interpolated (at its sites), then both between sites
         es = dev(side, *np.meshgrid(fs, _greville(kt, DEGREE), indexing="ij")).max(axis=1)
         et = dev(side, *np.meshgrid(_greville(ks, DEGREE), ft, indexing="ij")).max(axis=0)
-        both = float(dev(side, *np.meshgrid(fs, ft, indexing="ij")).max())
-        d = max(both, float(es.max()), float(et.max()))
         bad_s = es.reshape(-1, 3).max(axis=1) > 0.5 * tol
         bad_t = et.reshape(-1, 3).max(axis=1) > 0.5 * tol
-        if d <= tol and not (bad_s.any() or bad_t.any()) or d <= 0.5 * tol:
+        refine = bad_s.any() or bad_t.any()
+
+        def deviation():   # both directions between the sites: needed only to accept (or to give up)
+            both = float(dev(side, *np.meshgrid(fs, ft, indexing="ij")).max())
+            return max(both, float(es.max()), float(et.max()))
+        d = None if refine else deviation()
+        if not refine and d <= tol:
             return SideSurface(side, d, (bs.size - 1, bt.size - 1))
-        if not (bad_s.any() or bad_t.any()):
+        if not refine:
             bad_s[:] = True
             bad_t[:] = True
         if max(bs.size - 1 + bad_s.sum(), bt.size - 1 + bad_t.sum()) > max_spans:
+            d = deviation() if d is None else d
             if d <= max(tol, accept or 0.0):
                 return SideSurface(side, d, (bs.size - 1, bt.size - 1))
             raise BadInputError(f"the {strip.name} could not be interpolated within {tol:.3g} with "
