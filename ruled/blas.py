@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import functools
 import threading
 
 # (get, set) entry points: the system's OpenBLAS, and the symbol-prefixed copies in numpy's and
@@ -73,8 +74,6 @@ def single_threaded():
 
 def one_thread(fn):
     """Decorator: fn runs with BLAS on one thread."""
-    import functools
-
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
         with single_threaded():

@@ -164,19 +164,19 @@ def _polished_feet(bd: Boundaries, R: Surface, X: np.ndarray, s0: np.ndarray, cl
     """_segment_feet, with more iterations for the points still moving after the usual ones (the
     iteration converges only linearly along twisted rulings; on an exact fit the node values, which
     should be round-off, are then all the bound has besides the remainder)."""
-    def dist(s, t):
-        return np.linalg.norm(X - R(np.mod(s, 1.0) if closed else s, t), axis=1)
+    def dist(Y, s, t):
+        return np.linalg.norm(Y - R(np.mod(s, 1.0) if closed else s, t), axis=1)
     s, t = _segment_feet(bd.A, bd.B, X, s0, closed)
-    d = dist(s, t)
+    d = dist(X, s, t)
     s2, t2 = _segment_feet(bd.A, bd.B, X, s, closed, iters=2)
-    d2 = dist(s2, t2)
+    d2 = dist(X, s2, t2)
     better = d2 < d
     s, t, d0, d = np.where(better, s2, s), np.where(better, t2, t), d, np.minimum(d, d2)
     sel = np.nonzero((d < 0.9 * d0) & (d > 1e-12 * R.diagonal()))[0]     # still moving fast
     if sel.size:
-        s3, t3 = _segment_feet(bd.A, bd.B, np.ascontiguousarray(X[sel]), s[sel], closed, iters=FEET_ITERS)
-        d3 = np.linalg.norm(X[sel] - R(np.mod(s3, 1.0) if closed else s3, t3), axis=1)
-        ok = d3 < d[sel]
+        Xs = np.ascontiguousarray(X[sel])
+        s3, t3 = _segment_feet(bd.A, bd.B, Xs, s[sel], closed, iters=FEET_ITERS)
+        ok = dist(Xs, s3, t3) < d[sel]
         s[sel[ok]], t[sel[ok]] = s3[ok], t3[ok]
     return s, t
 
@@ -431,21 +431,37 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, second=
         Rss = (1.0 - tlo) * A2 + thi * B2
     rem = (Suu * hu ** 2 + Rss * dsu ** 2 + 2 * Rst * dsu * dtu
            + Svv * hv ** 2 + Rss * dsv ** 2 + 2 * Rst * dsv * dtv) / 8.0
-    if bd.kinks.size:
-        lo, hi = slo, shi
-        for sk in bd.kinks:
-            h = 1e-9
-            ja = np.linalg.norm(np.diff(bd.A.evaluate(np.array([sk - h, sk + h]), 1)[1], axis=0))
-            jb = np.linalg.norm(np.diff(bd.B.evaluate(np.array([sk - h, sk + h]), 1)[1], axis=0))
-            J = float(max(ja, jb))
-            hit = np.zeros(lo.shape, bool)
-            for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
-                hit |= (lo <= sk + shift) & (hi >= sk + shift)
-            rem = rem + np.where(hit, J * (dsu + dsv) / 4.0, 0.0)
+    for sk in bd.kinks:
+        J = _joint_jumps(R, sk)[0]
+        rem = rem + np.where(_crossing(slo, shi, sk, closed), J * (dsu + dsv) / 4.0, 0.0)
     if second is not None:
         rem = np.minimum(rem, _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R, bd))
     cell = _corner_max(f) + rem
     return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, rem
+
+
+_JOINT_H = 1e-9
+
+
+def _joint_jumps(R: Surface, sk: float) -> tuple:
+    """The jumps of R_s and R_ss across the knot s = sk (on both boundaries, t = 0 and 1), measured
+    from one-sided evaluations 1e-9 away (the seam s = 0 of a periodic result from s = 1)."""
+    h = _JOINT_H
+    lo = sk - h if sk - h > 0.0 else 1.0 - h
+    E = R.evaluate(np.array([lo, sk + h, lo, sk + h]), np.array([0.0, 0.0, 1.0, 1.0]), 2)
+    J1 = max(np.linalg.norm(E.Su[1] - E.Su[0]), np.linalg.norm(E.Su[3] - E.Su[2]))
+    J2 = max(np.linalg.norm(E.Suu[1] - E.Suu[0]), np.linalg.norm(E.Suu[3] - E.Suu[2]))
+    # a true kink jumps by O(|R_s|); a smooth joint's difference over 2h is O(h |R_ss|)
+    smooth = 1e-6 * float(np.linalg.norm(E.Su, axis=1).max()) + 4 * h * float(np.linalg.norm(E.Suu, axis=1).max())
+    return float(J1), float(J2), J1 > smooth
+
+
+def _crossing(slo: np.ndarray, shi: np.ndarray, sk: float, closed: bool) -> np.ndarray:
+    """The cells whose s-range [slo, shi] meets the knot sk (or a copy of it a period away)."""
+    hit = np.zeros(slo.shape, bool)
+    for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
+        hit |= (slo <= sk + shift) & (shi >= sk + shift)
+    return hit
 
 
 def _soft_knots(C_knots: np.ndarray, p: int, lo: float, hi: float) -> tuple:
@@ -531,20 +547,10 @@ def _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R
     kr, mr = _soft_knots(bd.A.knots, bd.A.degree, 0.0, 1.0)
     if closed:     # the seam of a periodic result is a knot too
         kr, mr = np.concatenate([[0.0], kr]), np.concatenate([[bd.A.degree], mr])
-    h = 1e-9
     for sk, m in zip(kr, mr):
-        lo_ = sk - h if sk - h > 0.0 else 1.0 - h
-        ev = np.array([lo_, sk + h, lo_, sk + h])
-        tt = np.array([0.0, 0.0, 1.0, 1.0])
-        E = R.evaluate(ev, tt, 2)
-        J1 = max(np.linalg.norm(E.Su[1] - E.Su[0]), np.linalg.norm(E.Su[3] - E.Su[2]))
-        J2 = max(np.linalg.norm(E.Suu[1] - E.Suu[0]), np.linalg.norm(E.Suu[3] - E.Suu[2]))
-        hit = np.zeros(Guu.shape, bool)
-        for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
-            hit |= (slo <= sk + shift) & (shi >= sk + shift)
-        # a true kink jumps by O(|R_s|); a smooth joint's difference over 2h is O(h |R_ss|)
-        smooth = 1e-6 * float(np.linalg.norm(E.Su, axis=1).max()) + 4 * h * float(np.linalg.norm(E.Suu, axis=1).max())
-        if m >= bd.A.degree and J1 > smooth:
+        _, J2, kink = _joint_jumps(R, sk)
+        hit = _crossing(slo, shi, sk, closed)
+        if m >= bd.A.degree and kink:
             bad |= hit      # a kink of R: the first-order remainder's kink term handles it
             continue
         Guu = Guu + np.where(hit, 2.0 * J2 * a_u ** 2, 0.0)

@@ -15,15 +15,14 @@ from .distance import ruling_distances
 from .errors import BadInputError, DegenerateFaceError, TooBigError
 from .options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
 from .nurbs import Surface
-from .reparam import (Boundaries, Pairing, delta_coefs, exact_boundaries, fit_boundaries, fit_delta, refine_pairing,
-                      ruled_surface)
+from .reparam import (MAX_DELTA_COEFS, Boundaries, Pairing, delta_coefs, exact_boundaries, fit_boundaries,
+                      fit_delta, refine_pairing, ruled_surface)
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
 GRID_FINE = (240, 80)
 GRID_COARSE = (80, 24)
 # rulings at most this fraction of the size from the face count as exact (the pairing then follows them)
 EXACT_RULINGS = 1e-4
-MAX_DELTA_COEFS = 48
 
 Progress = Optional[Callable[[str, float], None]]
 
@@ -204,7 +203,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
         rc = ruling_distances(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)[1]
     pairing = fit_delta(sig, dlt, closed, delta_coefs(n))
     if opts.refine:
-        pairing, sig, dlt, rc = _follow_exact(So, closed, ab, h, (sig, dlt, rc), pairing, delta_coefs(n))
+        pairing, sig, dlt, rc = _follow_exact(So, closed, ab, h, (sig, dlt, rc), pairing)
     T["refine"] = time.perf_counter() - t0
     # rebuild
     t0 = time.perf_counter()
@@ -230,7 +229,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
 
 
 def _follow_exact(So: Surface, closed: bool, ab: np.ndarray, h: float, refined: tuple, pairing,
-                  n_coef: int, rounds: int = 6):
+                  rounds: int = 6):
     """Where the refined rulings are (nearly) exact, a smooth pairing that follows them: while the
     cubic delta(sigma) misses them (its rulings' distances, checked between the refined samples too,
     above twice the refined ones), the knot spans where it misses are halved, each new span pinned
@@ -244,9 +243,8 @@ def _follow_exact(So: Surface, closed: bool, ab: np.ndarray, h: float, refined: 
         return pairing, sig, dlt, rc
     s0 = float(sig[0])
     for _ in range(rounds):
-        knots = pairing.delta.knots
-        br = np.unique(knots)
-        chk = s0 + np.unique(np.concatenate([np.linspace(br[i], br[i + 1], 9) - s0 for i in range(br.size - 1)]))
+        br = np.unique(pairing.delta.knots)         # absolute sigma, from s0 to s0 + 1
+        chk = np.unique(np.concatenate([np.linspace(br[i], br[i + 1], 9) for i in range(br.size - 1)]))
         a, b = pairing.ab(chk - s0)
         miss = ruling_distances(So, u0 + L * a, u0 + L * b, 15, 4, closed)[1]
         bad = miss > 2.0 * float(np.max(rc)) + 1e-7 * diag

@@ -328,14 +328,11 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
     total = {"total": time.perf_counter() - t_start}
     # kept only where it cannot be worse: its certified bound below the 2D result's measured distance
     # (a sampled maximum, at most the 2D result's true distance)
-    if not m4 < m2:
-        notes.append(f"elevation did not lower the measured distance (2D {m2:.6g}, 4D {m4:.6g}): "
-                     f"the 2D result is returned")
-        return FitResult(b2, {**base.candidates, b2.direction: b2}, opts, total, tuple(notes), fit4)
-    if not cert.bound < m2:
-        notes.append(f"elevation lowered the measured distance from {m2:.6g} (2D) to {m4:.6g} (4D) but its "
-                     f"certified bound ({cert.bound:.6g}) is not below the 2D distance: the 2D result is "
-                     f"returned")
+    why = (f"elevation did not lower the measured distance (2D {m2:.6g}, 4D {m4:.6g})" if not m4 < m2 else
+           f"elevation lowered the measured distance from {m2:.6g} (2D) to {m4:.6g} (4D) but its certified "
+           f"bound ({cert.bound:.6g}) is not below the 2D distance" if not cert.bound < m2 else None)
+    if why is not None:
+        notes.append(why + ": the 2D result is returned")
         return FitResult(b2, {**base.candidates, b2.direction: b2}, opts, total, tuple(notes), fit4)
     notes.append(f"elevation lowered the measured distance from {m2:.6g} (2D) to {m4:.6g} (4D)")
     return FitResult(fit4, {**base.candidates, fit4.direction: fit4}, opts, total, tuple(notes), b2)

@@ -123,9 +123,14 @@ def _clamped_knots(n_coef: int, p: int, a: float, b: float) -> np.ndarray:
     return np.concatenate([np.full(p + 1, a), inner, np.full(p + 1, b)])
 
 
+# the smooth pairing's coefficients at most (uniform knots; a pairing that follows exact rulings may
+# halve its spans up to four times this many)
+MAX_DELTA_COEFS = 48
+
+
 def delta_coefs(n: int) -> int:
     """Coefficients of the smooth pairing delta(sigma) for n boundary samples."""
-    return int(min(max(8, n // 2 + 4), 48))
+    return int(min(max(8, n // 2 + 4), MAX_DELTA_COEFS))
 
 
 def fit_delta(sig: np.ndarray, delta: np.ndarray, closed: bool, n_coef: int, eps: float = 0.01,
