@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import kernels
-from .nurbs import Curve, SpanRangeMax, Surface, _deriv_net
+from .nurbs import Curve, SpanRangeMax, Surface, _deriv_net, pieces_for
 from .reparam import Boundaries, Pairing
 
 
@@ -44,6 +44,13 @@ SECOND_ORDER_WHEN = 1.1
 FEET_ITERS = 40
 # the refinement rounds stop before a grid this many times the first one
 GRID_GROWTH = 8
+# derivative bounds come from twins of S and R with about this many knot spans per direction (the same
+# surfaces, knots inserted): control-net bounds over smaller pieces are local, hence tighter
+BOUND_SPANS = 48
+# bounds below this fraction of the face's size are not refined further (no machine holds less)
+FLOOR = 1e-6
+# the second-order remainder's corner values are taken this fraction of the cell inside each corner
+NUDGE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -55,7 +62,7 @@ class Certificate:
     map_deviation: float = 0.0   # included in bound: the fitted patch's deviation from the bounded face
 
 
-def _knot_grid(S: Surface, direction: str, target: int, extra=None):
+def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface = None):
     """About ``target`` grid cells over the domain in one direction (plus optional extra nodes), with a
     node at every knot where S is not C1 (multiplicity >= degree: a crease, where the interpolation
     remainder needs a node); and each cell's range of knot spans (lo, hi), inclusive.  A cell may
@@ -77,10 +84,25 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None):
         keep[-1] = True
         pts = pts[keep]
         pts = pts[np.concatenate([np.diff(pts) > 0, [True]])]
+    if Sb is not None:      # the spans of the bounding twin (the same surface, finer knots)
+        knots = Sb.knots_u if direction == "u" else Sb.knots_v
+        S = Sb
     n = S.poles.shape[0] if direction == "u" else S.poles.shape[1]
     lo = np.clip(np.searchsorted(knots, pts[:-1], side="right") - 1, p, n - 1)
     hi = np.clip(np.searchsorted(knots, pts[1:], side="left") - 1, p, n - 1)
     return pts, (lo - p, np.maximum(hi, lo) - p)
+
+
+def _twin(S: Surface, ruled: bool = False) -> Surface:
+    """S with finer knot spans for its derivative bounds (ruled: R, whose t direction is linear)."""
+    pu = pieces_for(S.knots_u, S.degree_u, BOUND_SPANS)
+    pv = 1 if ruled else pieces_for(S.knots_v, S.degree_v, BOUND_SPANS)
+    return S.subdivided(pu, pv)
+
+
+def _rail(Rb: Surface, side: int) -> Curve:
+    """Boundary curve t = side of a ruled surface (degree (p, 1)) as a curve of its knots."""
+    return Curve(Rb.poles[:, side], Rb.knots_u, Rb.degree_u, None if Rb.weights is None else Rb.weights[:, side])
 
 
 def _range_max(T: np.ndarray, spans, axis: int = 0) -> np.ndarray:
@@ -106,8 +128,9 @@ def _local_net_max(C: Curve, order: int) -> np.ndarray:
     return win.max(axis=1)  # (n - p,)
 
 
-def _spanmax(C: Curve, vals: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    return SpanRangeMax(C.knots, C.degree, vals)(lo, hi)
+def _spanmax(Rb: Surface, vals: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Per cell, the largest per-span value of Rb (one per u-span) over the s-range [lo, hi]."""
+    return SpanRangeMax(Rb.knots_u, Rb.degree_u, vals)(lo, hi)
 
 
 def _segment_feet(A: Curve, B: Curve, X: np.ndarray, s: np.ndarray, closed: bool, iters: int = 6):
@@ -259,24 +282,28 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
     # graded rows next to both boundaries, where a fan of rulings makes psi steep
     grade = (v1 - v0) / target_v * 0.5 ** np.arange(1, 11)
     extra_v = np.concatenate([v0 + grade, v1 - grade])
-    b = S.derivative_bounds()
+    tw = (_twin(S), _twin(R, ruled=True))
+    b = tw[0].derivative_bounds()
     best = None
     for rnd in range(rounds + 1):
-        us, span_u = _knot_grid(S, "u", target_u, extra_u)
-        vs, span_v = _knot_grid(S, "v", target_v, extra_v)
-        cert, cell, rem = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u)
+        us, span_u = _knot_grid(S, "u", target_u, extra_u, tw[0])
+        vs, span_v = _knot_grid(S, "v", target_v, extra_v, tw[0])
+        cert, guide = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw)
         if best is None or cert.bound < best.bound:
             best = cert
-        split = _cells_to_split(cert, cell, rem)
+        split = _cells_to_split(*guide, FLOOR * S.diagonal(), uniform=True)
+
         # each round about halves the excess over the node maximum: stop where even that would not
         # bring the bound below the rival's (the other side's certificate)
         hope = cert.node_max + (cert.bound - cert.node_max) / 2 ** (rounds - rnd)
         if rnd == rounds or split is None or hope >= rival:
             break
         iu, iv = split
+        grown = (us.size + np.unique(iu).size) * (vs.size + np.unique(iv).size)
+        if grown > GRID_GROWTH * (target_u + 1) * (target_v + 1):
+            break       # the next grid would cost more than the bound is worth (an exact fit asks for ever more)
         extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
         extra_v = np.concatenate([extra_v, 0.5 * (vs[iv] + vs[iv + 1])])
-        grown = (us.size + np.unique(iu).size) * (vs.size + np.unique(iv).size)
         if grown > GRID_GROWTH * (target_u + 1) * (target_v + 1):
             break       # the next grid would cost more than the bound is worth (an exact fit asks for ever more)
     return best
@@ -287,20 +314,29 @@ def _corner_max(f: np.ndarray) -> np.ndarray:
     return np.maximum(np.maximum(f[:-1, :-1], f[1:, :-1]), np.maximum(f[:-1, 1:], f[1:, 1:]))
 
 
-def _cells_to_split(cert: Certificate, cell: np.ndarray, rem: np.ndarray):
-    """Cells (iu, iv) to split in the next round: near the worst and dominated by their
-    remainder; None when the bound is tight or most cells qualify (the grid is coarse everywhere:
-    local refinement would not pay)."""
+def _cells_to_split(cert: Certificate, cell: np.ndarray, rem: tuple, floor: float, uniform: bool = False):
+    """Grid intervals to halve in the next round, (iu, iv): those of the cells near the worst and
+    dominated by their remainder, in the directions whose part of the remainder (rem = (u part,
+    v part)) matters; None when the bound is tight, or when most cells qualify (the grid is coarse
+    everywhere: local refinement would not pay) unless ``uniform`` (then the whole grid is halved in
+    the directions that dominate: an exact fit, whose bound is all remainder); None too when the
+    bound is below ``floor`` (no CAD tolerance asks for less)."""
+    ru, rv = rem
+    tot = ru + rv
     cut = cert.node_max + 0.5 * (cert.bound - cert.node_max)
-    bad = (cell > cut) & (rem > 0.25 * cell)
-    if not bad.any() or cert.bound <= 1.02 * cert.node_max or bad.mean() > 0.05:
+    bad = (cell > cut) & (tot > 0.25 * cell)
+    if (not bad.any() or cert.bound <= max(1.02 * cert.node_max, floor)
+            or (bad.mean() > 0.05 and not uniform)):
         return None
-    return np.nonzero(bad)
+    iu = np.unique(np.nonzero(bad & (ru >= 0.25 * tot))[0])
+    iv = np.unique(np.nonzero(bad & (rv >= 0.25 * tot))[1])
+    return iu, iv
 
 
-def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u):
-    """Best bound over the candidate maps psi on one grid; also the chosen map's per-cell bound,
-    corner maximum and remainder."""
+def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw):
+    """Best bound over the candidate maps psi on one grid, and the map that guides the refinement
+    (certificate, per-cell bound, remainder parts): the one whose bound may fall lowest, a quarter of
+    its remainder above its node maximum (a map whose nodes are far from R cannot get below them)."""
     closed = pairing.closed
     u0, u1, v0, v1 = S.domain
     L = u1 - u0
@@ -338,24 +374,29 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u):
         s = (s_init + _smooth(ds, sweeps)).ravel()
         _, t = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s, closed, iters=0)
         maps.append((s, t))
-    best, which = None, 0
+    best, which, guide = None, 0, None
+
+    def reach(c):
+        return c.node_max + 0.25 * (c.bound - c.node_max)
     for k, (s, t) in enumerate(maps):
         out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(), t.reshape(nu, nv).copy(),
-                         pairing, bd, R)
+                         pairing, bd, R, tw)
         if best is None or out[0].bound < best[0].bound:
             best, which = out, k
+        if guide is None or reach(out[0]) < reach(guide[0]):
+            guide = out
     if best[0].bound > SECOND_ORDER_WHEN * best[0].node_max:
         # the remainder dominates (an exact or nearly exact fit): the second-order remainder may be far
         # smaller (see _remainder2); the closest points (smooth where the fit is exact) and the best map
         # again, each cell keeping the smaller of the two
-        D = S.evaluate(UU.ravel(), VV.ravel(), 2)
-        second = (D.Suu.reshape(nu, nv, 3), D.Svv.reshape(nu, nv, 3))
         for s, t in {0: maps[0], which: maps[which]}.values():
             out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(),
-                             t.reshape(nu, nv).copy(), pairing, bd, R, second)
+                             t.reshape(nu, nv).copy(), pairing, bd, R, tw, second=True)
             if out[0].bound < best[0].bound:
                 best = out
-    return best
+            if reach(out[0]) < reach(guide[0]):
+                guide = out
+    return best[0], guide
 
 
 def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
@@ -367,10 +408,9 @@ def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
     return g
 
 
-def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, second=None):
-    """The bound of the module doc for one map psi = (s, t) on the grid (us, vs); with ``second``
-    (S_uu and S_vv at the nodes), each cell's remainder is the smaller of the first- and the
-    second-order one (_remainder2)."""
+def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, second=False):
+    """The bound of the module doc for one map psi = (s, t) on the grid (us, vs); with ``second``,
+    each cell's remainder is the smaller of the first- and the second-order one (_remainder2)."""
     closed = pairing.closed
     nu, nv = us.size, vs.size
     # boundary rows and columns fixed so that psi maps sides to sides
@@ -393,6 +433,7 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, second=
             dd = max(float(d @ d), 1e-300)
             s[col, 1:-1] = sv
             t[col, 1:-1] = np.clip((X[col, 1:-1] - a0) @ d / dd, 0.0, 1.0)
+    s = _snap(s, bd.A, closed)
     sw = np.mod(s, 1.0) if closed else s
     Rp = R(sw.ravel(), t.ravel()).reshape(nu, nv, 3)
     f = np.linalg.norm(X - Rp, axis=2)
@@ -419,25 +460,33 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, second=
     slo, shi = cs.min(axis=0), cs.max(axis=0)
     ct = np.stack([t00, t10, t01, t11])
     tlo, thi = ct.min(axis=0), ct.max(axis=0)
+    Rb = tw[1]
     if R.rational:  # quotient-rule bounds of the rational ruled surface, per span in s
-        rb = R.derivative_bounds()
-        Rss = _spanmax(bd.A, rb["Suu"][:, 0], slo, shi)
-        Rst = _spanmax(bd.A, rb["Suv"][:, 0], slo, shi)
+        rb = Rb.derivative_bounds()
+        Rss = _spanmax(Rb, rb["Suu"][:, 0], slo, shi)
+        Rst = _spanmax(Rb, rb["Suv"][:, 0], slo, shi)
     else:
-        diff = Curve(bd.B.poles - bd.A.poles, bd.A.knots, bd.A.degree)
-        A2 = _spanmax(bd.A, _local_net_max(bd.A, 2), slo, shi)
-        B2 = _spanmax(bd.A, _local_net_max(bd.B, 2), slo, shi)
-        Rst = _spanmax(bd.A, _local_net_max(diff, 1), slo, shi)
+        Ab, Bb = _rail(Rb, 0), _rail(Rb, 1)
+        diff = Curve(Bb.poles - Ab.poles, Ab.knots, Ab.degree)
+        A2 = _spanmax(Rb, _local_net_max(Ab, 2), slo, shi)
+        B2 = _spanmax(Rb, _local_net_max(Bb, 2), slo, shi)
+        Rst = _spanmax(Rb, _local_net_max(diff, 1), slo, shi)
         Rss = (1.0 - tlo) * A2 + thi * B2
-    rem = (Suu * hu ** 2 + Rss * dsu ** 2 + 2 * Rst * dsu * dtu
-           + Svv * hv ** 2 + Rss * dsv ** 2 + 2 * Rst * dsv * dtv) / 8.0
+    ru = (Suu * hu ** 2 + Rss * dsu ** 2 + 2 * Rst * dsu * dtu) / 8.0
+    rv = (Svv * hv ** 2 + Rss * dsv ** 2 + 2 * Rst * dsv * dtv) / 8.0
     for sk in bd.kinks:
-        J = _joint_jumps(R, sk)[0]
-        rem = rem + np.where(_crossing(slo, shi, sk, closed), J * (dsu + dsv) / 4.0, 0.0)
-    if second is not None:
-        rem = np.minimum(rem, _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R, bd))
+        hit = _crossing(slo, shi, sk, closed)
+        if hit.any():
+            J = _joint_jumps(R, sk)[0]
+            ru = ru + np.where(hit, J * dsu / 4.0, 0.0)
+            rv = rv + np.where(hit, J * dsv / 4.0, 0.0)
+    if second:
+        r2u, r2v = _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw)
+        use = r2u + r2v < ru + rv
+        ru, rv = np.where(use, r2u, ru), np.where(use, r2v, rv)
+    rem = ru + rv
     cell = _corner_max(f) + rem
-    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, rem
+    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, (ru, rv)
 
 
 _JOINT_H = 1e-9
@@ -456,11 +505,29 @@ def _joint_jumps(R: Surface, sk: float) -> tuple:
     return float(J1), float(J2), J1 > smooth
 
 
-def _crossing(slo: np.ndarray, shi: np.ndarray, sk: float, closed: bool) -> np.ndarray:
-    """The cells whose s-range [slo, shi] meets the knot sk (or a copy of it a period away)."""
+SNAP = 1e-10
+
+
+def _snap(s: np.ndarray, A: Curve, closed: bool) -> np.ndarray:
+    """Node parameters within SNAP of a knot of R moved onto it (psi may be any continuous map: a node
+    exactly on a knot line leaves the cells beside it on one side of it, see _crossing's strict)."""
+    kv = np.unique(A.knots)
+    if closed:
+        kv = np.concatenate([kv - 1.0, kv, kv + 1.0])
+    i = np.clip(np.searchsorted(kv, s), 1, kv.size - 1)
+    near = np.where(s - kv[i - 1] < kv[i] - s, kv[i - 1], kv[i])
+    return np.where(np.abs(s - near) < SNAP, near, s)
+
+
+def _crossing(slo: np.ndarray, shi: np.ndarray, sk: float, closed: bool, strict: bool = False) -> np.ndarray:
+    """The cells whose s-range [slo, shi] meets the knot sk (or a copy of it a period away); strict:
+    whose open s-range contains it (the cell is not only on one side of it)."""
     hit = np.zeros(slo.shape, bool)
     for shift in ((-1.0, 0.0, 1.0) if closed else (0.0,)):
-        hit |= (slo <= sk + shift) & (shi >= sk + shift)
+        if strict:
+            hit |= (slo < sk + shift) & (shi > sk + shift)
+        else:
+            hit |= (slo <= sk + shift) & (shi >= sk + shift)
     return hit
 
 
@@ -477,24 +544,21 @@ def _contains(knots: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.searchsorted(knots, b, side="left") > np.searchsorted(knots, a, side="right")
 
 
-def _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R, bd) -> np.ndarray:
+def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw) -> tuple:
     """Per cell, the interpolation remainder (h_u^2 sup|f_uu| + h_v^2 sup|f_vv|) / 8 with sup|f_uu|
     bounded from its values at the cell's corners and third-derivative bounds:
 
         sup|f_uu| <= max_corners |f_uu| + (h_u sup|f_uuu| + h_v sup|f_uuv|) / 2   (+ jumps),
 
-    f_uu = S_uu - (R_ss s_u^2 + 2 R_st s_u t_u) at a corner, with the cell's own (bilinear) slopes
-    along the edge through it; f_uuu and f_uuv by the chain rule (psi bilinear: s_uu = 0; R linear in
+    f_uu = S_uu - (R_ss s_u^2 + 2 R_st s_u t_u) at a corner (just inside the cell: see NUDGE), with
+    the cell's own (bilinear) slopes there; f_uuu and f_uuv by the chain rule (psi bilinear: s_uu = 0; R linear in
     t: R_tt = R_stt = 0) from the control-net bounds of S and R.  Where S o psi is exactly R o psi up
     to the bilinear map's own error, f_uu is that error's second derivative: the bound follows the
     fit down to round-off, where the first-order remainder stays at h^2 |S_uu| / 8.  f_uu jumps where
     R's second derivative does (knots of multiplicity p - 1): each crossing adds the jump (a straight
     path crosses such a line at most twice in a bilinear cell).  Cells where this does not hold (S
     less than C2 inside, R less than C1) get infinity."""
-    Suu_n, Svv_n = second
     nu, nv = us.size, vs.size
-    Rd = R.evaluate(sw.ravel(), t.ravel(), 2)
-    Rss_n, Rst_n = Rd.Suu.reshape(nu, nv, 3), Rd.Suv.reshape(nu, nv, 3)
     hu = np.diff(us)[:, None]
     hv = np.diff(vs)[None, :]
 
@@ -507,36 +571,56 @@ def _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R
     tv_l, tv_r = (t[:-1, 1:] - t[:-1, :-1]) / hv, (t[1:, 1:] - t[1:, :-1]) / hv
     s_uv = np.abs(su_t - su_b) / hv
     t_uv = np.abs(tu_t - tu_b) / hv
-
-    def corner(D2, i, j, a, c):
-        # |D2 - (R_ss a^2 + 2 R_st a c)| at the corner (i, j) of every cell, with slopes a, c
-        sl = (slice(i, nu - 1 + i), slice(j, nv - 1 + j))
-        g = D2[sl] - (Rss_n[sl] * (a * a)[..., None] + 2.0 * Rst_n[sl] * (a * c)[..., None])
-        return np.linalg.norm(g, axis=2)
-
-    Fuu = np.maximum(np.maximum(corner(Suu_n, 0, 0, su_b, tu_b), corner(Suu_n, 1, 0, su_b, tu_b)),
-                     np.maximum(corner(Suu_n, 0, 1, su_t, tu_t), corner(Suu_n, 1, 1, su_t, tu_t)))
-    Fvv = np.maximum(np.maximum(corner(Svv_n, 0, 0, sv_l, tv_l), corner(Svv_n, 0, 1, sv_l, tv_l)),
-                     np.maximum(corner(Svv_n, 1, 0, sv_r, tv_r), corner(Svv_n, 1, 1, sv_r, tv_r)))
+    # f_uu and f_vv at a point just inside each corner (NUDGE of the cell inward): on the cell's side
+    # of any knot line through the corner (S's creases are grid lines, R's knots may pass through
+    # nodes), where a node's own value would be the neighbour's
+    s00, t00 = s[:-1, :-1], t[:-1, :-1]
+    du_s, dv_s = rel(s[1:, :-1] - s00), rel(s[:-1, 1:] - s00)
+    dd_s = rel(s[1:, 1:] - s00) - du_s - dv_s
+    du_t, dv_t = t[1:, :-1] - t00, t[:-1, 1:] - t00
+    dd_t = t[1:, 1:] - t00 - du_t - dv_t
+    Fuu = Fvv = 0.0
+    ncell = (nu - 1) * (nv - 1)
+    P = []
+    for lu in (NUDGE, 1.0 - NUDGE):
+        for lv in (NUDGE, 1.0 - NUDGE):
+            P.append((lu, lv))
+    uq = np.concatenate([np.broadcast_to(us[:-1, None] + lu * hu, (nu - 1, nv - 1)).ravel() for lu, lv in P])
+    vq = np.concatenate([np.broadcast_to(vs[None, :-1] + lv * hv, (nu - 1, nv - 1)).ravel() for lu, lv in P])
+    sq = np.concatenate([(s00 + lu * du_s + lv * dv_s + lu * lv * dd_s).ravel() for lu, lv in P])
+    tq = np.concatenate([(t00 + lu * du_t + lv * dv_t + lu * lv * dd_t).ravel() for lu, lv in P])
+    Dq = S.evaluate(uq, vq, 2)
+    Rq = R.evaluate(np.mod(sq, 1.0) if closed else np.clip(sq, 0.0, 1.0), np.clip(tq, 0.0, 1.0), 2)
+    for k, (lu, lv) in enumerate(P):
+        sl = slice(k * ncell, (k + 1) * ncell)
+        a_s, a_t = ((du_s + lv * dd_s) / hu).ravel(), ((du_t + lv * dd_t) / hu).ravel()   # psi_u there
+        c_s, c_t = ((dv_s + lu * dd_s) / hv).ravel(), ((dv_t + lu * dd_t) / hv).ravel()   # psi_v there
+        Rss, Rst = Rq.Suu[sl], Rq.Suv[sl]
+        guu = Dq.Suu[sl] - (Rss * (a_s * a_s)[:, None] + 2.0 * Rst * (a_s * a_t)[:, None])
+        gvv = Dq.Svv[sl] - (Rss * (c_s * c_s)[:, None] + 2.0 * Rst * (c_s * c_t)[:, None])
+        Fuu = np.maximum(Fuu, np.linalg.norm(guu, axis=1).reshape(nu - 1, nv - 1))
+        Fvv = np.maximum(Fvv, np.linalg.norm(gvv, axis=1).reshape(nu - 1, nv - 1))
     a_u, b_u = np.maximum(np.abs(su_b), np.abs(su_t)), np.maximum(np.abs(tu_b), np.abs(tu_t))
     a_v, b_v = np.maximum(np.abs(sv_l), np.abs(sv_r)), np.maximum(np.abs(tv_l), np.abs(tv_r))
     # S's third derivatives over the cell's spans
-    b3 = S.third_derivative_bounds()
+    Sb, Rb = tw
+    b3 = Sb.third_derivative_bounds()
     M3 = {k: _range_max(_range_max(b3[k], span_u, 0), span_v, 1) for k in ("Suuu", "Suuv", "Suvv", "Svvv")}
     # R's second and third derivatives over the cell's s-range
-    rb, rb3 = R.derivative_bounds(), R.third_derivative_bounds()
-    Mss = _spanmax(bd.A, rb["Suu"][:, 0], slo, shi)
-    Mst = _spanmax(bd.A, rb["Suv"][:, 0], slo, shi)
-    Msss = _spanmax(bd.A, rb3["Suuu"][:, 0], slo, shi)
-    Msst = _spanmax(bd.A, rb3["Suuv"][:, 0], slo, shi)
+    rb, rb3 = Rb.derivative_bounds(), Rb.third_derivative_bounds()
+    Mss = _spanmax(Rb, rb["Suu"][:, 0], slo, shi)
+    Mst = _spanmax(Rb, rb["Suv"][:, 0], slo, shi)
+    Msss = _spanmax(Rb, rb3["Suuu"][:, 0], slo, shi)
+    Msst = _spanmax(Rb, rb3["Suuv"][:, 0], slo, shi)
     r_uuu = Msss * a_u ** 3 + 3 * Msst * a_u ** 2 * b_u
     r_vvv = Msss * a_v ** 3 + 3 * Msst * a_v ** 2 * b_v
     r_uuv = ((Msss * a_v + Msst * b_v) * a_u ** 2 + 2 * Mss * a_u * s_uv + 2 * Msst * a_v * a_u * b_u
              + 2 * Mst * (s_uv * b_u + a_u * t_uv))
     r_vvu = ((Msss * a_u + Msst * b_u) * a_v ** 2 + 2 * Mss * a_v * s_uv + 2 * Msst * a_u * a_v * b_v
              + 2 * Mst * (s_uv * b_v + a_v * t_uv))
-    Guu = Fuu + 0.5 * hu * (M3["Suuu"] + r_uuu) + 0.5 * hv * (M3["Suuv"] + r_uuv)
-    Gvv = Fvv + 0.5 * hv * (M3["Svvv"] + r_vvv) + 0.5 * hu * (M3["Suvv"] + r_vvu)
+    half = 0.5 + NUDGE      # the nudged corners are a little farther from the cell's points
+    Guu = Fuu + half * hu * (M3["Suuu"] + r_uuu) + half * hv * (M3["Suuv"] + r_uuv)
+    Gvv = Fvv + half * hv * (M3["Svvv"] + r_vvv) + half * hu * (M3["Suvv"] + r_vvu)
     bad = np.zeros(Guu.shape, bool)
     # S less than C2 inside a cell (creases, multiplicity >= p, are grid lines already)
     u0, u1, v0, v1 = S.domain
@@ -549,14 +633,13 @@ def _remainder2(S, second, us, vs, span_u, span_v, s, t, sw, slo, shi, closed, R
         kr, mr = np.concatenate([[0.0], kr]), np.concatenate([[bd.A.degree], mr])
     for sk, m in zip(kr, mr):
         _, J2, kink = _joint_jumps(R, sk)
-        hit = _crossing(slo, shi, sk, closed)
+        hit = _crossing(slo, shi, sk, closed, strict=True)   # touching cells evaluated on their side
         if m >= bd.A.degree and kink:
             bad |= hit      # a kink of R: the first-order remainder's kink term handles it
             continue
         Guu = Guu + np.where(hit, 2.0 * J2 * a_u ** 2, 0.0)
         Gvv = Gvv + np.where(hit, 2.0 * J2 * a_v ** 2, 0.0)
-    rem2 = (hu ** 2 * Guu + hv ** 2 * Gvv) / 8.0
-    return np.where(bad, np.inf, rem2)
+    return np.where(bad, np.inf, hu ** 2 * Guu / 8.0), np.where(bad, np.inf, hv ** 2 * Gvv / 8.0)
 
 
 def _curve_feet(S: Surface, Y: np.ndarray, u: np.ndarray, v: float, closed: bool, iters: int = 8) -> np.ndarray:
@@ -596,14 +679,15 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
     closed = pairing.closed
     u0, u1, v0, v1 = S.domain
     L, V = u1 - u0, v1 - v0
-    bS = S.derivative_bounds()
-    M = {k: SpanRangeMax(S.knots_u, S.degree_u, bS[k].max(axis=1)) for k in ("Suu", "Suv", "Svv")}
-    Rss_span = R.derivative_bounds()["Suu"][:, 0]
+    Sb, Rb = _twin(S), _twin(R, ruled=True)
+    bS = Sb.derivative_bounds()
+    M = {k: SpanRangeMax(Sb.knots_u, Sb.degree_u, bS[k].max(axis=1)) for k in ("Suu", "Suv", "Svv")}
+    Rss_span = Rb.derivative_bounds()["Suu"][:, 0]
     extra_s = np.zeros(0)
     tt = np.linspace(0.0, 1.0, target_t + 1)
     best = None
     for rnd in range(rounds + 1):
-        ss, span_s = _knot_grid(R, "u", target_s, extra_s)
+        ss, span_s = _knot_grid(R, "u", target_s, extra_s, Rb)
         ns, nt = ss.size, tt.size
         SS, TT = np.meshgrid(ss, tt, indexing="ij")
         Y = R(SS.ravel(), TT.ravel()).reshape(ns, nt, 3)
@@ -642,14 +726,15 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
             sh = L * np.floor((lo - u0) / L)
             lo, hi = lo - sh, hi - sh
         Muu, Muv, Mvv = M["Suu"](lo, hi), M["Suv"](lo, hi), M["Svv"](lo, hi)
-        rem = (hs ** 2 * _range_max(Rss_span, span_s)[:, None]
-               + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s + Mvv * dv_s ** 2
-               + Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
+        rs = (hs ** 2 * _range_max(Rss_span, span_s)[:, None] + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s
+              + Mvv * dv_s ** 2) / 8.0
+        rt = (Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
+        rem = rs + rt
         cell = _corner_max(f) + rem
         cert = Certificate(float(cell.max()), float(f.max()), float(rem.max()), (ns, nt))
         if best is None or cert.bound < best.bound:
             best = cert
-        split = _cells_to_split(cert, cell, rem)
+        split = _cells_to_split(cert, cell, (rs, rt), FLOOR * S.diagonal())
         if rnd == rounds or split is None:
             break
         iu, iv = split

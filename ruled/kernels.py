@@ -30,18 +30,20 @@ if os.environ.get("RULED_NO_NUMBA", "") not in ("1", "true", "yes"):
 
 
 _POOL = None
+# the cores this process may use (asked once: the kernels are called thousands of times per fit)
+CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
 def _run_chunks(fn, N: int, min_chunk: int = 16384) -> None:
     """Run fn(start, stop) over [0, N) on all cores (the kernels release the GIL)."""
     global _POOL
-    k = min(os.cpu_count() or 1, max(1, N // min_chunk))
+    k = min(CORES, max(1, N // min_chunk))
     if k <= 1:
         fn(0, N)
         return
     if _POOL is None:
         from concurrent.futures import ThreadPoolExecutor
-        _POOL = ThreadPoolExecutor(max_workers=os.cpu_count() or 1)
+        _POOL = ThreadPoolExecutor(max_workers=CORES)
     bounds = [(N * i) // k for i in range(k + 1)]
     futs = [_POOL.submit(fn, bounds[i], bounds[i + 1]) for i in range(k)]
     for f in futs:
@@ -245,6 +247,10 @@ if AVAILABLE:
                 X1 = P[1] + tau * Q[1]
                 X2 = P[2] + tau * Q[2]
                 r0 = np.sqrt((res[0, 0] - X0) ** 2 + (res[0, 1] - X1) ** 2 + (res[0, 2] - X2) ** 2)
+                if r0 > rmax:
+                    rmax = r0
+                if not feet and r0 <= dmax:
+                    continue    # its refined distance is at most r0: it cannot raise the ruling's maximum
                 # Gauss-Newton projection of X onto S from (uu, vv)
                 u = uu
                 v = vv
@@ -283,8 +289,6 @@ if AVAILABLE:
                     tau_out[kk, k] = tau
                     foot_out[kk, k, 0] = Fu
                     foot_out[kk, k, 1] = Fv
-                if r0 > rmax:
-                    rmax = r0
                 if dr > dmax:
                     dmax = dr
             ub[kk] = rmax

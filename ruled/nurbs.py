@@ -198,6 +198,15 @@ class Curve:
         D = np.matmul(Bt, self._hom[idx])                    # homogeneous (N, K, d+1)
         return _rational_curve_ders([D[:, k, :-1] for k in range(nder + 1)], [D[:, k, -1] for k in range(nder + 1)])
 
+    def subdivided(self, pieces: int) -> "Curve":
+        """The same curve with each knot span split into ``pieces`` (tighter per-span bounds of its
+        control net; the periodic flag dropped: the representation is no longer the wrapped one)."""
+        if pieces <= 1:
+            return self
+        H, k = refine_axis(self._hom, self.knots, self.degree, pieces)
+        w = H[:, -1]
+        return Curve(H[:, :-1] / w[:, None], k, self.degree, None if self.weights is None else w)
+
     def __call__(self, t) -> np.ndarray:
         return self.evaluate(t, 0)[0]
 
@@ -397,6 +406,24 @@ class Surface:
         return Curve(Hc[:, :3] / w[:, None], self.knots_u, self.degree_u, weights, self.periodic_u)
 
     # ------------------------------------------------------------------ bounds
+    def subdivided(self, pieces_u: int, pieces_v: int) -> "Surface":
+        """The same surface with each knot span split into pieces (Boehm insertion): its per-span
+        derivative bounds are local to smaller pieces, hence tighter (cached; not periodic any more)."""
+        if pieces_u <= 1 and pieces_v <= 1:
+            return self
+        cache = self.__dict__.get("_sub_cache")
+        if cache is None:
+            cache = {}
+            object.__setattr__(self, "_sub_cache", cache)
+        key = (pieces_u, pieces_v)
+        if key not in cache:
+            H, ku = refine_axis(self._hom, self.knots_u, self.degree_u, pieces_u, 0)
+            H, kv = refine_axis(H, self.knots_v, self.degree_v, pieces_v, 1)
+            w = H[..., 3]
+            cache[key] = Surface(H[..., :3] / w[..., None], ku, kv, self.degree_u, self.degree_v,
+                                 None if self.weights is None else w)
+        return cache[key]
+
     def derivative_bounds(self) -> dict:
         """Rigorous per-span bounds of |S_u|, |S_v|, |S_uu|, |S_uv|, |S_vv|.
 
@@ -476,6 +503,32 @@ class Surface:
         Suvv = (hd[(1, 2)] + 2 * wd[(0, 1)] * Suv + wd[(0, 2)] * S1u + wd[(1, 0)] * Svv
                 + 2 * wd[(1, 1)] * S1v + wd[(1, 2)] * Sm) / wmin
         return {"Suuu": Suuu, "Suuv": Suuv, "Suvv": Suvv, "Svvv": Svvv}
+
+
+def refine_axis(H: np.ndarray, knots: np.ndarray, p: int, pieces: int, axis: int = 0) -> tuple:
+    """Coefficients H (homogeneous) and knots with every non-empty knot span of the domain split into
+    ``pieces`` equal spans: the same spline in the finer space, whose basis spans the old one, so the
+    old basis functions are exact combinations T of the new (solved on collocation points inside the
+    domain, several per new span)."""
+    if pieces <= 1:
+        return H, knots
+    a, b = knots[p], knots[-p - 1]
+    kv = np.unique(knots)
+    kv = kv[(kv >= a) & (kv <= b)]
+    new = (kv[:-1, None] + np.diff(kv)[:, None] * (np.arange(1, pieces) / pieces)[None, :]).ravel()
+    k2 = np.sort(np.concatenate([knots, new]))
+    br = np.unique(k2[(k2 >= a) & (k2 <= b)])
+    x = (br[:-1, None] + np.diff(br)[:, None] * ((np.arange(p + 2) + 0.5) / (p + 2))[None, :]).ravel()
+    T = np.linalg.lstsq(bspline_basis_matrix(k2, p, x), bspline_basis_matrix(knots, p, x), rcond=None)[0]
+    return np.moveaxis(np.tensordot(T, np.moveaxis(H, axis, 0), axes=1), 0, axis), k2
+
+
+def pieces_for(knots: np.ndarray, p: int, spans: int) -> int:
+    """How many pieces each knot span of the domain is split into for about ``spans`` spans in all."""
+    a, b = knots[p], knots[-p - 1]
+    kv = np.unique(knots)
+    have = int(np.count_nonzero((kv > a) & (kv <= b)))
+    return max(1, int(np.ceil(spans / max(have, 1))))
 
 
 class SpanRangeMax:

@@ -7,6 +7,7 @@ from cases import hyperboloid, reparametrized_ruled
 from conftest import data_file
 from ruled import FitOptions, fit_surface
 from ruled.examples import elber_ex1, elber_ex2
+from ruled.nurbs import Surface
 
 OCP = pytest.importorskip("OCP")
 from ruled.cq import fit_face  # noqa: E402
@@ -65,16 +66,36 @@ def test_hyperboloid_closed_non_isoparametric():
 def test_reparametrized_ruled_surface_is_recovered_exactly(gamma):
     """Rulings that are curves of the face's domain (gamma = 1: the pairing has a square-root fan at a
     corner, which a single cubic pairing misses by 1e-5 of the size): the pairing follows them with
-    knots where it misses, and the result is the face to 1e-6 of its size, measured by OCCT."""
+    knots where it misses, and the result is the face to 1e-6 of its size, measured by OCCT (80 x 80
+    samples: the fan's worst point is missed by a coarser measure by a quarter)."""
     S = reparametrized_ruled(gamma)
-    res, h = _fit_and_measure(S)
+    res, h = _fit_and_measure(S, n_measure=80)
     size = S.diagonal()
     assert res.direction == "v"
     assert h.max <= 1e-6 * size, h.max / size
     assert res.error_bound >= h.max
-    if gamma == 0.5:
-        # the second-order remainder keeps the certificate near the measure on an exact fit
-        assert res.error_bound <= max(10 * h.max, 1e-6 * size), (res.error_bound, h.max)
+    # the second-order remainder (over the twins' local derivative bounds, the grid halved where it
+    # dominates) keeps the certificate near the measure on an exact fit
+    assert res.error_bound <= max(10 * h.max, 1e-6 * size), (res.error_bound, h.max)
+
+
+@pytest.mark.parametrize("make,eps", [(lambda: reparametrized_ruled(1.0), 1e-6), (hyperboloid, 1e-4)])
+def test_certificate_holds_on_nearly_ruled_faces(make, eps):
+    """Nearly exact fits, where the second-order remainder decides the bound (the bounding twins, the
+    corner values just inside each cell, R's knots on grid nodes): the bound is never below OCCT's
+    dense measure of the distance (exactly ruled faces with interior poles moved by eps x size)."""
+    S0 = make()
+    rng = np.random.default_rng(11)
+    n = rng.normal(size=S0.poles.shape)
+    n[0] = n[-1] = 0.0
+    n[:, 0] = n[:, -1] = 0.0
+    if S0.periodic_u:
+        n[-S0.degree_u:] = n[:S0.degree_u]
+    S = Surface(S0.poles + eps * S0.diagonal() * n, S0.knots_u, S0.knots_v, S0.degree_u, S0.degree_v,
+                S0.weights, S0.periodic_u, S0.periodic_v)
+    res, h = _fit_and_measure(S, n_measure=60)
+    assert h.max > 1e-3 * eps * S.diagonal()       # not exact any more
+    assert res.error_bound >= h.max, (res.error_bound, h.max)
 
 
 def test_max_objective_and_constraint(tmp_path):
@@ -195,8 +216,9 @@ def test_exactly_ruled_occt_faces_come_back_exact(name):
     size = S.diagonal()
     assert h.max <= 1e-6 * size, h.max / size
     assert res.error_bound >= h.max
-    if name == "arcs":
-        assert res.error_bound <= 1e-6 * size
+    # the rational circle's derivative bounds over the twins' small spans, R's knots on grid nodes
+    # (no jump counted for cells beside them): the hyperboloid's bound was 2.4e-5 of its size
+    assert res.error_bound <= 1e-6 * size, res.error_bound / size
 
 
 def test_bounded_least_squares_matches_scipy(rng):

@@ -133,6 +133,41 @@ def test_third_derivative_bounds_hold_against_occt(rng, degrees):
                 assert vec.Magnitude() <= b[key][iu[k], iv[k]] * (1 + 1e-9) + 1e-9, (key, rational)
 
 
+@pytest.mark.parametrize("periodic", [False, True])
+def test_subdivided_twin_is_the_same_surface_with_sound_local_bounds(rng, periodic):
+    """The certificate's bounding twin (knot spans split, S.subdivided): the same surface by OCCT's
+    evaluation, and its per-span bounds still hold against dense samples (brute force)."""
+    from OCP.gp import gp_Pnt
+    from ruled.occ.convert import container_to_bspline
+    S = random_surface(rng, pu=3, pv=2, nu=7, nv=5, rational=True, periodic_u=periodic)
+    T = S.subdivided(5, 3)
+    assert T.poles.shape[0] > S.poles.shape[0] and T.poles.shape[1] > S.poles.shape[1]
+    bs, bt = container_to_bspline(S), container_to_bspline(T)
+    u0, u1, v0, v1 = S.domain
+    u, v = rng.uniform(u0, u1, 200), rng.uniform(v0, v1, 200)
+    for k in range(u.size):
+        a, b = gp_Pnt(), gp_Pnt()
+        bs.D0(float(u[k]), float(v[k]), a)
+        bt.D0(float(u[k]), float(v[k]), b)
+        assert a.Distance(b) <= 1e-12 * S.diagonal()
+    u, v = rng.uniform(u0, u1, 20000), rng.uniform(v0, v1, 20000)
+    D = S.evaluate(u, v, 2)
+    b = T.derivative_bounds()
+    iu = find_spans(T.knots_u, T.degree_u, T.poles.shape[0], u) - T.degree_u
+    iv = find_spans(T.knots_v, T.degree_v, T.poles.shape[1], v) - T.degree_v
+    for key, val in (("Su", D.Su), ("Sv", D.Sv), ("Suu", D.Suu), ("Suv", D.Suv), ("Svv", D.Svv)):
+        assert (np.linalg.norm(val, axis=1) <= b[key][iu, iv] * (1 + 1e-12)).all(), key
+
+
+def test_subdivided_twin_tightens_rational_third_derivative_bounds():
+    """The hyperboloid's rational circle: the quotient-rule bound of |S_uuu| over a quarter-circle
+    span is far above the true value; over 12 pieces per span it is several times smaller."""
+    S = hyperboloid()
+    whole = S.third_derivative_bounds()["Suuu"].max()
+    split = S.subdivided(12, 1).third_derivative_bounds()["Suuu"].max()
+    assert split < 0.5 * whole, (split, whole)
+
+
 @pytest.mark.skipif(not kernels.AVAILABLE, reason="numba is not installed")
 def test_numba_and_numpy_paths_agree(rng, monkeypatch):
     from ruled.distance import ruling_distances
