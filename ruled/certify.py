@@ -46,7 +46,7 @@ FEET_ITERS = 40
 GRID_GROWTH = 8
 # derivative bounds come from twins of S and R with about this many knot spans per direction (the same
 # surfaces, knots inserted): control-net bounds over smaller pieces are local, hence tighter
-BOUND_SPANS = 48
+BOUND_SPANS = 24
 # bounds below this fraction of the face's size are not refined further (no machine holds less)
 FLOOR = 1e-6
 # the second-order remainder's corner values are taken this fraction of the cell inside each corner

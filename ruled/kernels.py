@@ -219,6 +219,10 @@ if AVAILABLE:
         u0, u1, v0, v1 = dom[0], dom[1], dom[2], dom[3]
         P = np.zeros(3)
         Q = np.zeros(3)
+        Xs = np.zeros((m, 3))
+        UVs = np.zeros((m, 2))
+        r0s = np.zeros(m)
+        taus = np.zeros(m)
         for kk in range(start, stop):
             a = uP[kk]
             b = uQ[kk]
@@ -234,6 +238,9 @@ if AVAILABLE:
                 dd = 1.0
             rmax = 0.0
             dmax = 0.0
+            # the samples' feet on the segment first; then projections, largest composition distance
+            # first: a sample whose r0 is at most the maximum so far cannot raise it (skipped, unless
+            # its foot is asked for), so the order leaves the result as it is
             for k in range(m):
                 t = (k + 0.5) / m
                 uu = _wrap(a * (1 - t) + b * t, u0, u1, closed)
@@ -243,14 +250,22 @@ if AVAILABLE:
                 for c in range(3):
                     tau += (res[0, c] - P[c]) * Q[c]
                 tau = min(max(tau / dd, 0.0), 1.0)
-                X0 = P[0] + tau * Q[0]
-                X1 = P[1] + tau * Q[1]
-                X2 = P[2] + tau * Q[2]
-                r0 = np.sqrt((res[0, 0] - X0) ** 2 + (res[0, 1] - X1) ** 2 + (res[0, 2] - X2) ** 2)
-                if r0 > rmax:
-                    rmax = r0
+                for c in range(3):
+                    Xs[k, c] = P[c] + tau * Q[c]
+                r0s[k] = np.sqrt((res[0, 0] - Xs[k, 0]) ** 2 + (res[0, 1] - Xs[k, 1]) ** 2
+                                 + (res[0, 2] - Xs[k, 2]) ** 2)
+                UVs[k, 0] = uu
+                UVs[k, 1] = vv
+                taus[k] = tau
+                if r0s[k] > rmax:
+                    rmax = r0s[k]
+            order = np.arange(m) if feet else np.argsort(-r0s)
+            for k in order:
+                r0 = r0s[k]
                 if not feet and r0 <= dmax:
-                    continue    # its refined distance is at most r0: it cannot raise the ruling's maximum
+                    break
+                X0, X1, X2 = Xs[k, 0], Xs[k, 1], Xs[k, 2]
+                uu, vv, tau = UVs[k, 0], UVs[k, 1], taus[k]
                 # Gauss-Newton projection of X onto S from (uu, vv)
                 u = uu
                 v = vv
