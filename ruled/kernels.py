@@ -15,12 +15,37 @@ import os
 
 import numpy as np
 
+
+
+def _separate_cache() -> None:
+    """Inside FreeCAD (its own Python and numba, Debian's 0.56) the compiled kernels go to a cache of their
+    own: numba's default, __pycache__ beside the sources, holds index files of the same names for the
+    venv's numba, and each numba discards and overwrites the other's (minutes of compiling each time).
+    Beside the sources when that folder is writable, else in the user's cache; NUMBA_CACHE_DIR wins."""
+    import sys
+    if "FreeCAD" not in sys.modules or "NUMBA_CACHE_DIR" in os.environ:
+        return
+    here = os.path.dirname(os.path.abspath(__file__))
+    if os.access(here, os.W_OK):
+        d = os.path.join(here, "__pycache__", "numba-freecad")
+    else:
+        d = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "ruled", "numba-freecad")
+    os.environ["NUMBA_CACHE_DIR"] = d
+
+
 AVAILABLE = False
 if os.environ.get("RULED_NO_NUMBA", "") not in ("1", "true", "yes"):
     try:
+        _separate_cache()
         import numba
         from numba import njit
         AVAILABLE = True
+        # numba before 0.57 (Debian's 0.56, FreeCAD's Python) inlines at its own IR level so slowly that
+        # the kernels took 6 minutes to compile: there the helpers are left to LLVM's inliner
+        # and its parallel (prange) compile of the split DP took 4 minutes: there it runs on one thread
+        _NEW = tuple(int(x) for x in numba.__version__.split(".")[:2]) >= (0, 57)
+        INLINE = "always" if _NEW else "never"
+        PARALLEL = _NEW
         # numba's TBB layer, when a system libtbb is present (FreeCAD's packages bring one), spins for
         # ever in its finalizer at interpreter exit: use numba's own thread pool unless told otherwise
         if "NUMBA_THREADING_LAYER" not in os.environ:
@@ -55,7 +80,7 @@ def enabled() -> bool:
 
 
 if AVAILABLE:
-    @njit(cache=True, nogil=True, inline="always")
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _span(knots, p, n, x):
         # knots[i] <= x < knots[i+1], clipped to [p, n-1] (same as find_spans)
         lo, hi = 0, knots.shape[0]
@@ -72,7 +97,7 @@ if AVAILABLE:
             i = n - 1
         return i
 
-    @njit(cache=True, nogil=True, inline="always")
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _basis_taylor(tab, knots, p, span, x, nder, ders):
         """Basis values and derivatives on a span by Horner's rule: tab[k, span, r, j] is the
         coefficient of (x - knots[span])^j in the k-th derivative of basis function span - p + r."""
@@ -88,7 +113,7 @@ if AVAILABLE:
     def _workspace(pu, pv):
         return np.zeros((3, pu + 1)), np.zeros((3, pv + 1))
 
-    @njit(cache=True, nogil=True, inline="always")
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _eval_point(hom, ku, kv, tu, tv, pu, pv, u, v, nder, Bu, Bv, out, n):
         """out[n] (6, 3) <- P, Su, Sv, Suu, Suv, Svv at one (u, v) (orders <= nder)."""
         nu, nv = hom.shape[0], hom.shape[1]
@@ -203,7 +228,7 @@ if AVAILABLE:
         for n in range(start, stop):
             _eval_point(hom, ku, kv, tu, tv, pu, pv, u[n], v[n], nder, Bu, Bv, out, n)
 
-    @njit(cache=True, nogil=True, inline="always")
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _wrap(x, a, b, closed):
         if closed:
             L = b - a

@@ -29,19 +29,21 @@ DL_COL = np.array([COL[int(m[3])] for m in MOVES], dtype=np.int64)
 if AVAILABLE:
     from numba import njit
 
-    @njit(cache=True, nogil=True, inline="always")
+    from .kernels import INLINE
+
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _f32_up(x):
         y = np.float32(x)
         if np.float64(y) < x:
             y = np.nextafter(y, np.float32(np.inf))
         return y
 
-    @njit(cache=True, nogil=True, inline="always")
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _normal_d2(lam, rr, r2n):
         """|r + lam N|^2 = |r|^2 + lam (2 r.N + lam) (metrics4d)."""
         return rr + lam * (r2n + lam)
 
-    @njit(cache=True, nogil=True, inline="always")
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _qm(Muu, Muv, Mvv, su, sv):
         return (Muu * su * su + 2.0 * Muv * su * sv) + Mvv * sv * sv
 
@@ -140,7 +142,7 @@ if AVAILABLE:
         """Twin of the NumPy loop in metrics4d.lsad_tables (threads over i)."""
         _run_chunks(lambda a, b: _lsad_range(e, rr, r2n, al, be, out, a, b), rr.shape[0], 1)
 
-    @njit(cache=True, nogil=True, inline="always")
+    @njit(cache=True, nogil=True, inline=INLINE)
     def _take(p, s, bp, bs, tie):
         """The selection rule of dp4d (one pass, in move order): a clearly smaller objective, or an
         objective tied within the tolerance with a smaller secondary (NaN-safe: an empty entry,

@@ -12,6 +12,8 @@ from .kernels import AVAILABLE
 if AVAILABLE:
     from numba import njit, prange
 
+    from .kernels import PARALLEL
+
     @njit(cache=True, nogil=True)
     def _better(p, s, bp, bs):
         return p < bp or (p == bp and s < bs)
@@ -124,7 +126,7 @@ if AVAILABLE:
             endp[:] = Vp
             ends[:] = Vs
 
-    @njit(cache=True, nogil=True, parallel=True)
+    @njit(cache=True, nogil=True, parallel=PARALLEL)
     def fill(A, B, use_max, moves, red, flat, back, endp, ends):
         """A (n, mp, n, d, mm), B (n, mq, n, d, mm); red: the reduction buffers, views of the flat arrays
         in flat = (primary, secondary, argument, reading geometry of each move pattern) (split._buffers);

@@ -41,9 +41,10 @@ _spec.loader.exec_module(_mod)
 """
 
 
-def run_freecadcmd(script: str, tmp_path, timeout: int = 600):
+def run_freecadcmd(script: str, tmp_path, timeout: int = 600, env: dict = None):
     """Run a script in Debian's freecadcmd (skip when it is absent); the script must end with
-    os._exit(code) (freecadcmd exits 0 even when a script raises).  Asserts it exited 0."""
+    os._exit(code) (freecadcmd exits 0 even when a script raises).  Asserts it exited 0.  env: more
+    environment variables."""
     import shutil
     import subprocess
     exe = shutil.which("freecadcmd")
@@ -52,6 +53,6 @@ def run_freecadcmd(script: str, tmp_path, timeout: int = 600):
     path = tmp_path / "fc_script.py"
     path.write_text(script)
     run = subprocess.run([exe, str(path)], capture_output=True, text=True, timeout=timeout,   # the script first
-                         env={**os.environ, "HOME": str(tmp_path)})
+                         env={**os.environ, "HOME": str(tmp_path), **(env or {})})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     return run

@@ -1,5 +1,6 @@
-"""The engine runs unchanged in FreeCAD 0.20's Python (numpy 1.24, scipy 1.10, no numba, no OCP)
-and gives the same numbers as in the venv."""
+"""The engine runs unchanged in FreeCAD 0.20's Python (numpy 1.24, scipy 1.10, no OCP), with its NumPy
+twins and with the numba kernels under Debian's python3-numba 0.56, and gives the same numbers as in the
+venv (the kernels' own outputs bit for bit)."""
 import json
 import textwrap
 
@@ -34,9 +35,12 @@ SCRIPT = textwrap.dedent("""
         from ruled.partition import SplitOptions, split_face
         sp = split_face(elber_ex1(), SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
         split = {{k: [c.curve.poles.tolist(), c.bound] for k, c in sp.candidates.items()}}
+        from ruled.distance import ruling_distances
+        ub, dist = ruling_distances(S, np.linspace(0, 1, 300), 1.0 - 0.7 * np.linspace(0, 1, 300), 9, 3)
         out = {{"split": split, "cos": [c.segments, c.error_bound, c.max_joint_angle_deg, c.curve.poles.tolist()],
                "cone": [[a.A.tolist(), a.B.tolist(), a.w, a.err] for a in arcs],
-               "np": np.__version__, "scipy": scipy.__version__, "numba": kernels.AVAILABLE,
+               "np": np.__version__, "scipy": scipy.__version__, "numba": kernels.enabled(),
+               "rulings": (ub.tobytes() + dist.tobytes()).hex(), "Pbytes": D.P.tobytes().hex(),
                "P": D.P.tolist(), "Suu": D.Suu.tolist(), "pairs": r.best.pairs.tolist(),
                "bound": r.error_bound, "direction": r.direction,
                "pairs4": r4.best.pairs.tolist(), "bound4": r4.error_bound, "method4": r4.best.method}}
@@ -50,19 +54,38 @@ SCRIPT = textwrap.dedent("""
 """)
 
 
-def test_same_numbers_in_freecad_python(tmp_path):
+def _freecad_has_numba(tmp_path) -> bool:
+    run = run_freecadcmd("import os, importlib.util\n"
+                         "print('NUMBA', importlib.util.find_spec('numba') is not None, flush=True)\nos._exit(0)\n",
+                         tmp_path)
+    return "NUMBA True" in run.stdout
+
+
+@pytest.mark.parametrize("kernels", ["numpy", "numba"])
+def test_same_numbers_in_freecad_python(tmp_path, kernels):
+    """FreeCAD's Python with the NumPy twins (RULED_NO_NUMBA=1) and with Debian's numba: the same fits
+    as the venv; with numba, the kernels' ruling distances and surface points bit for bit."""
+    if kernels == "numba" and not _freecad_has_numba(tmp_path):
+        pytest.skip("FreeCAD's Python has no numba (apt-get install -y python3-numba)")
     out = tmp_path / "fc.json"
-    run_freecadcmd(SCRIPT.format(root=ROOT, out=str(out)), tmp_path)
+    run_freecadcmd(SCRIPT.format(root=ROOT, out=str(out)), tmp_path,
+                   env={"RULED_NO_NUMBA": "1" if kernels == "numpy" else "0"})
     fc = json.loads(out.read_text())
     assert fc["np"].startswith("1.")
-    assert fc["numba"] is False
+    assert fc["numba"] is (kernels == "numba")
     from ruled import FitOptions, fit_surface
+    from ruled import kernels as K
+    from ruled.distance import ruling_distances
     from ruled.examples import elber_ex1, elber_ex2
     S = elber_ex2()
     rng = np.random.default_rng(7)
     u = rng.uniform(0, 1, 50)
     v = rng.uniform(0, 1, 50)
     D = S.evaluate(u, v, 2)
+    if kernels == "numba" and K.enabled():
+        ub, dist = ruling_distances(S, np.linspace(0, 1, 300), 1.0 - 0.7 * np.linspace(0, 1, 300), 9, 3)
+        assert fc["rulings"] == (ub.tobytes() + dist.tobytes()).hex()
+        assert fc["Pbytes"] == D.P.tobytes().hex()
     assert np.abs(np.array(fc["P"]) - D.P).max() < 1e-13
     assert np.abs(np.array(fc["Suu"]) - D.Suu).max() < 1e-11
     r = fit_surface(elber_ex1(), FitOptions(samples=16))

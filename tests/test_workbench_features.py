@@ -183,3 +183,66 @@ def test_ruled_split_object_in_freecadcmd(tmp_path):
     assert len(r["candidates"]) == len(res.candidates)
     assert r["bad"][0] is False and "exactly one face" in r["bad"][1]
     assert r["reopened"] == "ruled_workbench.features.RuledSplit"
+
+
+REOPEN_MAKE = textwrap.dedent("""
+    import os, sys, json
+    code = 1
+    try:
+        import FreeCAD, Part
+        from ruled_workbench.features import make_ruled_fit, make_ruled_split    # loaded by the addon's Init.py
+        from ruled_workbench.adapter import surface_to_face
+        from ruled.examples import elber_ex2
+        doc = FreeCAD.newDocument("R")
+        src = doc.addObject("Part::Feature", "Src")
+        src.Shape = surface_to_face(elber_ex2())
+        fit = make_ruled_fit(doc, src, "Face1", Samples=16, MeasureSamples=10)
+        sp = make_ruled_split(doc, src, "Face1", Samples=10, Interior=4, FitSamples=12)
+        doc.recompute()
+        json.dump({{"fit": fit.ErrorBound, "split": sp.ErrorBound}}, open({out!r}, "w"))
+        doc.saveAs({path!r})
+        code = 0
+    except Exception:
+        import traceback; traceback.print_exc()
+    sys.stdout.flush(); sys.stderr.flush()
+    os._exit(code)
+""")
+
+REOPEN_OPEN = textwrap.dedent("""
+    import os, sys, json
+    code = 1
+    try:
+        import FreeCAD
+        doc = FreeCAD.openDocument({path!r})
+        fit, sp = doc.getObject("RuledFit"), doc.getObject("RuledSplit")
+        proxies = [type(o.Proxy).__module__ + "." + type(o.Proxy).__name__ for o in (fit, sp)]
+        fit.touch(); sp.touch()
+        doc.recompute()
+        json.dump({{"proxies": proxies, "valid": [fit.isValid(), sp.isValid()], "fit": fit.ErrorBound,
+                   "split": sp.ErrorBound, "status": [fit.Status, sp.Status]}}, open({out!r}, "w"))
+        code = 0
+    except Exception:
+        import traceback; traceback.print_exc()
+    sys.stdout.flush(); sys.stderr.flush()
+    os._exit(code)
+""")
+
+
+def test_reopen_in_a_fresh_freecadcmd_with_the_addon_installed(tmp_path):
+    """The README's install (a link in the user Mod folder): a document saved with a RuledFit and a
+    RuledSplit reopens in another freecadcmd with their code (Init.py makes ruled_workbench importable
+    from the Mod folder, which FreeCAD's restore check permits), no traceback or blocked import in the
+    log, and recomputes to the same results."""
+    import os
+    mod = tmp_path / ".local" / "share" / "FreeCAD" / "Mod"
+    mod.mkdir(parents=True)
+    os.symlink(ROOT, mod / "Ruled")
+    path, made, opened = str(tmp_path / "r.FCStd"), tmp_path / "made.json", tmp_path / "opened.json"
+    run_freecadcmd(REOPEN_MAKE.format(path=path, out=str(made)), tmp_path)
+    run = run_freecadcmd(REOPEN_OPEN.format(path=path, out=str(opened)), tmp_path)
+    log = run.stdout + run.stderr
+    assert "Traceback" not in log and "blocked import" not in log and "not permitted" not in log, log[-2000:]
+    a, b = json.loads(made.read_text()), json.loads(opened.read_text())
+    assert b["proxies"] == ["ruled_workbench.features.RuledFit", "ruled_workbench.features.RuledSplit"]
+    assert b["valid"] == [True, True] and b["status"] == ["ok", "ok"]
+    assert b["fit"] == pytest.approx(a["fit"], rel=1e-12) and b["split"] == pytest.approx(a["split"], rel=1e-12)

@@ -121,6 +121,25 @@ class _Progress:
         self.bar.stop()
 
 
+_KERNELS_SAID = False
+
+
+def say_kernels() -> None:
+    """Once per session, in the report view: whether the engine runs its numba kernels in FreeCAD's
+    Python or the NumPy code (the same results, about ten times slower)."""
+    global _KERNELS_SAID
+    if _KERNELS_SAID:
+        return
+    _KERNELS_SAID = True
+    from ruled import kernels
+    if kernels.enabled():
+        FreeCAD.Console.PrintLog("Ruled: the numba kernels are in use\n")
+    else:
+        FreeCAD.Console.PrintWarning("Ruled: numba is not installed in FreeCAD's Python, so the fits run the "
+                                     "NumPy code (the same results, about ten times slower); on Debian or "
+                                     "Ubuntu: sudo apt-get install python3-numba\n")
+
+
 class _Feature:
     """What the proxies share: properties added on restore, and a recompute that leaves the object
     invalid with a one-line message (report view and Status) when the engine refuses."""
@@ -135,6 +154,7 @@ class _Feature:
     def inputs(self, obj, verb: str):
         """(source face, options, its surface as arrays, a progress indicator)."""
         from .adapter import face_to_arrays
+        say_kernels()
         face = source_face(obj)
         opts = self.options(obj)
         return face, opts, face_to_arrays(face), _Progress(f"Ruled: {verb} {obj.Label}")

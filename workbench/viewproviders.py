@@ -64,7 +64,7 @@ class ViewProviderRuledFit:
         if not obj.Shape.Faces:
             return
         face = obj.Shape.Faces[0]
-        dev = np.asarray(obj.Deviation, float)
+        dev = np.asarray(getattr(obj, "Deviation", []), float)
         n = int(round(np.sqrt(len(dev)))) if len(dev) else 0
         if n < 2 or n * n != len(dev):
             n, dev = 24, None
@@ -92,7 +92,8 @@ class ViewProviderRuledFit:
         faces.materialIndex.setValues(0, len(idx), idx)
         for node in (hints, mat, bind, coords, faces):
             self.mesh.addChild(node)
-        if self.vobj.ShowRulings and obj.RulingLines:
+        # the view properties are restored after attach() when a document opens: defaults until then
+        if getattr(self.vobj, "ShowRulings", True) and getattr(obj, "RulingLines", None):
             lm = coin.SoMaterial()
             lm.diffuseColor = (0.1, 0.1, 0.1)
             style = coin.SoDrawStyle()
