@@ -29,15 +29,11 @@ def rng():
     return np.random.default_rng(12345)
 
 
-# the workbench package as FreeCAD loads it (InitGui.py): under its stable unique name
+# the workbench package as FreeCAD loads an installed addon (its Init.py), the repository on sys.path
 WORKBENCH_LOADER = f"""
-import sys, os, importlib.util
+import os, sys
 sys.path.insert(0, {ROOT!r})
-_spec = importlib.util.spec_from_file_location("ruled_workbench", os.path.join({ROOT!r}, "workbench", "__init__.py"),
-                                               submodule_search_locations=[os.path.join({ROOT!r}, "workbench")])
-_mod = importlib.util.module_from_spec(_spec)
-sys.modules["ruled_workbench"] = _mod
-_spec.loader.exec_module(_mod)
+exec(compile(open({os.path.join(ROOT, "Init.py")!r}).read(), "Init.py", "exec"), {{}})
 """
 
 

@@ -24,8 +24,9 @@ SCRIPT = textwrap.dedent("""
         from ruled.nurbs import Surface
         out = {{}}
         def props(o):
-            return {{"valid": o.isValid(), "status": o.Status, "bound": o.ErrorBound, "hausdorff": o.Hausdorff,
-                    "rulings": o.Rulings, "faces": len(o.Shape.Faces), "dev": len(o.Deviation)}}
+            return {{"valid": o.isValid(), "status": o.Status, "bound": float(o.ErrorBound),
+                    "hausdorff": float(o.Hausdorff), "rulings": o.Rulings, "faces": len(o.Shape.Faces),
+                    "dev": len(o.Deviation)}}
         doc = FreeCAD.newDocument("T")
         src = doc.addObject("Part::Feature", "Src")
         src.Shape = surface_to_face(elber_ex2())
@@ -70,7 +71,7 @@ SCRIPT = textwrap.dedent("""
         k = make_ruled_fit(d2, imp, "Face7", Samples=16, MeasureSamples=12)
         d2.recompute()
         out["step"] = dict(props(k), area_ratio=k.Shape.Area / imp.Shape.getElement("Face7").Area,
-                           rails=list(k.Rails), trimmed=k.Trimmed, patch=k.PatchDeviation,
+                           rails=list(k.Rails), trimmed=k.Trimmed, patch=float(k.PatchDeviation),
                            rail_edges=[[imp.Shape.getElement(n).isSame(e) for e in imp.Shape.getElement("Face7").Edges]
                                        for r in k.Rails for n in r.split(" + ")])
         json.dump(out, open({out!r}, "w"))
@@ -145,8 +146,8 @@ SPLIT_SCRIPT = textwrap.dedent("""
         bad = make_ruled_split(doc, src, "Edge1")
         doc.recompute()
         on_face = max(src.Shape.Faces[0].distToShape(Part.Vertex(p))[0] for p in sp.SplitCurve)
-        out = {{"valid": sp.isValid(), "status": sp.Status, "chosen": sp.Chosen, "bound": sp.ErrorBound,
-               "whole": sp.WholeBound, "candidates": list(sp.Candidates), "faces": len(sp.Shape.Faces),
+        out = {{"valid": sp.isValid(), "status": sp.Status, "chosen": sp.Chosen, "bound": float(sp.ErrorBound),
+               "whole": float(sp.WholeBound), "candidates": list(sp.Candidates), "faces": len(sp.Shape.Faces),
                "edges": len(sp.Shape.Edges), "curve": len(sp.SplitCurve), "on_face": on_face,
                "bad": [bad.isValid(), bad.Status]}}
         path = os.path.join({tmp!r}, "s.FCStd")
@@ -199,7 +200,7 @@ REOPEN_MAKE = textwrap.dedent("""
         fit = make_ruled_fit(doc, src, "Face1", Samples=16, MeasureSamples=10)
         sp = make_ruled_split(doc, src, "Face1", Samples=10, Interior=4, FitSamples=12)
         doc.recompute()
-        json.dump({{"fit": fit.ErrorBound, "split": sp.ErrorBound}}, open({out!r}, "w"))
+        json.dump({{"fit": float(fit.ErrorBound), "split": float(sp.ErrorBound)}}, open({out!r}, "w"))
         doc.saveAs({path!r})
         code = 0
     except Exception:
@@ -218,8 +219,8 @@ REOPEN_OPEN = textwrap.dedent("""
         proxies = [type(o.Proxy).__module__ + "." + type(o.Proxy).__name__ for o in (fit, sp)]
         fit.touch(); sp.touch()
         doc.recompute()
-        json.dump({{"proxies": proxies, "valid": [fit.isValid(), sp.isValid()], "fit": fit.ErrorBound,
-                   "split": sp.ErrorBound, "status": [fit.Status, sp.Status]}}, open({out!r}, "w"))
+        json.dump({{"proxies": proxies, "valid": [fit.isValid(), sp.isValid()], "fit": float(fit.ErrorBound),
+                   "split": float(sp.ErrorBound), "status": [fit.Status, sp.Status]}}, open({out!r}, "w"))
         code = 0
     except Exception:
         import traceback; traceback.print_exc()

@@ -31,7 +31,7 @@ def test_fit_through_the_task_panel(tmp_path):
                          capture_output=True, text=True, timeout=900, env=env)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     r = json.load(open(os.path.join(out, "result.json")))
-    assert r["commands"] == ["Ruled_Fit", "Ruled_Split", "Ruled_Export"]
+    assert r["commands"] == ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Export"]
     for sub, active, msg in r["bad"]:
         assert not active and msg and "\n" not in msg
         assert ("nothing is selected" in msg) if sub is None else (sub in msg and "not a face" in msg)
@@ -40,6 +40,7 @@ def test_fit_through_the_task_panel(tmp_path):
     assert not r["accept_reran"] and not r["split_accept_reran"] and r["recompute_reran"]
     o = r["object"]
     assert o["valid"] and o["status"] == "ok" and o["proxy"] == "ViewProviderRuledFit" and o["mode"] == "Deviation"
+    assert "Length" in o["bound_unit"]            # the results are lengths, shown in the user's units
     assert o["bound"] >= o["hausdorff"] > 0 and o["lines"] == 2 * o["rulings"] and o["dev"] == 24 * 24
     assert "certified bound" in r["panel_text"] and "red" in r["panel_text"]
     assert os.path.getsize(r["shot"]) > 20_000 and r["step_size"] > 1000
@@ -58,3 +59,34 @@ def test_fit_through_the_task_panel(tmp_path):
     assert sp["valid"] and sp["status"] == "ok" and sp["faces"] == 2 and sp["curve"] == 101
     assert sp["chosen"] in ("optimal", "best-iso", "iso-0.5") and 0 < sp["bound"] < sp["whole"]
     assert os.path.getsize(r["split_shot"]) > 20_000
+    _check_everyday_use(r)
+
+
+def _check_everyday_use(r):
+    """Progress, Cancel, the legend, the panel, double-click, several faces, save and reopen (the GUI
+    script's extra_checks)."""
+    # the colour legend in the view: a title and five values in the user's units, 0 to the largest
+    title, *values = r["legend"]
+    assert "distance to the face" in title and len(values) == 5
+    assert values[0].startswith("0") and all(any(u in v for u in ("mm", "µm", "nm", "m")) for v in values)
+    # "Fit several faces": one RuledFit per face; the refused face is an invalid object with its reason
+    assert [m[:2] for m in r["many"]] == [["Face7", True], ["Face8", True], ["Face1", False]]
+    assert r["many"][2][2] and "\n" not in r["many"][2][2]
+    # the fit panel fits the combo view at 1280 x 1024, every field has a tooltip, 4d options only in 4d
+    width, combo = r["panel_width"]
+    assert combo is None or width <= combo, r["panel_width"]
+    assert r["tooltips"] and r["4d_disabled_in_2d"] and r["4d_enabled_in_4d"]
+    # progress of a fit of several seconds: the status bar's bar and the panel's, many readings each
+    assert r["progress_ok"] and r["progress_fit_s"] > 2
+    assert len(r["progress_readings"]) >= 3 and len(r["panel_progress"]) >= 3
+    # Cancel while a fit runs: stopped within 2 s, the panel closed, the document as before
+    c = r["cancel"]
+    assert c["clicked"] and c["returned"] is False and c["latency_s"] < 2.0, c
+    assert c["objects_same"] and c["panel_closed"]
+    # double-click opens the object's own panel (editing it), Cancel closes it
+    assert r["edit"]["opened"] and r["edit"]["closed"] and r["edit"]["samples"] == 16
+    # save and reopen in the GUI: nothing in the report view, the objects with their code, the same results
+    ro = r["reopen"]
+    assert ro["report_found"] and not ro["traceback"], ro["text"]
+    assert all(ro["valid"]) and ro["same"] and ro["proxies"] == ["RuledFit", "RuledSplit"]
+    assert os.path.getsize(r["reopen_shot"]) > 20_000

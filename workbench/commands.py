@@ -61,6 +61,62 @@ class SplitCommand(FitCommand):
                            "fit both sides (select one face)"}
 
 
+def selected_faces():
+    """[(object, "FaceN")] of every selected face, or (None, what is wrong)."""
+    sel = FreeCADGui.Selection.getSelectionEx()
+    if not sel:
+        return None, "nothing is selected: select faces of a part in the 3D view"
+    out, other = [], []
+    for s in sel:
+        if not s.SubElementNames:
+            other.append(s.Object.Label)
+        for n in s.SubElementNames:
+            (out if n.startswith("Face") else other).append((s.Object, n) if n.startswith("Face") else n)
+    if other or not out:
+        return None, f"select faces only (the selection has {', '.join(other) or 'no face'})"
+    return out, ""
+
+
+class FitManyCommand:
+    """One RuledFit per selected face, with the default parameters, in one undo step; a face the engine
+    refuses becomes an invalid object with its reason (the others are kept)."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("fit.svg"), "MenuText": "Fit several faces",
+                "ToolTip": "Fit a ruled surface to each selected face (default parameters, one RuledFit each; "
+                           "edit any of them afterwards by double-click)"}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and selected_faces()[0] is not None
+
+    def Activated(self):
+        faces, why = selected_faces()
+        if faces is None:
+            _say(why)
+            return
+        from .features import make_ruled_fit
+        doc = faces[0][0].Document
+        doc.openTransaction("Fit several faces")
+        made = []
+        try:
+            for k, (obj, sub) in enumerate(faces):
+                FreeCADGui.getMainWindow().statusBar().showMessage(f"Ruled: fitting {obj.Label} {sub} "
+                                                                   f"({k + 1} of {len(faces)})")
+                fit = make_ruled_fit(doc, obj, sub)
+                made.append(fit)
+                try:
+                    fit.recompute()
+                except Exception:  # refused: the object is invalid, its Status says why
+                    pass
+        finally:
+            doc.commitTransaction()
+            FreeCADGui.getMainWindow().statusBar().clearMessage()
+        bad = [f.Label for f in made if not f.isValid() or f.Status != "ok"]
+        FreeCAD.Console.PrintMessage(f"Ruled: {len(made) - len(bad)} of {len(made)} faces fitted"
+                                     + (f"; not fitted: {', '.join(bad)} (see their Status)" if bad else "") + "\n")
+        return made
+
+
 def export_step(objects, path: str) -> None:
     """The objects' shapes (ruled results) as one STEP file."""
     import Part
@@ -142,10 +198,11 @@ def export(objs, path: str, kind: str, **params) -> None:
             FreeCAD.Console.PrintWarning(f"Ruled: {w}\n")
 
 
-NAMES = ["Ruled_Fit", "Ruled_Split", "Ruled_Export"]
+NAMES = ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Export"]
 
 
 def register() -> None:
     FreeCADGui.addCommand("Ruled_Fit", FitCommand())
+    FreeCADGui.addCommand("Ruled_FitMany", FitManyCommand())
     FreeCADGui.addCommand("Ruled_Split", SplitCommand())
     FreeCADGui.addCommand("Ruled_Export", ExportCommand())

@@ -82,6 +82,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     from ruled.facefit import face_patch
 
     from .adapter import face_region, face_to_arrays, surface_to_face
+    from .features import value
     from .measure import distances, face_points
     obj, src = _one_fit(objects)
     R = result_arrays(obj.Shape.Faces[0])
@@ -92,7 +93,8 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
     csv_path = write_machine(mp, path, title)
     rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path,
-           "machine": path_report(mp), "fit": {"error_bound": obj.ErrorBound, "measured": obj.Hausdorff}}
+           "machine": path_report(mp),
+           "fit": {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}}
     if kind == "xyuv":
         if measure_samples:
             target = src
@@ -102,7 +104,8 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
             to_cut = distances(face_points(target, n), surface_to_face(swept_surface(mp))).max()
             to_design = distances(cut_points(mp, 3 * n * n), target).max()
             rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
-                          "cut_to_design": float(to_design), "bound": obj.Hausdorff + mp.stats["cut_bound_beyond_fit"]}
+                          "cut_to_design": float(to_design),
+                          "bound": value(obj.Hausdorff) + mp.stats["cut_bound_beyond_fit"]}
     elif measure_samples:
         rep["tool_envelope"] = tool_envelope(S, out_side, mp)
     rep["warnings"] = list(mp.warnings)

@@ -39,6 +39,12 @@ def _enum(obj, name, group, doc, values, default):
         setattr(obj, name, default)
 
 
+def value(x) -> float:
+    """A length property's number in mm: a Quantity's value, or the plain float of a document saved
+    before the properties had units."""
+    return float(getattr(x, "Value", x))
+
+
 def source_face(obj):
     """The one face obj.Source names, or a BadInputError saying what is wrong."""
     from ruled.errors import BadInputError
@@ -99,26 +105,66 @@ def _quiet_traceback() -> None:
 
 
 class _Progress:
-    """The engine's progress(stage, fraction) on FreeCAD's progress indicator (the status bar in the GUI,
-    where it can be cancelled: the engine then stops with a CancelledError)."""
+    """The engine's progress(stage, fraction) on FreeCAD's progress indicator (the status bar in the GUI;
+    one run over the whole computation, each stage a share of it) and on the listeners (a task panel's
+    own bar and stage label).  In the GUI the window stays responsive: pending events are processed at
+    most every PUMP seconds, so a task panel's Cancel (request_cancel) or Esc in the status bar stop the
+    engine with a CancelledError at its next progress report."""
 
-    def __init__(self, text: str, steps: int = 100):
+    PUMP = 0.05
+    STAGES = 8           # about as many stages as a fit reports (the overall bar never goes back)
+
+    def __init__(self, text: str, steps: int = 1000):
+        global _CANCEL
+        _CANCEL = False
         self.bar = FreeCAD.Base.ProgressIndicator()
+        self.text, self.stage, self.steps = text, None, steps
+        self.stages = -1
+        self.done = self.updates = 0
         self.bar.start(text, steps)
-        self.steps, self.done = steps, 0
+        self.pumped = 0.0
 
     def __call__(self, stage: str, frac: float) -> None:
         from ruled.errors import CancelledError
-        want = int(round(frac * self.steps * 0.999))
+        frac = min(max(float(frac), 0.0), 1.0)
+        if stage != self.stage:
+            self.stage = stage
+            self.stages += 1
+        overall = (self.stages + frac) / max(self.STAGES, self.stages + 1)
+        want = int(overall * self.steps * 0.999)
         while self.done < want:
             self.done += 1
             try:
                 self.bar.next(True)
-            except Exception:  # FreeCAD raises when the user pressed cancel
+            except Exception:  # FreeCAD raises when the user pressed Esc
                 raise CancelledError("cancelled by the user") from None
+        if FreeCAD.GuiUp and time.perf_counter() - self.pumped > self.PUMP:
+            self.pumped = time.perf_counter()
+            self.updates += 1
+            for listener in LISTENERS:
+                listener(stage, frac)
+            from PySide import QtGui
+            QtGui.QApplication.processEvents()
+        if _CANCEL:
+            raise CancelledError("cancelled by the user")
 
     def stop(self) -> None:
         self.bar.stop()
+
+
+LISTENERS = []       # callables (stage, fraction): a task panel's progress display
+_CANCEL = False
+
+RUNNING = []         # the objects being computed now (a panel's Cancel asks them to stop)
+
+
+def request_cancel() -> bool:
+    """Ask the running computation to stop at its next progress report; False when none runs."""
+    global _CANCEL
+    if not RUNNING:
+        return False
+    _CANCEL = True
+    return True
 
 
 _KERNELS_SAID = False
@@ -162,6 +208,7 @@ class _Feature:
     def execute(self, obj):
         from ruled.errors import RuledError
         t0 = time.perf_counter()
+        RUNNING.append(obj.Name)
         try:
             self.compute(obj)
             obj.Status = "ok"
@@ -171,6 +218,8 @@ class _Feature:
             FreeCAD.Console.PrintError(f"{obj.Label}: {exc}\n")
             _quiet_traceback()
             raise RuntimeError(str(exc)) from None        # FreeCAD marks the object invalid with this message
+        finally:
+            RUNNING.remove(obj.Name)
         obj.Seconds = time.perf_counter() - t0
 
     def __getstate__(self):
@@ -193,22 +242,22 @@ class RuledFit(_Feature):
         _add(obj, "App::PropertyInteger", "Samples", FIT_GROUP, "samples per boundary", 40)
         _enum(obj, "Objective", FIT_GROUP, "sum of the ruling distances (Elber) or the largest one",
               ["sum", "max"], "sum")
-        _add(obj, "App::PropertyFloat", "MaxError", FIT_GROUP, "forbid rulings farther than this from the face "
+        _add(obj, "App::PropertyLength", "MaxError", FIT_GROUP, "forbid rulings farther than this from the face "
              "(0: no limit)", 0.0)
         _enum(obj, "Direction", FIT_GROUP, "which pair of opposite sides of the face the rulings join: v, its "
               "sides 0 and 2 (the v-min and v-max edges of an untrimmed face); u, sides 1 and 3; auto: the better",
               ["auto", "u", "v"], "auto")
         _add(obj, "App::PropertyInteger", "Elevations", FIT_GROUP, "4d: elevation levels on each side", 10)
-        _add(obj, "App::PropertyFloat", "Step", FIT_GROUP, "4d: elevation step in model units (0: the 2d result's "
+        _add(obj, "App::PropertyLength", "Step", FIT_GROUP, "4d: elevation step in model units (0: the 2d result's "
              "distance / elevations)", 0.0)
         _enum(obj, "Metric", FIT_GROUP, "4d cost: lsad (each ruling's distance to the face) or sshb (certified "
               "bound of each bilinear patch)", ["lsad", "sshb"], "lsad")
         _add(obj, "App::PropertyBool", "Refine", FIT_GROUP, "refine the pairing beyond the samples", True)
         _add(obj, "App::PropertyInteger", "MeasureSamples", FIT_GROUP, "n x n samples per face for the measured "
              "Hausdorff distance (0: do not measure)", 40)
-        _add(obj, "App::PropertyFloat", "ErrorBound", RESULT_GROUP, "certified upper bound of the distance to the "
+        _add(obj, "App::PropertyLength", "ErrorBound", RESULT_GROUP, "certified upper bound of the distance to the "
              "source face", 0.0, True)
-        _add(obj, "App::PropertyFloat", "Hausdorff", RESULT_GROUP, "measured Hausdorff distance (OCCT, "
+        _add(obj, "App::PropertyLength", "Hausdorff", RESULT_GROUP, "measured Hausdorff distance (OCCT, "
              "independent of the fit)", 0.0, True)
         _add(obj, "App::PropertyInteger", "Rulings", RESULT_GROUP, "rulings of the DP path", 0, True)
         _add(obj, "App::PropertyFloat", "Seconds", RESULT_GROUP, "time of the last recompute", 0.0, True)
@@ -222,16 +271,16 @@ class RuledFit(_Feature):
              "opposite sides of the face)", None, True)
         _add(obj, "App::PropertyBool", "Trimmed", RESULT_GROUP, "the face is trimmed: it is fitted as bounded by "
              "its edges (its own four-sided patch), not as its surface's rectangle", False, True)
-        _add(obj, "App::PropertyFloat", "PatchDeviation", RESULT_GROUP, "the face's four-sided patch's distance to "
+        _add(obj, "App::PropertyLength", "PatchDeviation", RESULT_GROUP, "the face's four-sided patch's distance to "
              "the face (included in ErrorBound)", 0.0, True)
 
     def options(self, obj):
         from ruled import FitOptions
         return FitOptions(samples=int(obj.Samples), objective=str(obj.Objective),
-                          max_error=float(obj.MaxError) if obj.MaxError > 0 else None,
+                          max_error=value(obj.MaxError) if value(obj.MaxError) > 0 else None,
                           direction=str(obj.Direction), refine=bool(obj.Refine), method=str(obj.Method),
                           elevations=int(obj.Elevations) if obj.Method == "4d" else None,
-                          step=float(obj.Step) if obj.Method == "4d" and obj.Step > 0 else None,
+                          step=value(obj.Step) if obj.Method == "4d" and value(obj.Step) > 0 else None,
                           metric=str(obj.Metric)).checked()
 
     def compute(self, obj):
@@ -281,9 +330,9 @@ class RuledSplit(_Feature):
         _add(obj, "App::PropertyInteger", "FitSamples", group, "samples per boundary of each side's fit", 40)
         _add(obj, "App::PropertyString", "Chosen", RESULT_GROUP, "the split kept: optimal, best-iso or iso-0.5",
              "", True)
-        _add(obj, "App::PropertyFloat", "ErrorBound", RESULT_GROUP, "certified bound of the kept split's two "
+        _add(obj, "App::PropertyLength", "ErrorBound", RESULT_GROUP, "certified bound of the kept split's two "
              "fitted sides", 0.0, True)
-        _add(obj, "App::PropertyFloat", "WholeBound", RESULT_GROUP, "certified bound of one ruled fit of the whole "
+        _add(obj, "App::PropertyLength", "WholeBound", RESULT_GROUP, "certified bound of one ruled fit of the whole "
              "face", 0.0, True)
         _add(obj, "App::PropertyStringList", "Candidates", RESULT_GROUP, "each split's certified bound", None, True)
         _add(obj, "App::PropertyVectorList", "SplitCurve", RESULT_GROUP, "points of the kept split curve on the face",
@@ -350,7 +399,8 @@ def make_ruled_split(doc, source, subname: str, **properties):
     """A RuledSplit on source's face subname with the given properties (not recomputed)."""
     obj = _make(doc, RuledSplit, source, subname, properties)
     if FreeCAD.GuiUp:
-        obj.ViewObject.Proxy = 0
+        from .viewproviders import ViewProviderRuledSplit
+        ViewProviderRuledSplit(obj.ViewObject)
         obj.ViewObject.LineColor = (0.85, 0.1, 0.1)     # the split curve stands out
         obj.ViewObject.LineWidth = 4.0
     return obj

@@ -1,6 +1,8 @@
 """Task panels of "Fit ruled surface" (the fit parameters, Preview: recompute and show the rulings and
 the coloured deviation) and "Split for ruling" (the split DP's parameters, Preview: the split curve on
-the face and the two ruled fits), OK / Cancel inside one undo transaction."""
+the face and the two ruled fits), OK / Cancel inside one undo transaction.  The same panels edit an
+existing object (double-click it in the tree).  While a computation runs the window stays responsive:
+Cancel stops it (and closes the panel, the document as it was), OK and Preview wait for it."""
 
 from __future__ import annotations
 
@@ -8,26 +10,52 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
-from .features import make_ruled_fit, make_ruled_split
+from .features import LISTENERS, make_ruled_fit, make_ruled_split, value
 
 ACTIVE = None            # the open panel (for scripts and tests)
 
 
 class _Panel:
-    """One parametric object made inside an undo transaction: Preview recomputes it, OK keeps it (or
-    stays open with the message), Cancel removes it."""
+    """One parametric object made (or, editing, opened) inside an undo transaction: Preview recomputes
+    it, OK keeps it (or stays open with the message), Cancel removes it (or restores its properties),
+    and stops a computation that is running."""
 
     title = ""
+    busy = False
+    closing = False
 
-    def _open(self, source, make, subname):
+    def _open(self, source, make, subname, obj=None):
         global ACTIVE
-        self.doc = source.Document
-        self.doc.openTransaction(self.title)
-        self.obj = make(self.doc, source, subname)
+        self.doc = source.Document if obj is None else obj.Document
+        self.editing = obj is not None
+        self.doc.openTransaction(("Edit " if self.editing else "") + self.title)
+        self.obj = make(self.doc, source, subname) if obj is None else obj
+        self._done = self.editing and self.obj.isValid() and "Touched" not in self.obj.State
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(self.title)
         ACTIVE = self
-        return QtGui.QFormLayout(self.form)
+        lay = QtGui.QFormLayout(self.form)
+        lay.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
+        return lay
+
+    def _progress(self, stage: str, frac: float) -> None:
+        """The running computation's stage and its fraction, in the panel (Cancel stops it)."""
+        self.progress_seen.append((stage, int(round(100 * frac))))
+        self.bar.setFormat(f"{stage}: %p%")
+        self.bar.setValue(int(round(100 * frac)))
+
+    def _progress_bar(self, lay) -> None:
+        self.progress_seen = []
+        self.bar = QtGui.QProgressBar()
+        self.bar.setRange(0, 100)
+        self.bar.setToolTip("the running computation's stage; Cancel stops it")
+        self.bar.hide()
+        lay.addRow(self.bar)
+
+    @staticmethod
+    def _tip(widget, text: str):
+        widget.setToolTip(text)
+        return widget
 
     def _recompute(self) -> bool:
         """Recompute with the panel's values, unless nothing changed since the last recompute (OK right
@@ -36,83 +64,141 @@ class _Panel:
         if getattr(self, "_done", False) and "Touched" not in self.obj.State:
             return True
         self.obj.touch()
-        self.doc.recompute()
+        self.busy = True
+        self.preview_button.setEnabled(False)
+        self.bar.setValue(0)
+        self.bar.show()
+        LISTENERS.append(self._progress)
+        try:
+            self.doc.recompute()
+        finally:
+            LISTENERS.remove(self._progress)
+            self.busy = False
+            self.bar.hide()
+            self.preview_button.setEnabled(True)
         self._done = self.obj.isValid() and self.obj.Status == "ok"
+        if self.closing:                 # Cancel was pressed while it ran: close now, as it was
+            self._close_cancelled()
+            return False
         return self._done
 
     @staticmethod
     def _set(obj, **values):
         """Set the properties that differ (setting one touches the object, even to the same value)."""
-        for name, value in values.items():
-            if getattr(obj, name) != value:
-                setattr(obj, name, value)
+        for name, new in values.items():
+            if getattr(obj, name) != new:      # a length property compares with a number in mm
+                setattr(obj, name, new)
 
     def accept(self):
-        global ACTIVE
-        if not self.preview():
-            return False                 # the panel stays open with the message
+        if self.busy or not self.preview():
+            return False                 # the panel stays open (with the message)
         self.doc.commitTransaction()
-        FreeCADGui.Control.closeDialog()
-        ACTIVE = None
+        self._leave()
         return True
 
     def reject(self):
-        global ACTIVE
-        self.doc.abortTransaction()
-        FreeCADGui.Control.closeDialog()
-        self.doc.recompute()
-        ACTIVE = None
+        from .features import request_cancel
+        if self.busy:
+            self.closing = True
+            request_cancel()             # the engine stops at its next progress report; then the panel closes
+            return False
+        self._close_cancelled()
         return True
+
+    def _close_cancelled(self):
+        self.doc.abortTransaction()
+        self._leave()
+        self.doc.recompute()
+
+    def _leave(self):
+        global ACTIVE
+        if self.editing:
+            FreeCADGui.ActiveDocument.resetEdit()
+        FreeCADGui.Control.closeDialog()
+        ACTIVE = None
 
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
 
 
+def _length_box(special: str) -> QtGui.QDoubleSpinBox:
+    """A length in model units (mm): 0 shows ``special``."""
+    box = QtGui.QDoubleSpinBox()
+    box.setDecimals(4)
+    box.setRange(0.0, 10000.0)
+    box.setSuffix(" mm")
+    box.setSpecialValueText(special)
+    return box
+
+
 class FitTaskPanel(_Panel):
     title = "Fit ruled surface"
 
-    def __init__(self, source, subname: str):
-        lay = self._open(source, make_ruled_fit, subname)
-        self.method = QtGui.QComboBox()
+    def __init__(self, source, subname: str, obj=None):
+        lay = self._open(source, make_ruled_fit, subname, obj)
+        tip = self._tip
+        self.method = tip(QtGui.QComboBox(), "2d: rulings between samples of two opposite sides (Elber); 4d: "
+                          "their ends also lifted along the normal (Wang & Elber), never worse than 2d")
         self.method.addItems(["2d", "4d"])
-        self.samples = QtGui.QSpinBox()
+        self.samples = tip(QtGui.QSpinBox(), "samples per side; the rulings join samples of the two sides "
+                           "(more: a finer optimum, slower)")
         self.samples.setRange(3, 2000)
         self.samples.setValue(40)
-        self.objective = QtGui.QComboBox()
+        self.objective = tip(QtGui.QComboBox(), "sum: the least total distance of the rulings to the face "
+                             "(Elber); max: the least largest one")
         self.objective.addItems(["sum", "max"])
-        self.max_error = QtGui.QDoubleSpinBox()
-        self.max_error.setDecimals(6)
-        self.max_error.setRange(0.0, 1e9)
-        self.max_error.setSpecialValueText("no limit")
-        self.direction = QtGui.QComboBox()
+        self.max_error = tip(_length_box("no limit"), "forbid rulings farther than this from the face")
+        self.direction = tip(QtGui.QComboBox(), "which pair of opposite sides the rulings join; auto: the "
+                             "pair with the smaller certified bound")
         self.direction.addItems(["auto", "u", "v"])
-        self.elevations = QtGui.QSpinBox()
+        self.elevations = tip(QtGui.QSpinBox(), "4d: elevation levels of each ruling end along the normal")
         self.elevations.setRange(1, 200)
         self.elevations.setValue(10)
-        self.step = QtGui.QDoubleSpinBox()
-        self.step.setDecimals(6)
-        self.step.setRange(0.0, 1e9)
-        self.step.setSpecialValueText("auto")
-        self.metric = QtGui.QComboBox()
+        self.step = tip(_length_box("auto"), "4d: the elevation step (auto: the 2d result's distance / "
+                        "elevations)")
+        self.metric = tip(QtGui.QComboBox(), "4d cost: lsad, each ruling's distance to the face; sshb, the "
+                          "certified bound of each patch between consecutive rulings")
         self.metric.addItems(["lsad", "sshb"])
-        self.measure = QtGui.QSpinBox()
+        self.measure = tip(QtGui.QSpinBox(), "n x n samples of the result for the measured Hausdorff distance "
+                           "and the colours (0: do not measure)")
         self.measure.setRange(0, 400)
         self.measure.setValue(40)
-        self.rulings = QtGui.QCheckBox("show the rulings")
+        self.rulings = tip(QtGui.QCheckBox("show the rulings"), "draw the rulings of the optimal path as lines")
         self.rulings.setChecked(True)
-        self.preview_button = QtGui.QPushButton("Preview")
+        self.preview_button = tip(QtGui.QPushButton("Preview"), "fit with these parameters and show the result "
+                                  "(Cancel stops a fit that runs)")
         self.result = QtGui.QLabel("Preview fits the face with these parameters.")
         self.result.setWordWrap(True)
-        for label, w in (("Method", self.method), ("Samples per boundary", self.samples),
+        for label, w in (("Method", self.method), ("Samples per side", self.samples),
                          ("Objective", self.objective), ("Max error", self.max_error), ("Direction", self.direction),
                          ("4d elevations", self.elevations), ("4d step", self.step), ("4d metric", self.metric),
                          ("Measure samples", self.measure)):
             lay.addRow(label, w)
         lay.addRow(self.rulings)
         lay.addRow(self.preview_button)
+        self._progress_bar(lay)
         lay.addRow(self.result)
+        if self.editing:
+            o = self.obj
+            self.method.setCurrentIndex(self.method.findText(o.Method))
+            self.samples.setValue(o.Samples)
+            self.objective.setCurrentIndex(self.objective.findText(o.Objective))
+            self.max_error.setValue(value(o.MaxError))
+            self.direction.setCurrentIndex(self.direction.findText(o.Direction))
+            self.elevations.setValue(o.Elevations)
+            self.step.setValue(value(o.Step))
+            self.metric.setCurrentIndex(self.metric.findText(o.Metric))
+            self.measure.setValue(o.MeasureSamples)
         self.preview_button.clicked.connect(self.preview)
         self.rulings.toggled.connect(self._show_rulings)
+        self.method.currentIndexChanged.connect(self._method_changed)
+        self._method_changed()
+
+    def _method_changed(self, *_):
+        """The 4d options apply to the 4d method only."""
+        on = self.method.currentText() == "4d"
+        for w in (self.elevations, self.step, self.metric):
+            w.setEnabled(on)
 
     def _apply(self):
         self._set(self.obj, Method=self.method.currentText(), Samples=self.samples.value(),
@@ -126,35 +212,42 @@ class FitTaskPanel(_Panel):
 
     def preview(self) -> bool:
         """Recompute with the panel's parameters; the outcome (or the error) in the panel."""
+        if self.busy:
+            return False
         o = self.obj
         if self._recompute():
-            self.result.setText(f"{o.Rulings} rulings, certified bound {o.ErrorBound:.6g}, measured Hausdorff "
-                                f"{o.Hausdorff:.6g} ({o.Seconds:.2f} s).\nColours: distance to the face, "
-                                f"blue 0 ... red {o.Hausdorff:.4g}.")
+            self.result.setText(f"{o.Rulings} rulings, certified bound {value(o.ErrorBound):.6g} mm, measured "
+                                f"Hausdorff {value(o.Hausdorff):.6g} mm ({o.Seconds:.2f} s).\nColours: distance "
+                                f"to the face, blue 0 ... red {value(o.Hausdorff):.4g} mm (the legend in the view).")
             return True
-        self.result.setText(f"Cannot fit: {o.Status}")
+        if not self.closing:
+            self.result.setText(f"Cannot fit: {o.Status}")
         return False
 
 
 class SplitTaskPanel(_Panel):
     title = "Split for ruling"
 
-    def __init__(self, source, subname: str):
-        lay = self._open(source, make_ruled_split, subname)
-        self.samples = QtGui.QSpinBox()
+    def __init__(self, source, subname: str, obj=None):
+        lay = self._open(source, make_ruled_split, subname, obj)
+        tip = self._tip
+        self.samples = tip(QtGui.QSpinBox(), "samples of the split DP along each side (P, Q and M columns)")
         self.samples.setRange(4, 200)
         self.samples.setValue(30)
-        self.interior = QtGui.QSpinBox()
+        self.interior = tip(QtGui.QSpinBox(), "interior rows where the split curve may cross (M-rows)")
         self.interior.setRange(1, 100)
         self.interior.setValue(10)
-        self.dims = QtGui.QComboBox()
+        self.dims = tip(QtGui.QComboBox(), "4: nothing lifted; 5: the split points lifted along the normal; "
+                        "7: the rulings' ends lifted too")
         self.dims.addItems(["4", "5", "7"])
-        self.objective = QtGui.QComboBox()
+        self.objective = tip(QtGui.QComboBox(), "max: the least largest line metric along the split curve (the "
+                             "paper's); sum: their least total")
         self.objective.addItems(["max", "sum"])
-        self.fit_samples = QtGui.QSpinBox()
+        self.fit_samples = tip(QtGui.QSpinBox(), "samples per side of each half's ruled fit")
         self.fit_samples.setRange(3, 2000)
         self.fit_samples.setValue(40)
-        self.preview_button = QtGui.QPushButton("Preview")
+        self.preview_button = tip(QtGui.QPushButton("Preview"), "split with these parameters and show both halves "
+                                  "(Cancel stops a split that runs)")
         self.result = QtGui.QLabel("Preview finds the split curve and fits both sides.")
         self.result.setWordWrap(True)
         for label, w in (("Samples (P, Q, M columns)", self.samples), ("Interior M-rows", self.interior),
@@ -162,7 +255,15 @@ class SplitTaskPanel(_Panel):
                          ("Samples per side fit", self.fit_samples)):
             lay.addRow(label, w)
         lay.addRow(self.preview_button)
+        self._progress_bar(lay)
         lay.addRow(self.result)
+        if self.editing:
+            o = self.obj
+            self.samples.setValue(o.Samples)
+            self.interior.setValue(o.Interior)
+            self.dims.setCurrentIndex(self.dims.findText(o.Dims))
+            self.objective.setCurrentIndex(self.objective.findText(o.Objective))
+            self.fit_samples.setValue(o.FitSamples)
         self.preview_button.clicked.connect(self.preview)
 
     def _apply(self):
@@ -170,10 +271,21 @@ class SplitTaskPanel(_Panel):
                   Objective=self.objective.currentText(), FitSamples=self.fit_samples.value())
 
     def preview(self) -> bool:
+        if self.busy:
+            return False
         o = self.obj
         if self._recompute():
-            self.result.setText(f"kept the {o.Chosen} split: certified bound {o.ErrorBound:.6g} (one strip: "
-                                f"{o.WholeBound:.6g}; " + ", ".join(o.Candidates) + f") in {o.Seconds:.1f} s.")
+            self.result.setText(f"kept the {o.Chosen} split: certified bound {value(o.ErrorBound):.6g} mm (one "
+                                f"strip: {value(o.WholeBound):.6g} mm; " + ", ".join(o.Candidates)
+                                + f") in {o.Seconds:.1f} s.")
             return True
-        self.result.setText(f"Cannot split: {o.Status}")
+        if not self.closing:
+            self.result.setText(f"Cannot split: {o.Status}")
         return False
+
+
+def panel_for(obj):
+    """The task panel editing an existing RuledFit or RuledSplit (its view provider's setEdit)."""
+    source, subs = obj.Source
+    kind = SplitTaskPanel if type(obj.Proxy).__name__ == "RuledSplit" else FitTaskPanel
+    return kind(source, (subs or [""])[0], obj=obj)

@@ -11,6 +11,112 @@ code = 1
 res = {}
 
 
+def extra_checks(doc, imp, obj, res):
+    """Progress during a fit, Cancel of a running fit, the colour legend, the panel's width, double-click
+    to edit, and save / reopen with a clean report view."""
+    import time
+    import FreeCAD
+    import FreeCADGui
+    from PySide import QtCore, QtGui
+    from ruled_workbench import taskpanels, viewproviders
+    mw = FreeCADGui.getMainWindow()
+    sel = FreeCADGui.Selection
+    obj.ViewObject.Visibility = True
+    res["legend"] = list(viewproviders.LEGENDS.get(doc.Name, (None, None, []))[2])
+    # "Fit several faces": two blade faces and the cone's face (refused): three objects, one invalid
+    sel.clearSelection()
+    for o, sub in ((imp, "Face7"), (imp, "Face8"), (doc.getObject("Cone"), "Face1")):
+        sel.addSelection(o, sub)
+    before = {o.Name for o in doc.Objects}
+    FreeCADGui.runCommand("Ruled_FitMany")
+    new = [o for o in doc.Objects if o.Name not in before]
+    res["many"] = [[o.Source[1][0], o.isValid(), o.Status] for o in new]
+    for o in new:
+        doc.removeObject(o.Name)
+    doc.recompute()
+    # a fit of several seconds: the status bar's progress bar, read every 100 ms while it runs
+    seen = []
+
+    def poll():
+        bars = [b for b in mw.findChildren(QtGui.QProgressBar) if b.isVisible()]
+        seen.append(tuple((b.value(), b.maximum()) for b in bars))
+    timer = QtCore.QTimer()
+    timer.timeout.connect(poll)
+    timer.start(100)
+    sel.clearSelection()
+    sel.addSelection(imp, "Face7")
+    FreeCADGui.runCommand("Ruled_Fit")
+    p2 = taskpanels.ACTIVE
+    combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
+    res["panel_width"] = [p2.form.minimumSizeHint().width(), combo[0].width() if combo else None]
+    p2.method.setCurrentIndex(p2.method.findText("2d"))
+    res["4d_disabled_in_2d"] = not p2.elevations.isEnabled() and not p2.step.isEnabled()
+    p2.method.setCurrentIndex(p2.method.findText("4d"))
+    res["4d_enabled_in_4d"] = p2.elevations.isEnabled()
+    p2.method.setCurrentIndex(p2.method.findText("2d"))
+    res["tooltips"] = all(w.toolTip() for w in (p2.method, p2.samples, p2.objective, p2.max_error, p2.direction,
+                                                  p2.elevations, p2.step, p2.metric, p2.measure, p2.preview_button))
+    p2.samples.setValue(120)
+    p2.measure.setValue(60)
+    t0 = time.time()
+    res["progress_ok"] = p2.preview()
+    res["progress_fit_s"] = time.time() - t0
+    timer.stop()
+    res["progress_readings"] = sorted({v for v in seen if v})
+    res["panel_progress"] = sorted(set(p2.progress_seen))
+    p2.reject()
+    # Cancel while a fit runs: it stops within 2 s and the document is as it was
+    before = sorted(o.Name for o in doc.Objects)
+    sel.clearSelection()
+    sel.addSelection(imp, "Face7")
+    FreeCADGui.runCommand("Ruled_Fit")
+    p3 = taskpanels.ACTIVE
+    p3.samples.setValue(160)
+    p3.measure.setValue(80)
+    p3.method.setCurrentIndex(p3.method.findText("4d"))
+    clicked = []
+    QtCore.QTimer.singleShot(1500, lambda: clicked.append((time.time(), p3.reject())))
+    t0 = time.time()
+    stopped = p3.preview()
+    t1 = time.time()
+    res["cancel"] = {"returned": stopped, "clicked": bool(clicked), "run_s": t1 - t0,
+                     "latency_s": t1 - clicked[0][0] if clicked else None,
+                     "objects_same": sorted(o.Name for o in doc.Objects) == before,
+                     "panel_closed": taskpanels.ACTIVE is None}
+    # double-click on the RuledFit: its own panel, editing it
+    obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
+    ed = taskpanels.ACTIVE
+    res["edit"] = {"opened": ed is not None and ed.editing and ed.obj.Name == obj.Name,
+                   "samples": ed.samples.value() if ed else None}
+    if ed is not None:
+        ed.reject()
+    res["edit"]["closed"] = taskpanels.ACTIVE is None
+    # save, close, reopen: nothing in the report view but the usual, the objects valid, the same results
+    report = [w for w in mw.findChildren(QtGui.QTextEdit) if "Report" in w.objectName()]
+    bound = float(obj.ErrorBound)
+    path = os.path.join(OUT, "gui.FCStd")
+    doc.saveAs(path)
+    name = doc.Name
+    FreeCAD.closeDocument(name)
+    FreeCADGui.updateGui()           # the messages so far reach the report view (they are queued) ...
+    if report:
+        report[0].clear()            # ... and go: only what reopening prints remains
+    d2 = FreeCAD.openDocument(path)
+    FreeCADGui.updateGui()
+    text = report[0].toPlainText() if report else ""
+    o2 = d2.getObject("RuledFit")
+    o2.touch()
+    d2.recompute()
+    b2 = float(o2.ErrorBound)
+    res["reopen"] = {"report_found": bool(report), "traceback": "Traceback" in text or "Error" in text,
+                     "text": text[-1500:], "valid": [o.isValid() for o in d2.Objects if hasattr(o, "Proxy")],
+                     "same": abs(b2 - bound) <= 1e-9 * bound, "bounds": [bound, b2],
+                     "proxies": sorted(type(o.Proxy).__name__ for o in d2.Objects if hasattr(o, "Proxy"))}
+    shot = os.path.join(OUT, "ruled_reopen.png")
+    FreeCADGui.ActiveDocument.ActiveView.saveImage(shot, 1280, 1024, "White")
+    res["reopen_shot"] = shot
+
+
 try:
     import FreeCAD
     import FreeCADGui
@@ -52,7 +158,8 @@ try:
     obj.touch()
     doc.recompute()
     res["recompute_reran"] = obj.Seconds != seconds
-    res["object"] = {"valid": obj.isValid(), "status": obj.Status, "bound": obj.ErrorBound, "hausdorff": obj.Hausdorff,
+    res["object"] = {"valid": obj.isValid(), "status": obj.Status, "bound": float(obj.ErrorBound),
+                     "hausdorff": float(obj.Hausdorff), "bound_unit": str(obj.ErrorBound.Unit),
                      "rulings": obj.Rulings, "lines": len(obj.RulingLines), "dev": len(obj.Deviation),
                      "mode": obj.ViewObject.DisplayMode, "proxy": type(obj.ViewObject.Proxy).__name__}
     imp.ViewObject.Transparency = 70
@@ -111,14 +218,15 @@ try:
     res["split_accept"] = sp.accept()
     res["split_accept_reran"] = doc.getObject("RuledSplit").Seconds != seconds
     so = doc.getObject("RuledSplit")
-    res["split"] = {"valid": so.isValid(), "status": so.Status, "chosen": so.Chosen, "bound": so.ErrorBound,
-                    "whole": so.WholeBound, "faces": len(so.Shape.Faces), "curve": len(so.SplitCurve)}
+    res["split"] = {"valid": so.isValid(), "status": so.Status, "chosen": so.Chosen, "bound": float(so.ErrorBound),
+                    "whole": float(so.WholeBound), "faces": len(so.Shape.Faces), "curve": len(so.SplitCurve)}
     obj.ViewObject.Visibility = False
     sel.clearSelection()
     FreeCADGui.updateGui()
     shot = os.path.join(OUT, "ruled_split.png")
     view.saveImage(shot, 1280, 1024, "White")
     res["split_shot"] = shot
+    extra_checks(doc, imp, obj, res)
     code = 0
 except Exception:
     import traceback
