@@ -292,7 +292,6 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
         if best is None or cert.bound < best.bound:
             best = cert
         split = _cells_to_split(*guide, FLOOR * S.diagonal(), uniform=True)
-
         # each round about halves the excess over the node maximum: stop where even that would not
         # bring the bound below the rival's (the other side's certificate)
         hope = cert.node_max + (cert.bound - cert.node_max) / 2 ** (rounds - rnd)
@@ -304,8 +303,6 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
             break       # the next grid would cost more than the bound is worth (an exact fit asks for ever more)
         extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
         extra_v = np.concatenate([extra_v, 0.5 * (vs[iv] + vs[iv + 1])])
-        if grown > GRID_GROWTH * (target_u + 1) * (target_v + 1):
-            break       # the next grid would cost more than the bound is worth (an exact fit asks for ever more)
     return best
 
 
@@ -581,10 +578,7 @@ def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw) ->
     dd_t = t[1:, 1:] - t00 - du_t - dv_t
     Fuu = Fvv = 0.0
     ncell = (nu - 1) * (nv - 1)
-    P = []
-    for lu in (NUDGE, 1.0 - NUDGE):
-        for lv in (NUDGE, 1.0 - NUDGE):
-            P.append((lu, lv))
+    P = [(lu, lv) for lu in (NUDGE, 1.0 - NUDGE) for lv in (NUDGE, 1.0 - NUDGE)]
     uq = np.concatenate([np.broadcast_to(us[:-1, None] + lu * hu, (nu - 1, nv - 1)).ravel() for lu, lv in P])
     vq = np.concatenate([np.broadcast_to(vs[None, :-1] + lv * hv, (nu - 1, nv - 1)).ravel() for lu, lv in P])
     sq = np.concatenate([(s00 + lu * du_s + lv * dv_s + lu * lv * dd_s).ravel() for lu, lv in P])

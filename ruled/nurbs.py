@@ -198,15 +198,6 @@ class Curve:
         D = np.matmul(Bt, self._hom[idx])                    # homogeneous (N, K, d+1)
         return _rational_curve_ders([D[:, k, :-1] for k in range(nder + 1)], [D[:, k, -1] for k in range(nder + 1)])
 
-    def subdivided(self, pieces: int) -> "Curve":
-        """The same curve with each knot span split into ``pieces`` (tighter per-span bounds of its
-        control net; the periodic flag dropped: the representation is no longer the wrapped one)."""
-        if pieces <= 1:
-            return self
-        H, k = refine_axis(self._hom, self.knots, self.degree, pieces)
-        w = H[:, -1]
-        return Curve(H[:, :-1] / w[:, None], k, self.degree, None if self.weights is None else w)
-
     def __call__(self, t) -> np.ndarray:
         return self.evaluate(t, 0)[0]
 

@@ -120,7 +120,7 @@ class _Progress:
         self.bar = FreeCAD.Base.ProgressIndicator()
         self.text, self.stage, self.steps = text, None, steps
         self.stages = -1
-        self.done = self.updates = 0
+        self.done = 0
         self.bar.start(text, steps)
         self.pumped = 0.0
 
@@ -140,7 +140,6 @@ class _Progress:
                 raise CancelledError("cancelled by the user") from None
         if FreeCAD.GuiUp and time.perf_counter() - self.pumped > self.PUMP:
             self.pumped = time.perf_counter()
-            self.updates += 1
             for listener in LISTENERS:
                 listener(stage, frac)
             from PySide import QtGui

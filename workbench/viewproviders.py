@@ -21,7 +21,7 @@ def colour_ramp(t: np.ndarray) -> np.ndarray:
 
 # the colour scale never spans less than this fraction of the face's size (round-off on an exact fit)
 FLOOR = 1e-6
-LEGENDS = {}             # document name -> (object name, the legend's Coin node, its label texts)
+LEGENDS = {}             # document name -> (object name, the legend's Coin node, its label texts, the view)
 
 
 def user_length(x: float) -> str:
