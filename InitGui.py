@@ -22,7 +22,9 @@ class RuledWorkbench(FreeCADGui.Workbench):
 
     def Initialize(self):
         from ruled_workbench import commands
+        from ruled_workbench.exportpanel import PreferencesPage
         commands.register()
+        FreeCADGui.addPreferencePage(PreferencesPage, "Ruled")     # Edit > Preferences > Ruled
         self.appendToolbar("Ruled", commands.NAMES)
         self.appendMenu("Ruled", commands.NAMES)
 

@@ -13,7 +13,8 @@
               [--split-faces FACES.step] [--report R.json] [--plot P.png]
     ruled fit INPUT --face K --tol T [--max-strips N] -o OUTPUT.step [--split-faces FACES.step] [--report R.json]
     ruled machine INPUT --face K (--xyuv [--planes a,b] [--kerf k] | --flank --tool-radius r [--taper deg] [--tip T])
-              [--chord-tol t] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv] [--step CAM.step [--rulings]]
+              [--chord-tol t] [--units mm|inch] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv]
+              [--step CAM.step [--rulings]]
               [--report R.json] [--plot P.png]
     ruled demo
 
@@ -188,7 +189,10 @@ def _machine_parser(sub) -> None:
                    help="the side of the face the wire offset or the tool is on (outside: the face's normal)")
     m.add_argument("--chord-tol", type=float, default=None,
                    help="largest distance between a straight move and the contours (default 1e-4 of the diagonal)")
-    m.add_argument("--feed", type=float, default=100.0, help="feed rate, model units per minute (default 100)")
+    m.add_argument("--feed", type=float, default=100.0,
+                   help="feed rate, output units per minute (default 100)")
+    m.add_argument("--units", choices=["mm", "inch"], default="mm",
+                   help="units of the G-code / APT / CSV coordinates (the model's are mm; default mm)")
     m.add_argument("--method", choices=["2d", "4d"], default="2d", help="the ruled fit ('ruled fit --method')")
     m.add_argument("--ruled", action="store_true",
                    help="the face is a ruled result already (from 'ruled fit', 'ruled split', 'ruled fit --tol'): "
@@ -612,7 +616,7 @@ def run_machine(args) -> dict:
         face, opts, fit_opts, bar, args.measure_samples, 1.0 if args.side == "outside" else -1.0,
         given=args.ruled, rails=args.rails))
     title = f"face {args.face} of {os.path.basename(args.input)}"
-    write_machine(fm.path, args.output, title, csv_path)
+    write_machine(fm.path, args.output, title, csv_path, args.units)
     if args.step:
         write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face,

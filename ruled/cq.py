@@ -191,19 +191,19 @@ class MachineData:
     surface: Surface          # the ruled surface followed (rulings along v)
     warnings: tuple = ()
 
-    def write_gcode(self, filename: str, title: str = "") -> str:
+    def write_gcode(self, filename: str, title: str = "", units: str = "mm") -> str:
         from .machine_output import write_gcode
-        write_gcode(self.path, filename, title)
+        write_gcode(self.path, filename, title, units)
         return filename
 
-    def write_apt(self, filename: str, title: str = "") -> str:
+    def write_apt(self, filename: str, title: str = "", units: str = "mm") -> str:
         from .machine_output import write_apt
-        write_apt(self.path, filename, title)
+        write_apt(self.path, filename, title, units)
         return filename
 
-    def write_csv(self, filename: str) -> str:
+    def write_csv(self, filename: str, units: str = "mm") -> str:
         from .machine_output import write_csv
-        write_csv(self.path, filename)
+        write_csv(self.path, filename, units)
         return filename
 
     def write_step(self, filename: str, rulings: bool = False) -> str:

@@ -347,6 +347,23 @@ def polyline_curve(points) -> Curve:
     return Curve(P, np.concatenate([[0.0], np.arange(n, dtype=float), [n - 1.0]]), 1)
 
 
+def check_inside(region, D: Curve, n: int = 2001) -> None:
+    """Refuse a domain curve that leaves a trimmed face (ruled.region.Region) as bounded by its edges
+    (n samples); outside the surface's rectangle, approximate's own test names the bound it crosses."""
+    if region.is_rectangle():
+        return
+    t = np.linspace(*D.domain, n)
+    uv = D(t)[:, :2]
+    u0, u1, v0, v1 = region.surface.domain
+    inbox = (uv[:, 0] >= u0) & (uv[:, 0] <= u1) & (uv[:, 1] >= v0) & (uv[:, 1] <= v1)
+    ok = region.contains(uv) | ~inbox
+    if not ok.all():
+        k = int(np.argmin(ok))
+        raise BadInputError(f"the domain curve leaves the face: at t = {t[k]:.6g} it reaches (u, v) = "
+                            f"({uv[k, 0]:.6g}, {uv[k, 1]:.6g}), outside the face's edges (the face is trimmed); "
+                            f"keep the curve inside the face's boundary")
+
+
 def parse_uv(text: str) -> Curve:
     """A polyline from "u0,v0;u1,v1;..." (the command line's --uv)."""
     try:

@@ -14,24 +14,33 @@ from conftest import ROOT, data_file
 pytestmark = [pytest.mark.freecad, pytest.mark.gui]
 
 
-def test_fit_through_the_task_panel(tmp_path):
+OUT = os.path.join(ROOT, "artifacts", "gui")
+
+
+def run_gui(script: str, home, **env_more):
+    """Run a script of tests/gui in FreeCAD's GUI under Xvfb, the repository linked into the user Mod
+    folder of home (the README's install); asserts it exited 0."""
     if shutil.which("freecad") is None or shutil.which("xvfb-run") is None:
         pytest.skip("the FreeCAD GUI or xvfb-run is not installed (apt-get install -y freecad xvfb)")
-    step = data_file("kj66_impeller.step")
-    home = tmp_path / "home"
-    (home / "Mod").mkdir(parents=True)
-    os.symlink(ROOT, home / "Mod" / "Ruled")                 # the README's install: a link into the Mod folder
-    out = os.path.join(ROOT, "artifacts", "gui")
-    shutil.rmtree(out, ignore_errors=True)
+    if not (home / "Mod" / "Ruled").exists():
+        (home / "Mod").mkdir(parents=True, exist_ok=True)
+        os.symlink(ROOT, home / "Mod" / "Ruled")
+    os.makedirs(OUT, exist_ok=True)
     env = {**os.environ, "QTWEBENGINE_DISABLE_SANDBOX": "1", "FREECAD_USER_HOME": str(home),
-           "RULED_STEP": step, "RULED_GUI_OUT": out}
+           "RULED_STEP": data_file("kj66_impeller.step"), "RULED_GUI_OUT": OUT, **env_more}
     env.pop("QT_QPA_PLATFORM", None)
     run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
-                          os.path.join(ROOT, "tests", "gui", "fit_face_gui.py")],
+                          os.path.join(ROOT, "tests", "gui", script)],
                          capture_output=True, text=True, timeout=900, env=env)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
-    r = json.load(open(os.path.join(out, "result.json")))
-    assert r["commands"] == ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Export"]
+    return run
+
+
+def test_fit_through_the_task_panel(tmp_path):
+    run_gui("fit_face_gui.py", tmp_path / "home")
+    r = json.load(open(os.path.join(OUT, "result.json")))
+    assert r["commands"] == ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Partition", "Ruled_Cone",
+                             "Ruled_Curve", "Ruled_Export"]
     for sub, active, msg in r["bad"]:
         assert not active and msg and "\n" not in msg
         assert ("nothing is selected" in msg) if sub is None else (sub in msg and "not a face" in msg)
@@ -44,12 +53,6 @@ def test_fit_through_the_task_panel(tmp_path):
     assert o["bound"] >= o["hausdorff"] > 0 and o["lines"] == 2 * o["rulings"] and o["dev"] == 24 * 24
     assert "certified bound" in r["panel_text"] and "red" in r["panel_text"]
     assert os.path.getsize(r["shot"]) > 20_000 and r["step_size"] > 1000
-    ex = r["export"]
-    assert ex["gcode"] and len(ex["asked"]) == 2 and "Kerf" in ex["asked"][1], ex
-    from test_machine import check_sync
-    ngc = os.path.join(os.path.dirname(r["shot"]), "ruled_fit.ngc")
-    parsed, kinds = check_sync(ngc, ngc[:-4] + ".csv")
-    assert kinds.count("cut") > 10
     # a face the engine refuses: the panel stays open with the reason; Cancel removes the object again
     assert not r["bad_face"]["accepted"] and r["bad_face"]["text"].startswith("Cannot fit:")
     assert sorted(r["after_cancel"]) == ["Cone", "Impeller", "RuledFit"]
@@ -90,3 +93,109 @@ def _check_everyday_use(r):
     assert ro["report_found"] and not ro["traceback"], ro["text"]
     assert all(ro["valid"]) and ro["same"] and ro["proxies"] == ["RuledFit", "RuledSplit"]
     assert os.path.getsize(r["reopen_shot"]) > 20_000
+
+
+def _cli_machine(tmp_path, *args):
+    import sys
+    run = subprocess.run([sys.executable, "-m", "ruled.cli", "machine", data_file("kj66_impeller.step"), "--face", "6",
+                          *args, "--measure-samples", "4", "--quiet"], capture_output=True, text=True, cwd=ROOT,
+                         timeout=600)
+    assert run.returncode == 0, run.stderr
+
+
+def _lines(path, skip):
+    return [x for x in open(path).read().splitlines() if not x.startswith(skip)]
+
+
+def _step_geometry(path):
+    """The STEP's faces, edges and vertex coordinates (OCCT)."""
+    import numpy as np
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_VERTEX
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+    from ruled.occ.io import read_shape
+    shape = read_shape(path)
+
+    def items(kind):
+        ex, out = TopExp_Explorer(shape, kind), []
+        while ex.More():
+            out.append(ex.Current())
+            ex.Next()
+        return out
+    pts = np.array(sorted(BRep_Tool.Pnt_s(TopoDS.Vertex_s(v)).Coord() for v in items(TopAbs_VERTEX)))
+    return len(items(TopAbs_FACE)), len(items(TopAbs_EDGE)), pts
+
+
+def test_commands_and_the_export_panel(tmp_path):
+    """'Fit to tolerance', 'Cone spline' and 'Curve on face' from the toolbar through their panels on kj66
+    face 7 (and a cone), undo; the export panel writes the command line's G-code, CSV, APT and STEP for
+    CAM with the same settings, remembers them across a restart, and the preferences page shows them."""
+    import numpy as np
+    from test_machine import check_sync, parse_apt
+    home = tmp_path / "home"
+    run_gui("commands_gui.py", home)
+    r = json.load(open(os.path.join(OUT, "commands.json")))
+    assert r["partition_toolbar"] and r["cone_toolbar"] and r["curve_toolbar"]     # clicked in the toolbar
+    # Fit to tolerance: every strip within the tolerance (certified, against the face as bounded)
+    p = r["partition"]
+    assert r["partition_accept"] and p["valid"] and p["status"] == "ok" and not p["reran"], p
+    assert p["strips"] >= 2 and p["bound"] <= p["tol"] < p["whole"] and len(p["bounds"]) == p["strips"]
+    assert 0 < p["hausdorff"] <= p["bound"] and p["dev"] == 100 * p["strips"] == 100 * p["faces"]
+    assert p["vp"] == "ViewProviderRuledFit" and p["legend"]
+    assert r["partition_undo"] == [True, True, True]
+    # Cone spline of a cone's face: exact patches; of a twisted blade fit: refused with the reason in a line
+    c = r["cone"]
+    assert r["cone_preview"] and r["cone_accept"] and c["valid"] and c["patches"] == 3 == c["faces"]
+    assert c["developable"] and c["hausdorff"] <= 1e-6 and c["bound"] <= 1e-3
+    assert r["cone_fit_first_enabled"] and not r["cone_of_fit_fit_first_enabled"]
+    cf = r["cone_of_fit"]
+    if not cf["valid"]:
+        assert cf["text"].startswith("Cannot make the cone spline:") and "\n" not in cf["status"]
+        assert "--" not in cf["status"] and "AllowCreases" in cf["status"]
+    # Curve on face: from the sketch, on the face, within its bound; through the picked points
+    k = r["curve"]
+    assert r["curve_preview"] and k["valid"] and k["edges"] == 2 and not r["curve_pick_enabled_with_sketch"]
+    assert k["on_face"] <= 1e-9 and k["hausdorff"] <= k["bound"] <= 1e-3
+    pt = r["points"]
+    assert len(r["picked"]) >= 3 and r["points_preview"] and pt["valid"] and pt["n"] == len(r["picked"])
+    assert pt["on_face"] <= 1e-9 and pt["near_targets"] <= 0.005 * 60     # a pixel or two of the 60 mm blade
+    for key in ("partition_shot", "cone_shot", "curve_shot"):
+        assert os.path.getsize(r[key]) > 10_000
+    width, combo = r["export_width"]
+    assert combo is None or width <= combo, r["export_width"]
+    # the export panel: the settings of its format only, tooltips, then the files of 'ruled machine'
+    ex = r["export"]
+    for fmt, on, off in (("xyuv", ("Kerf", "Planes", "Lead"), ("ToolRadius", "Taper")),
+                         ("flank", ("ToolRadius", "Taper"), ("Kerf", "Planes", "Lead"))):
+        e = ex[fmt]
+        assert e["ok"] and e["exists"] and e["closed"] and e["tooltips"], e
+        assert all(e["enabled"][n] for n in on) and not any(e["enabled"][n] for n in off)
+    _cli_machine(tmp_path, "--xyuv", "--kerf", "0.1", "--units", "inch", "--feed", "50", "--lead", "2",
+                 "--chord-tol", "0.01", "--side", "outside", "-o", str(tmp_path / "cli.ngc"),
+                 "--step", str(tmp_path / "cli_cam.step"), "--rulings")
+    panel = os.path.join(OUT, "panel_wire")
+    assert _lines(panel + ".ngc", "(") == _lines(str(tmp_path / "cli.ngc"), "(")      # all but the comments
+    assert "G20 G90 G94" in open(panel + ".ngc").read()
+    parsed, kinds = check_sync(panel + ".ngc", panel + ".csv")       # G-code and CSV agree, in inches
+    assert kinds.count("cut") > 10
+    assert open(panel + ".csv").read() == open(str(tmp_path / "cli.csv")).read()
+    a, b = _step_geometry(panel + "_cam.step"), _step_geometry(str(tmp_path / "cli_cam.step"))
+    assert a[:2] == b[:2] and a[1] > 100 and np.abs(a[2] - b[2]).max() <= 1e-9
+    _cli_machine(tmp_path, "--flank", "--tool-radius", "3", "--taper", "5", "--feed", "80", "--chord-tol", "0.01",
+                 "-o", str(tmp_path / "cli.apt"))
+    mill = os.path.join(OUT, "panel_mill")
+    assert _lines(mill + ".apt", "PARTNO") == _lines(str(tmp_path / "cli.apt"), "PARTNO")
+    assert open(mill + ".csv").read() == open(str(tmp_path / "cli.csv")).read()
+    tip, axis = parse_apt(mill + ".apt")
+    assert len(tip) > 10 and np.allclose(np.linalg.norm(axis, axis=1), 1.0, atol=1e-8)
+    # remembered: in FreeCAD's parameters, shown by the preferences page, and after a restart
+    want = {"Format": "flank", "Units": "mm", "ChordTol": 0.01, "Kerf": 0.1, "Lead": 2.0, "Feed": 80.0,
+            "ToolRadius": 3.0, "Taper": 5.0, "CamStep": False}
+    assert all(r["remembered"][k] == v for k, v in want.items()), r["remembered"]
+    assert all(r["prefs"]["values"][k] == v for k, v in want.items() if k != "Format")
+    assert r["fit_default_after_prefs"] == 30 and os.path.getsize(r["prefs"]["shot"]) > 5_000
+    run_gui("commands_gui.py", home, RULED_GUI_PHASE="restart")
+    again = json.load(open(os.path.join(OUT, "restart.json")))
+    assert all(again["values"][k] == v for k, v in want.items()), again
+    assert again["fit_samples"] == 30

@@ -1,5 +1,6 @@
-"""Commands of the Ruled workbench: "Fit ruled surface", "Split for ruling" and "Export for
-machining...".  Registered when the workbench is activated (InitGui.py)."""
+"""Commands of the Ruled workbench: "Fit ruled surface", "Fit several faces", "Split for ruling", "Fit
+to tolerance", "Cone spline", "Curve on face" and "Export for machining...".  Registered when the
+workbench is activated (InitGui.py)."""
 
 from __future__ import annotations
 
@@ -59,6 +60,79 @@ class SplitCommand(FitCommand):
         return {"Pixmap": icon("split.svg"), "MenuText": "Split for ruling",
                 "ToolTip": "Find the curve that cuts the selected face in two so that each side rules best, and "
                            "fit both sides (select one face)"}
+
+
+class PartitionCommand(FitCommand):
+    panel = "PartitionTaskPanel"
+
+    def GetResources(self):
+        return {"Pixmap": icon("partition.svg"), "MenuText": "Fit to tolerance",
+                "ToolTip": "Split the selected face into strips until each strip's ruled fit is within a tolerance "
+                           "(select one face)"}
+
+
+def _is_fit(obj) -> bool:
+    return type(getattr(obj, "Proxy", None)).__name__ == "RuledFit"
+
+
+def selected_fit_or_face():
+    """(a RuledFit, "") when one Ruled fit is selected, else selected_face()."""
+    sel = FreeCADGui.Selection.getSelectionEx()
+    if len(sel) == 1 and _is_fit(sel[0].Object):
+        return sel[0].Object, ""
+    return selected_face()
+
+
+class ConeCommand(FitCommand):
+    panel = "ConeTaskPanel"
+
+    def GetResources(self):
+        return {"Pixmap": icon("cone.svg"), "MenuText": "Cone spline",
+                "ToolTip": "Approximate a Ruled fit (or a ruled face) by tangent-continuous developable cone and "
+                           "cylinder patches (select a Ruled fit or one face)"}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and selected_fit_or_face()[0] is not None
+
+    def Activated(self):
+        obj, sub = selected_fit_or_face()
+        if obj is None:
+            _say(sub)
+            return
+        from . import taskpanels
+        FreeCADGui.Control.showDialog(taskpanels.ConeTaskPanel(obj, sub))
+
+
+def selected_face_and_sketch():
+    """(object, "FaceN", sketch or None) of one selected face and at most one selected sketch, or
+    (None, what is wrong, None)."""
+    sel = FreeCADGui.Selection.getSelectionEx()
+    sketches = [s.Object for s in sel if not s.SubElementNames and hasattr(s.Object, "Geometry")]
+    faces = [(s.Object, n) for s in sel for n in (s.SubElementNames or []) if n.startswith("Face")]
+    other = [n for s in sel for n in (s.SubElementNames or []) if not n.startswith("Face")] + \
+        [s.Object.Label for s in sel if not s.SubElementNames and s.Object not in sketches]
+    if len(faces) != 1 or len(sketches) > 1 or other:
+        what = ", ".join([n for _, n in faces] + [k.Label for k in sketches] + other) or "nothing"
+        return None, f"select one face, and at most one sketch (the selection is {what})", None
+    return faces[0][0], faces[0][1], (sketches[0] if sketches else None)
+
+
+class CurveCommand:
+    def GetResources(self):
+        return {"Pixmap": icon("curve.svg"), "MenuText": "Curve on face",
+                "ToolTip": "A curve lying on the selected face: through points you pick on it, or from a sketch "
+                           "mapped onto its (u, v) (select one face, and a sketch if you drew one)"}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and selected_face_and_sketch()[0] is not None
+
+    def Activated(self):
+        obj, sub, sketch = selected_face_and_sketch()
+        if obj is None:
+            _say(sub)
+            return
+        from . import taskpanels
+        FreeCADGui.Control.showDialog(taskpanels.CurveTaskPanel(obj, sub, sketch=sketch))
 
 
 def selected_faces():
@@ -136,48 +210,8 @@ class ExportCommand:
         return any(hasattr(o, "Shape") for o in FreeCADGui.Selection.getSelection())
 
     def Activated(self):
-        from PySide import QtGui
-
-        from .export import FORMATS
-        objs = FreeCADGui.Selection.getSelection()
-        path, chosen = QtGui.QFileDialog.getSaveFileName(None, "Export for machining", "ruled.step",
-                                                         ";;".join(FORMATS))
-        if not path:
-            return
-        kind = FORMATS.get(chosen, "step")
-        params = ask_parameters(kind, objs)
-        if params is None:
-            return
-        from ruled.errors import RuledError
-        try:
-            export(objs, path, kind, **params)
-        except RuledError as exc:  # bad input, or cancelled
-            _say(str(exc))
-            return
-        except Exception as exc:  # Part's OCCError on write failures
-            _say(f"cannot write {path}: {exc}")
-            return
-        FreeCAD.Console.PrintMessage(f"Ruled: wrote {path}\n")
-
-
-def ask_parameters(kind: str, objs):
-    """The machine parameters for kind, asked one by one (None when the user cancels)."""
-    from PySide import QtGui
-    faces = [f for o in objs if hasattr(o, "Shape") for f in o.Shape.Faces]
-    size = max((f.BoundBox.DiagonalLength for f in faces), default=1.0)
-    asks = {"step-rulings": [("chord_tol", "Chord tolerance (rulings as dense as needed)", 1e-4 * size)],
-            "xyuv": [("chord_tol", "Chord tolerance of the XY / UV contours", 1e-4 * size),
-                     ("kerf", "Kerf: wire radius plus spark gap (0: none)", 0.0)],
-            "flank": [("chord_tol", "Chord tolerance of the tool path", 1e-4 * size),
-                      ("tool_radius", "Tool radius", 0.05 * size),
-                      ("taper", "Tool taper: half angle in degrees (0: cylindrical)", 0.0)]}.get(kind, [])
-    out = {}
-    for key, label, default in asks:
-        value, ok = QtGui.QInputDialog.getDouble(None, "Export for machining", label, default, 0.0, 1e9, 6)
-        if not ok:
-            return None
-        out[key] = value
-    return out
+        from .exportpanel import ExportTaskPanel
+        FreeCADGui.Control.showDialog(ExportTaskPanel(FreeCADGui.Selection.getSelection()))
 
 
 def export(objs, path: str, kind: str, **params) -> None:
@@ -198,11 +232,12 @@ def export(objs, path: str, kind: str, **params) -> None:
             FreeCAD.Console.PrintWarning(f"Ruled: {w}\n")
 
 
-NAMES = ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Export"]
+COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Split": SplitCommand,
+            "Ruled_Partition": PartitionCommand, "Ruled_Cone": ConeCommand, "Ruled_Curve": CurveCommand,
+            "Ruled_Export": ExportCommand}
+NAMES = list(COMMANDS)
 
 
 def register() -> None:
-    FreeCADGui.addCommand("Ruled_Fit", FitCommand())
-    FreeCADGui.addCommand("Ruled_FitMany", FitManyCommand())
-    FreeCADGui.addCommand("Ruled_Split", SplitCommand())
-    FreeCADGui.addCommand("Ruled_Export", ExportCommand())
+    for name, kind in COMMANDS.items():
+        FreeCADGui.addCommand(name, kind())

@@ -72,10 +72,11 @@ def rulings_step(objects, path: str, chord_tol=None) -> int:
 
 
 def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None,
-                   taper: float = 0.0, side: str = "outside", planes=None, feed: float = 100.0,
-                   measure_samples: int = 20, progress=None) -> dict:
+                   taper: float = 0.0, side: str = "outside", planes=None, feed: float = 100.0, lead=None,
+                   units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None) -> dict:
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
-    a JSON report beside; returns the report."""
+    a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
+    synchronized points, like ``ruled machine --step --rulings``); returns the report."""
     from ruled.machine import MachineOptions, cut_points, machine_path, swept_surface, tool_envelope
     from ruled.machine_output import path_report, write_machine
 
@@ -88,11 +89,16 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     R = result_arrays(obj.Shape.Faces[0])
     S = face_patch(face_region(src, face_to_arrays(src))).surface     # the face as bounded by its edges
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
-    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, None, feed)
+    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed).checked()
     mp = machine_path(R, S, opts, out_side, progress)
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
-    csv_path = write_machine(mp, path, title)
-    rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path,
+    csv_path = write_machine(mp, path, title, units=units)
+    if cam_step:
+        from ruled.machine import Lines
+        A, B = Lines(R, 1.0).rulings(mp.u)
+        Part.makeCompound([surface_to_face(R)] + [Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape()
+                                                  for a, b in zip(A, B)]).exportStep(cam_step)
+    rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
            "machine": path_report(mp),
            "fit": {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}}
     if kind == "xyuv":

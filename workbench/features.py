@@ -185,6 +185,54 @@ def say_kernels() -> None:
                                      "Ubuntu: sudo apt-get install python3-numba\n")
 
 
+def add_results(obj, what: str) -> None:
+    """The result properties every Ruled object has: the certified bound, the measured Hausdorff distance
+    with the deviations that colour it, the rulings, the time and the status."""
+    _add(obj, "App::PropertyLength", "ErrorBound", RESULT_GROUP, f"certified upper bound of the distance of "
+         f"{what} to the source face", 0.0, True)
+    _add(obj, "App::PropertyLength", "Hausdorff", RESULT_GROUP, f"measured Hausdorff distance between {what} and "
+         f"the source face (FreeCAD's BRepExtrema, independent of the fit)", 0.0, True)
+    _add(obj, "App::PropertyFloatList", "Deviation", RESULT_GROUP, "measured distance of each sample of each result "
+         "face to the source face (MeasureSamples x MeasureSamples per face, for colouring)", None, True)
+    _add(obj, "App::PropertyVectorList", "RulingLines", RESULT_GROUP, "end points of the rulings, two per ruling",
+         None, True)
+    _add(obj, "App::PropertyFloat", "Seconds", RESULT_GROUP, "time of the last recompute", 0.0, True)
+    _add(obj, "App::PropertyString", "Status", RESULT_GROUP, "ok, or what went wrong", "", True)
+
+
+def measure_into(obj, results: list, design, progress=None) -> None:
+    """Measure the result faces against the design face into obj.Hausdorff and obj.Deviation (skipped,
+    0 and empty, when obj.MeasureSamples < 2)."""
+    from .measure import hausdorff
+    n = int(obj.MeasureSamples)
+    if n < 2 or not results:
+        obj.Hausdorff, obj.Deviation = 0.0, []
+        return
+    h = hausdorff(results, design, n, progress)
+    obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
+
+
+def ruling_lines(fits) -> list:
+    """The DP rulings of the fits (FitResult) as end points, two per ruling."""
+    return [FreeCAD.Vector(*map(float, p)) for f in fits for p in f.best.rulings.reshape(-1, 3)]
+
+
+# the engine's messages name the command line's options; in FreeCAD they are properties (until errors
+# carry the option they concern as a field)
+REMEDIES = {"pass --allow-creases (allow_creases=True)": "set AllowCreases",
+            "run 'ruled fit' first, or 'ruled cone --fit'": "cone-spline a Ruled fit of it, or set FitFirst",
+            "(allow_creases=True)": "(set AllowCreases)", "--max-strips": "MaxStrips", "--fit-samples": "FitSamples",
+            "--samples": "Samples", "--interior": "Interior", "--tol": "Tolerance", "--elevations": "Elevations",
+            "--step": "Step", "--dims": "Dims", "--max-error": "MaxError", "--direction": "Direction",
+            "--objective": "Objective", "--method": "Method", "--metric": "Metric"}
+
+
+def in_our_terms(msg: str) -> str:
+    for cli, ours in REMEDIES.items():
+        msg = msg.replace(cli, ours)
+    return msg
+
+
 class _Feature:
     """What the proxies share: properties added on restore, and a recompute that leaves the object
     invalid with a one-line message (report view and Status) when the engine refuses."""
@@ -212,11 +260,11 @@ class _Feature:
             self.compute(obj)
             obj.Status = "ok"
         except RuledError as exc:
-            obj.Status = str(exc)
+            obj.Status = in_our_terms(str(exc))
             obj.Seconds = time.perf_counter() - t0
-            FreeCAD.Console.PrintError(f"{obj.Label}: {exc}\n")
+            FreeCAD.Console.PrintError(f"{obj.Label}: {obj.Status}\n")
             _quiet_traceback()
-            raise RuntimeError(str(exc)) from None        # FreeCAD marks the object invalid with this message
+            raise RuntimeError(obj.Status) from None        # FreeCAD marks the object invalid with this message
         finally:
             RUNNING.remove(obj.Name)
         obj.Seconds = time.perf_counter() - t0
@@ -287,7 +335,6 @@ class RuledFit(_Feature):
         from ruled.hostform import bounds_slack
 
         from .adapter import face_region, outer_edges, surface_to_face
-        from .measure import hausdorff
         face, opts, S, progress = self.inputs(obj, "fitting")
         try:
             res = fit_region(face_region(face, S), opts, progress)
@@ -301,13 +348,8 @@ class RuledFit(_Feature):
             for w in p.warnings:
                 FreeCAD.Console.PrintWarning(f"{obj.Label}: {w}\n")
             obj.Rulings = int(len(res.best.rulings))
-            obj.RulingLines = [FreeCAD.Vector(*map(float, p)) for p in res.best.rulings.reshape(-1, 3)]
-            if obj.MeasureSamples > 1:
-                h = hausdorff(result, face, int(obj.MeasureSamples),
-                              lambda f: progress("measuring (distances to the source)", f))
-                obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
-            else:
-                obj.Hausdorff, obj.Deviation = 0.0, []
+            obj.RulingLines = ruling_lines([res])
+            measure_into(obj, [result], face, lambda f: progress("measuring (distances to the source)", f))
         finally:
             progress.stop()
         obj.Shape = result
@@ -329,15 +371,14 @@ class RuledSplit(_Feature):
         _add(obj, "App::PropertyInteger", "FitSamples", group, "samples per boundary of each side's fit", 40)
         _add(obj, "App::PropertyString", "Chosen", RESULT_GROUP, "the split kept: optimal, best-iso or iso-0.5",
              "", True)
-        _add(obj, "App::PropertyLength", "ErrorBound", RESULT_GROUP, "certified bound of the kept split's two "
-             "fitted sides", 0.0, True)
         _add(obj, "App::PropertyLength", "WholeBound", RESULT_GROUP, "certified bound of one ruled fit of the whole "
              "face", 0.0, True)
         _add(obj, "App::PropertyStringList", "Candidates", RESULT_GROUP, "each split's certified bound", None, True)
         _add(obj, "App::PropertyVectorList", "SplitCurve", RESULT_GROUP, "points of the kept split curve on the face",
              None, True)
-        _add(obj, "App::PropertyFloat", "Seconds", RESULT_GROUP, "time of the last recompute", 0.0, True)
-        _add(obj, "App::PropertyString", "Status", RESULT_GROUP, "ok, or what went wrong", "", True)
+        _add(obj, "App::PropertyInteger", "MeasureSamples", group, "n x n samples per fitted side for the measured "
+             "Hausdorff distance and the colours (0: do not measure)", 24)
+        add_results(obj, "the kept split's two fitted sides (together)")
 
     def options(self, obj):
         from ruled import FitOptions
@@ -346,14 +387,8 @@ class RuledSplit(_Feature):
                             dims=int(obj.Dims), fit=FitOptions(samples=int(obj.FitSamples)).checked()).checked()
 
     def compute(self, obj):
-        import Part
-        import numpy as np
-        from ruled.curve_on_surface import approximate
-        from ruled.partition import split_face
-        from ruled.strips import EDGE_TOL, input_curve
-
-        from .adapter import curve_to_edge, surface_to_face
         from ruled.facefit import face_patch
+        from ruled.partition import split_face
 
         from .adapter import face_region
         face, opts, S, progress = self.inputs(obj, "splitting")
@@ -363,14 +398,27 @@ class RuledSplit(_Feature):
                 FreeCAD.Console.PrintWarning(f"{obj.Label}: {w}\n")
             S = patch.surface
             res = split_face(S, opts, progress)
+            self.finish(obj, face, S, res, progress, float(patch.deviation))
         finally:
             progress.stop()
+
+    def finish(self, obj, face, S, res, progress, dev: float):
+        """The kept split's faces, measure and rulings; the bounds against the face as bounded by its edges
+        (the split's, against the face's four-sided patch, plus the patch's deviation dev)."""
+        import Part
+        import numpy as np
+        from ruled.curve_on_surface import approximate
+        from ruled.strips import EDGE_TOL, input_curve
+
+        from .adapter import curve_to_edge, surface_to_face
         best = res.best()
         cos = approximate(S, input_curve(best.curve, res.transposed), EDGE_TOL * S.diagonal(), 10.0)
         fits = [surface_to_face(side.fit.surface) for side in best.sides]
+        measure_into(obj, fits, face, lambda f: progress("measuring (distances to the source)", f))
+        obj.RulingLines = ruling_lines(side.fit for side in best.sides)
         obj.Shape = Part.makeCompound(fits + [curve_to_edge(cos.curve)])
-        obj.Chosen, obj.ErrorBound, obj.WholeBound = best.name, best.bound, res.whole.bound
-        obj.Candidates = [f"{k}: {c.bound:.6g}" for k, c in res.candidates.items()]
+        obj.Chosen, obj.ErrorBound, obj.WholeBound = best.name, best.bound + dev, res.whole.bound + dev
+        obj.Candidates = [f"{k}: {c.bound + dev:.6g}" for k, c in res.candidates.items()]
         t = np.linspace(*cos.curve.domain, 101)
         obj.SplitCurve = [FreeCAD.Vector(*map(float, p)) for p in cos.curve(t)]
 
@@ -388,7 +436,7 @@ def source_edge_names(obj, edges) -> list:
 def _make(doc, proxy, source, subname: str, properties: dict):
     obj = doc.addObject("Part::FeaturePython", proxy.__name__)
     proxy(obj)
-    obj.Source = (source, [subname])
+    obj.Source = (source, [subname] if subname else [])
     for k, v in properties.items():
         setattr(obj, k, v)
     return obj
@@ -398,16 +446,21 @@ def make_ruled_split(doc, source, subname: str, **properties):
     """A RuledSplit on source's face subname with the given properties (not recomputed)."""
     obj = _make(doc, RuledSplit, source, subname, properties)
     if FreeCAD.GuiUp:
-        from .viewproviders import ViewProviderRuledSplit
-        ViewProviderRuledSplit(obj.ViewObject)
-        obj.ViewObject.LineColor = (0.85, 0.1, 0.1)     # the split curve stands out
-        obj.ViewObject.LineWidth = 4.0
+        from .viewproviders import attach_view_provider
+        attach_view_provider(obj)
     return obj
 
 
+def fit_defaults() -> dict:
+    """The defaults of new fits from the preferences (Edit > Preferences > Ruled)."""
+    g = FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Ruled/Fit")
+    return {"Samples": g.GetInt("Samples", 40), "MeasureSamples": g.GetInt("MeasureSamples", 40)}
+
+
 def make_ruled_fit(doc, source, subname: str, **properties):
-    """A RuledFit on source's face subname (e.g. "Face3") with the given fit properties (not recomputed)."""
-    obj = _make(doc, RuledFit, source, subname, properties)
+    """A RuledFit on source's face subname (e.g. "Face3") with the given fit properties (not recomputed);
+    the others from the preferences."""
+    obj = _make(doc, RuledFit, source, subname, {**fit_defaults(), **properties})
     if FreeCAD.GuiUp:
         from .viewproviders import attach_view_provider
         attach_view_provider(obj)

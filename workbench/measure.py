@@ -78,11 +78,19 @@ def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
     return out
 
 
-def hausdorff(face_a, face_b, n: int = 40, progress=None) -> Hausdorff:
-    """face_a: a result (its n x n grid's distances are kept, for colouring); face_b: the face it fits."""
-    pa, pb = grid(face_a, n), face_points(face_b, n)
-    dab = distances(pa, face_b, None if progress is None else (lambda f: progress(0.5 * f)))
-    dba = distances(pb, face_a, None if progress is None else (lambda f: progress(0.5 + 0.5 * f)))
+def hausdorff(results: list, design, n: int = 24, progress=None) -> Hausdorff:
+    """Several result faces (strips, sides, patches) against the face they replace together: each
+    result's n x n grid to the bounded design face (kept per face, in order, for colouring), and the
+    design face's points to the nearest result (one compound, so the distance is to their union)."""
+    total = len(results) * n * n
+    dab, done = [], 0
+    for f in results:
+        dab.append(distances(grid(f, n), design, None if progress is None else
+                             (lambda x, d=done: progress(0.5 * (d + x * n * n) / total))))
+        done += n * n
+    dab = np.concatenate(dab) if dab else np.zeros(0)
+    pb = face_points(design, n)
+    dba = distances(pb, Part.Compound(results), None if progress is None else (lambda x: progress(0.5 + 0.5 * x)))
     alld = np.concatenate([dab, dba])
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size),
                      tuple(dab))

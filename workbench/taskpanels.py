@@ -1,6 +1,7 @@
 """Task panels of "Fit ruled surface" (the fit parameters, Preview: recompute and show the rulings and
-the coloured deviation) and "Split for ruling" (the split DP's parameters, Preview: the split curve on
-the face and the two ruled fits), OK / Cancel inside one undo transaction.  The same panels edit an
+the coloured deviation), "Split for ruling" (the split DP's parameters, Preview: the split curve on
+the face and the two ruled fits), "Fit to tolerance", "Cone spline" and "Curve on face" (with picking
+points on the face), OK / Cancel inside one undo transaction.  The same panels edit an
 existing object (double-click it in the tree).  While a computation runs the window stays responsive:
 Cancel stops it (and closes the panel, the document as it was), OK and Preview wait for it."""
 
@@ -88,6 +89,17 @@ class _Panel:
         for name, new in values.items():
             if getattr(obj, name) != new:      # a length property compares with a number in mm
                 setattr(obj, name, new)
+
+    def preview(self) -> bool:
+        """Recompute with the panel's values; the outcome (describe) or the error in the panel."""
+        if self.busy:
+            return False
+        if self._recompute():
+            self.result.setText(self.describe(self.obj))
+            return True
+        if not self.closing:
+            self.result.setText(f"Cannot {self.verb}: {self.obj.Status}")
+        return False
 
     def accept(self):
         if self.busy or not self.preview():
@@ -210,19 +222,12 @@ class FitTaskPanel(_Panel):
         if FreeCAD.GuiUp and hasattr(self.obj.ViewObject, "ShowRulings"):
             self.obj.ViewObject.ShowRulings = bool(on)
 
-    def preview(self) -> bool:
-        """Recompute with the panel's parameters; the outcome (or the error) in the panel."""
-        if self.busy:
-            return False
-        o = self.obj
-        if self._recompute():
-            self.result.setText(f"{o.Rulings} rulings, certified bound {value(o.ErrorBound):.6g} mm, measured "
-                                f"Hausdorff {value(o.Hausdorff):.6g} mm ({o.Seconds:.2f} s).\nColours: distance "
-                                f"to the face, blue 0 ... red {value(o.Hausdorff):.4g} mm (the legend in the view).")
-            return True
-        if not self.closing:
-            self.result.setText(f"Cannot fit: {o.Status}")
-        return False
+    verb = "fit"
+
+    def describe(self, o) -> str:
+        return (f"{o.Rulings} rulings, certified bound {value(o.ErrorBound):.6g} mm, measured Hausdorff "
+                f"{value(o.Hausdorff):.6g} mm ({o.Seconds:.2f} s).\nColours: distance to the face, blue 0 ... red "
+                f"{value(o.Hausdorff):.4g} mm (the legend in the view).")
 
 
 class SplitTaskPanel(_Panel):
@@ -270,22 +275,221 @@ class SplitTaskPanel(_Panel):
         self._set(self.obj, Samples=self.samples.value(), Interior=self.interior.value(), Dims=self.dims.currentText(),
                   Objective=self.objective.currentText(), FitSamples=self.fit_samples.value())
 
-    def preview(self) -> bool:
-        if self.busy:
-            return False
+    verb = "split"
+
+    def describe(self, o) -> str:
+        return (f"kept the {o.Chosen} split: certified bound {value(o.ErrorBound):.6g} mm (one strip: "
+                f"{value(o.WholeBound):.6g} mm; " + ", ".join(o.Candidates) + f"), measured Hausdorff "
+                f"{value(o.Hausdorff):.6g} mm, in {o.Seconds:.1f} s.")
+
+
+def _spin(low: int, high: int, value: int, tip: str) -> QtGui.QSpinBox:
+    box = QtGui.QSpinBox()
+    box.setRange(low, high)
+    box.setValue(value)
+    box.setToolTip(tip)
+    return box
+
+
+class PartitionTaskPanel(_Panel):
+    title = "Fit to tolerance"
+
+    def __init__(self, source, subname: str, obj=None):
+        from .objects import make_ruled_partition
+        lay = self._open(source, make_ruled_partition, subname, obj)
         o = self.obj
-        if self._recompute():
-            self.result.setText(f"kept the {o.Chosen} split: certified bound {value(o.ErrorBound):.6g} mm (one "
-                                f"strip: {value(o.WholeBound):.6g} mm; " + ", ".join(o.Candidates)
-                                + f") in {o.Seconds:.1f} s.")
-            return True
-        if not self.closing:
-            self.result.setText(f"Cannot split: {o.Status}")
-        return False
+        self.tol = self._tip(_length_box(""), "every strip's certified bound within this distance from the face")
+        self.tol.setMinimum(0.0001)
+        self.tol.setValue(value(o.Tolerance))
+        self.max_strips = _spin(1, 200, o.MaxStrips, "refuse beyond this many strips")
+        self.samples = _spin(4, 200, o.Samples, "split DP: samples along each side (P, Q and M columns)")
+        self.interior = _spin(1, 100, o.Interior, "split DP: interior rows where a split curve may cross")
+        self.fit_samples = _spin(3, 2000, o.FitSamples, "samples per side of each strip's ruled fit")
+        self.measure = _spin(0, 200, o.MeasureSamples, "n x n samples per strip for the measured Hausdorff "
+                             "distance and the colours (0: do not measure)")
+        self.preview_button = self._tip(QtGui.QPushButton("Preview"), "partition with these parameters and show "
+                                        "the strips (Cancel stops a partition that runs)")
+        self.result = QtGui.QLabel("Preview splits the face into strips until each strip's ruled fit is within the "
+                                   "tolerance.")
+        self.result.setWordWrap(True)
+        for label, w in (("Tolerance", self.tol), ("Max strips", self.max_strips), ("Split samples", self.samples),
+                         ("Split interior rows", self.interior), ("Samples per side fit", self.fit_samples),
+                         ("Measure samples", self.measure)):
+            lay.addRow(label, w)
+        lay.addRow(self.preview_button)
+        self._progress_bar(lay)
+        lay.addRow(self.result)
+        self.preview_button.clicked.connect(self.preview)
+
+    def _apply(self):
+        self._set(self.obj, Tolerance=self.tol.value(), MaxStrips=self.max_strips.value(),
+                  Samples=self.samples.value(), Interior=self.interior.value(), FitSamples=self.fit_samples.value(),
+                  MeasureSamples=self.measure.value())
+
+    def describe(self, o) -> str:
+        return (f"{o.Strips} strips ({o.Used} splitting; uniform iso-parametric needs "
+                f"{o.UniformStrips or 'more than ' + str(o.MaxStrips)}), largest certified bound "
+                f"{value(o.ErrorBound):.6g} mm, measured Hausdorff {value(o.Hausdorff):.6g} mm ({o.Seconds:.1f} s).")
+
+    verb = "partition"
+
+
+class ConeTaskPanel(_Panel):
+    title = "Cone spline"
+
+    def __init__(self, source, subname: str, obj=None):
+        from .objects import make_ruled_cone_spline
+        lay = self._open(source, make_ruled_cone_spline, subname, obj)
+        o = self.obj
+        self.tol = self._tip(_length_box(""), "largest distance of the cone patches from the ruled surface (eq. 9)")
+        self.tol.setMinimum(0.0001)
+        self.tol.setValue(value(o.Tolerance))
+        self.step = self._tip(QtGui.QDoubleSpinBox(), "first arc step along the boundaries, a fraction of their "
+                              "parameter range")
+        self.step.setRange(0.001, 1.0)
+        self.step.setDecimals(3)
+        self.step.setSingleStep(0.05)
+        self.step.setValue(o.Step)
+        self.direction = self._tip(QtGui.QComboBox(), "a ruled face's rulings: along u, v, or auto")
+        self.direction.addItems(["auto", "u", "v"])
+        self.direction.setCurrentIndex(self.direction.findText(o.Direction))
+        self.fit_first = self._tip(QtGui.QCheckBox("fit a face that is not ruled first"), "the face is fitted by a "
+                                   "ruled surface (2d, 40 samples) and the fit is cone-splined")
+        self.fit_first.setChecked(o.FitFirst)
+        self.fit_first.setEnabled(bool([s for s in (o.Source[1] or []) if s]))    # a face, not a RuledFit
+        self.creases = self._tip(QtGui.QCheckBox("allow creases between patches"), "keep a cone spline whose "
+                                 "neighbouring patches are not tangent continuous instead of refusing it")
+        self.creases.setChecked(o.AllowCreases)
+        self.measure = _spin(0, 100, o.MeasureSamples, "n x n samples per patch for the measured distance to the "
+                             "design face and the colours (0: do not measure)")
+        self.preview_button = self._tip(QtGui.QPushButton("Preview"), "build the cone spline and show its patches")
+        self.result = QtGui.QLabel("Preview approximates the ruled surface by developable cone and cylinder patches.")
+        self.result.setWordWrap(True)
+        for label, w in (("Tolerance", self.tol), ("First arc step", self.step), ("Rulings along", self.direction),
+                         ("Measure samples", self.measure)):
+            lay.addRow(label, w)
+        lay.addRow(self.fit_first)
+        lay.addRow(self.creases)
+        lay.addRow(self.preview_button)
+        self._progress_bar(lay)
+        lay.addRow(self.result)
+        self.preview_button.clicked.connect(self.preview)
+
+    def _apply(self):
+        self._set(self.obj, Tolerance=self.tol.value(), Step=self.step.value(), Direction=self.direction.currentText(),
+                  FitFirst=self.fit_first.isChecked(), AllowCreases=self.creases.isChecked(),
+                  MeasureSamples=self.measure.value())
+
+    def describe(self, o) -> str:
+        return (f"{o.Patches} patches in {o.Pieces} piece(s), developable: {'yes' if o.Developable else 'no'}, largest "
+                f"angle between patches {o.MaxG1Angle:.2g} deg; bound {value(o.ErrorBound):.6g} mm (cone "
+                f"{value(o.ConeBound):.6g} + fit {value(o.FitBound):.6g}), measured {value(o.Hausdorff):.6g} mm.")
+
+    verb = "make the cone spline"
+
+
+class CurveTaskPanel(_Panel):
+    """A curve on the face from a sketch or from points picked on the face: with Pick points on, each
+    click on the face adds a point."""
+
+    title = "Curve on face"
+
+    def __init__(self, source, subname: str, obj=None, sketch=None):
+        from .objects import make_ruled_curve
+        lay = self._open(source, lambda d, s, n: make_ruled_curve(d, s, n, sketch=sketch), subname, obj)
+        o = self.obj
+        self.source, self.subname = o.Source[0], (o.Source[1] or [""])[0]
+        self.mapping = self._tip(QtGui.QComboBox(), "how the sketch's x, y become the face's (u, v): unit square, "
+                                 "0..1 across its parameter range; parameters, x = u and y = v")
+        self.mapping.addItems(["unit square", "parameters"])
+        self.mapping.setCurrentIndex(self.mapping.findText(o.Mapping))
+        self.mapping.setEnabled(o.Sketch is not None)
+        self.tol = self._tip(_length_box("auto"), "largest distance from the exact image of the (u, v) curve (auto: "
+                             "1e-5 of the face's size)")
+        self.tol.setValue(value(o.Tolerance))
+        self.angle = self._tip(QtGui.QDoubleSpinBox(), "largest angle between the curve's pieces at their joints")
+        self.angle.setRange(0.01, 45.0)
+        self.angle.setSuffix(" deg")
+        self.angle.setValue(float(getattr(o.Angle, "Value", o.Angle)))
+        self.pick_button = self._tip(QtGui.QPushButton("Pick points on the face"), "then click on the face in the 3D "
+                                     "view: the curve runs through the points in order")
+        self.pick_button.setCheckable(True)
+        self.pick_button.setEnabled(o.Sketch is None)
+        self.clear_button = self._tip(QtGui.QPushButton("Clear points"), "forget the picked points")
+        self.points_label = QtGui.QLabel()
+        self.points = [FreeCAD.Vector(p) for p in o.Points]
+        self.preview_button = self._tip(QtGui.QPushButton("Preview"), "build the curve on the face")
+        self.result = QtGui.QLabel("Preview builds the curve." if o.Sketch is not None else
+                                   "Pick points on the face, then Preview.")
+        self.result.setWordWrap(True)
+        lay.addRow("Sketch mapping", self.mapping)
+        lay.addRow("Tolerance", self.tol)
+        lay.addRow("Joint angle", self.angle)
+        lay.addRow(self.pick_button)
+        lay.addRow(self.clear_button, self.points_label)
+        lay.addRow(self.preview_button)
+        self._progress_bar(lay)
+        lay.addRow(self.result)
+        self._show_points()
+        self.callback = None
+        self.pick_button.toggled.connect(self._picking)
+        self.clear_button.clicked.connect(self._clear)
+        self.preview_button.clicked.connect(self.preview)
+
+    def _show_points(self):
+        self.points_label.setText(f"{len(self.points)} points" if self.obj.Sketch is None else "from the sketch")
+
+    def _clear(self):
+        self.points = []
+        self._show_points()
+
+    def _picking(self, on: bool):
+        from pivy import coin
+        view = FreeCADGui.ActiveDocument.ActiveView
+        if on and self.callback is None:
+            self.callback = view.addEventCallbackPivy(coin.SoMouseButtonEvent.getClassTypeId(), self._clicked)
+        elif not on and self.callback is not None:
+            view.removeEventCallbackPivy(coin.SoMouseButtonEvent.getClassTypeId(), self.callback)
+            self.callback = None
+
+    def _clicked(self, cb):
+        from pivy import coin
+        ev = cb.getEvent()
+        if ev.getButton() == coin.SoMouseButtonEvent.BUTTON1 and ev.getState() == coin.SoMouseButtonEvent.DOWN:
+            if self.pick(tuple(ev.getPosition().getValue())):
+                cb.setHandled()
+
+    def pick(self, pos) -> bool:
+        """Add the point of the source face under the view position pos (pixels, from the lower left)."""
+        info = FreeCADGui.ActiveDocument.ActiveView.getObjectInfo((int(pos[0]), int(pos[1])))
+        if not info or info.get("Object") != self.source.Name or info.get("Component") != self.subname:
+            return False
+        self.points.append(FreeCAD.Vector(info["x"], info["y"], info["z"]))
+        self._show_points()
+        return True
+
+    def _apply(self):
+        self._set(self.obj, Mapping=self.mapping.currentText(), Tolerance=self.tol.value(),
+                  Angle=self.angle.value())
+        if [tuple(p) for p in self.obj.Points] != [tuple(p) for p in self.points]:
+            self.obj.Points = self.points
+
+    def _leave(self):
+        self._picking(False)
+        super()._leave()
+
+    def describe(self, o) -> str:
+        return (f"{o.Segments} pieces, certified within {value(o.ErrorBound):.3g} mm of the exact image; measured: "
+                f"{value(o.Hausdorff):.3g} mm from it, {value(o.OnFace):.2g} mm from the face.")
+
+    verb = "build the curve"
+
+
+PANELS = {"RuledFit": FitTaskPanel, "RuledSplit": SplitTaskPanel, "RuledPartition": PartitionTaskPanel,
+          "RuledConeSpline": ConeTaskPanel, "RuledCurveOnFace": CurveTaskPanel}
 
 
 def panel_for(obj):
-    """The task panel editing an existing RuledFit or RuledSplit (its view provider's setEdit)."""
+    """The task panel editing an existing Ruled object (its view provider's setEdit)."""
     source, subs = obj.Source
-    kind = SplitTaskPanel if type(obj.Proxy).__name__ == "RuledSplit" else FitTaskPanel
-    return kind(source, (subs or [""])[0], obj=obj)
+    return PANELS[type(obj.Proxy).__name__](source, (subs or [""])[0], obj=obj)

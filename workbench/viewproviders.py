@@ -154,8 +154,18 @@ class _Editable:
     dumps, loads = __getstate__, __setstate__
 
 
-class ViewProviderRuledSplit(_Editable):
-    """RuledSplit: Part's display of its two fitted halves and the split curve, its own icon and panel."""
+ICONS = {"RuledFit": "fit.svg", "RuledSplit": "split.svg", "RuledPartition": "partition.svg",
+         "RuledConeSpline": "cone.svg", "RuledCurveOnFace": "curve.svg"}
+
+
+def _icon(vobj_or_obj) -> str:
+    from . import icon
+    obj = getattr(vobj_or_obj, "Object", vobj_or_obj)
+    return icon(ICONS.get(type(getattr(obj, "Proxy", None)).__name__, "ruled.svg"))
+
+
+class ViewProviderRuledCurve(_Editable):
+    """RuledCurveOnFace: Part's display of its edges (thick, red), its own icon and panel."""
 
     def __init__(self, vobj):
         vobj.Proxy = self
@@ -164,11 +174,14 @@ class ViewProviderRuledSplit(_Editable):
         self.vobj = vobj
 
     def getIcon(self):
-        from . import icon
-        return icon("split.svg")
+        return _icon(self.vobj)
 
 
 class ViewProviderRuledFit(_Editable):
+    """Every Ruled object with result faces (RuledFit, RuledSplit, RuledPartition, RuledConeSpline): each
+    face coloured by its measured distance to the source, the rulings, the faces' outlines and the
+    split curves (the shape's edges that bound no face) in red."""
+
     def __init__(self, vobj):
         vobj.addProperty("App::PropertyBool", "ShowRulings", "Ruled", "draw the DP rulings as lines")
         vobj.ShowRulings = True
@@ -213,66 +226,128 @@ class ViewProviderRuledFit(_Editable):
         return True
 
     def getIcon(self):
-        from . import icon
-        return icon("fit.svg")
+        return _icon(self.vobj) if hasattr(self, "vobj") else _icon(None)
 
     def _rebuild(self, obj):
-        from pivy import coin
-
-        from .measure import face_bounds
         self.mesh.removeAllChildren()
         self.lines.removeAllChildren()
-        if not obj.Shape.Faces:
+        faces = obj.Shape.Faces if not obj.Shape.isNull() else []
+        if not faces:
+            hide_legend(obj.Document.Name, obj.Name)
             return
-        face = obj.Shape.Faces[0]
         dev = np.asarray(getattr(obj, "Deviation", []), float)
-        n = int(round(np.sqrt(len(dev)))) if len(dev) else 0
-        if n < 2 or n * n != len(dev):
-            n, dev = 24, None
-        u0, u1, v0, v1 = face_bounds(face)
-        s = face.Surface
-        pts = [s.value(float(u), float(v)) for u in np.linspace(u0, u1, n) for v in np.linspace(v0, v1, n)]
+        n = int(round(np.sqrt(len(dev) / len(faces)))) if len(dev) else 0
+        if n < 2 or n * n * len(faces) != len(dev):
+            n, dev = 16, None
         if dev is not None:
-            top = colour_range(dev, face.BoundBox.DiagonalLength)
-            cols = colour_ramp(dev / top)
+            top = colour_range(dev, obj.Shape.BoundBox.DiagonalLength)
             if getattr(self.vobj, "Visibility", True):
                 show_legend(obj, top)
         else:
-            cols = np.tile([0.75, 0.78, 0.82], (n * n, 1))
             hide_legend(obj.Document.Name, obj.Name)
-        mat = coin.SoMaterial()
-        mat.diffuseColor.setValues(0, n * n, [tuple(map(float, c)) for c in cols])
-        bind = coin.SoMaterialBinding()
-        bind.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
-        hints = coin.SoShapeHints()
-        hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
-        hints.creaseAngle = 0.8
-        coords = coin.SoCoordinate3()
-        coords.point.setValues(0, n * n, [(p.x, p.y, p.z) for p in pts])
-        idx = []
-        for i in range(n - 1):
-            for j in range(n - 1):
-                a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
-                idx += [a, b, c, -1, a, c, d, -1]
-        faces = coin.SoIndexedFaceSet()
-        faces.coordIndex.setValues(0, len(idx), idx)
-        faces.materialIndex.setValues(0, len(idx), idx)
-        for node in (hints, mat, bind, coords, faces):
-            self.mesh.addChild(node)
+        m = max(n, MESH)
+        for k, face in enumerate(faces):
+            cols = np.tile([0.75, 0.78, 0.82], (m * m, 1)) if dev is None else \
+                colour_ramp(_resampled(dev[k * n * n:(k + 1) * n * n].reshape(n, n), m).ravel() / top)
+            self.mesh.addChild(_face_mesh(face, m, cols))
+        if len(faces) > 1:       # the strips' or patches' outlines
+            self.lines.addChild(_polylines([e for f in faces for e in f.Edges], (0.25, 0.25, 0.25), 1.0))
+        free = [c for c in obj.Shape.childShapes() if c.ShapeType in ("Edge", "Wire")]
+        if free:                 # the split curves on the face
+            self.lines.addChild(_polylines([e for c in free for e in c.Edges], (0.85, 0.1, 0.1), 4.0))
         # the view properties are restored after attach() when a document opens: defaults until then
-        if getattr(self.vobj, "ShowRulings", True) and getattr(obj, "RulingLines", None):
-            lm = coin.SoMaterial()
-            lm.diffuseColor = (0.1, 0.1, 0.1)
-            style = coin.SoDrawStyle()
-            style.lineWidth = 1.5
-            lc = coin.SoCoordinate3()
-            lp = [(p.x, p.y, p.z) for p in obj.RulingLines]
-            lc.point.setValues(0, len(lp), lp)
-            ls = coin.SoLineSet()
-            ls.numVertices.setValues(0, len(lp) // 2, [2] * (len(lp) // 2))
-            for node in (lm, style, lc, ls):
-                self.lines.addChild(node)
+        lp = [(p.x, p.y, p.z) for p in getattr(obj, "RulingLines", None) or []]
+        if getattr(self.vobj, "ShowRulings", True) and lp:
+            self.lines.addChild(_segments(lp, (0.1, 0.1, 0.1), 1.5))
+
+
+class ViewProviderRuledSplit(ViewProviderRuledFit):
+    """Documents saved before the split had colours name this class: the same view provider."""
+
+
+MESH = 24               # the least grid of a face's mesh (the measured grid may be coarser: interpolated)
+
+
+def _resampled(grid: np.ndarray, m: int) -> np.ndarray:
+    """An n x n grid of values over a face's parameters, bilinearly interpolated to m x m."""
+    n = grid.shape[0]
+    if m == n:
+        return grid
+    x, y = np.linspace(0.0, 1.0, n), np.linspace(0.0, 1.0, m)
+    rows = np.array([np.interp(y, x, r) for r in grid])
+    return np.array([np.interp(y, x, c) for c in rows.T]).T
+
+
+def _face_mesh(face, n: int, cols):
+    """The face's n x n parameter grid as triangles, coloured per vertex."""
+    from pivy import coin
+
+    from .measure import face_bounds
+    u0, u1, v0, v1 = face_bounds(face)
+    s = face.Surface
+    pts = [s.value(float(u), float(v)) for u in np.linspace(u0, u1, n) for v in np.linspace(v0, v1, n)]
+    sep = coin.SoSeparator()
+    mat = coin.SoMaterial()
+    mat.diffuseColor.setValues(0, n * n, [tuple(map(float, c)) for c in cols])
+    bind = coin.SoMaterialBinding()
+    bind.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
+    hints = coin.SoShapeHints()
+    hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
+    hints.creaseAngle = 0.8
+    coords = coin.SoCoordinate3()
+    coords.point.setValues(0, n * n, [(p.x, p.y, p.z) for p in pts])
+    idx = []
+    for i in range(n - 1):
+        for j in range(n - 1):
+            a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
+            idx += [a, b, c, -1, a, c, d, -1]
+    tri = coin.SoIndexedFaceSet()
+    tri.coordIndex.setValues(0, len(idx), idx)
+    tri.materialIndex.setValues(0, len(idx), idx)
+    for node in (hints, mat, bind, coords, tri):
+        sep.addChild(node)
+    return sep
+
+
+def _line_node(points, counts, colour, width):
+    from pivy import coin
+    sep = coin.SoSeparator()
+    lm = coin.SoMaterial()
+    lm.diffuseColor = colour
+    style = coin.SoDrawStyle()
+    style.lineWidth = width
+    lc = coin.SoCoordinate3()
+    lc.point.setValues(0, len(points), points)
+    ls = coin.SoLineSet()
+    ls.numVertices.setValues(0, len(counts), counts)
+    for node in (lm, style, lc, ls):
+        sep.addChild(node)
+    return sep
+
+
+def _segments(points, colour, width):
+    """Line segments between consecutive pairs of points."""
+    return _line_node(points, [2] * (len(points) // 2), colour, width)
+
+
+def _polylines(edges, colour, width):
+    """The edges as polylines (FreeCAD's discretization)."""
+    pts, counts = [], []
+    for e in edges:
+        if e.Degenerated:
+            continue
+        q = e.discretize(Deflection=max(1e-3 * e.Length, 1e-7))
+        pts += [(p.x, p.y, p.z) for p in q]
+        counts.append(len(q))
+    return _line_node(pts, counts, colour, width)
+
 
 def attach_view_provider(obj) -> None:
-    if FreeCAD.GuiUp:
+    if not FreeCAD.GuiUp:
+        return
+    if type(obj.Proxy).__name__ == "RuledCurveOnFace":
+        ViewProviderRuledCurve(obj.ViewObject)
+        obj.ViewObject.LineColor = (0.85, 0.1, 0.1)
+        obj.ViewObject.LineWidth = 4.0
+    else:
         ViewProviderRuledFit(obj.ViewObject)

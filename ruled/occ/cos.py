@@ -3,14 +3,13 @@ pcurve on that face, measured independently (used by the command line and the Ca
 
 from __future__ import annotations
 
-import numpy as np
 
 import time
 
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
-from ..curve_on_surface import CurveOnSurface, Progress, approximate, sampled_error
+from ..curve_on_surface import CurveOnSurface, Progress, approximate, check_inside, sampled_error
 from ..nurbs import Curve, Surface
 from .convert import (container_to_bspline, container_to_face, curve2d_to_bspline, curve_to_bspline, edge_on_face,
                       face_surface_type, face_to_container)
@@ -29,25 +28,6 @@ class FaceCurve:
     timings: dict = field(default_factory=dict)   # seconds: approximate, measure
 
 
-def _inside_face(face, S, D: Curve, n: int = 2001) -> None:
-    """Refuse a domain curve that leaves the face as bounded by its edges (dense samples)."""
-    from ..errors import BadInputError
-    from .region import face_region
-    region = face_region(face, S)
-    if region.is_rectangle():
-        return          # the rectangle's own test (in the engine) names the bound it crosses
-    t = np.linspace(*D.domain, n)
-    uv = D(t)[:, :2]
-    u0, u1, v0, v1 = S.domain
-    inbox = (uv[:, 0] >= u0) & (uv[:, 0] <= u1) & (uv[:, 1] >= v0) & (uv[:, 1] <= v1)
-    ok = region.contains(uv) | ~inbox         # outside the rectangle: the engine's message says where
-    if not ok.all():
-        k = int(np.argmin(ok))
-        raise BadInputError(f"the domain curve leaves the face: at t = {t[k]:.6g} it reaches (u, v) = "
-                            f"({uv[k, 0]:.6g}, {uv[k, 1]:.6g}), outside the face's edges (the face is trimmed); "
-                            f"keep the curve inside the face's boundary")
-
-
 def curve_on_face(face, D: Curve, tol: float, angle: float = 1.0, *, bound: str = "local", progress: Progress = None,
                   measure_samples: Optional[int] = 2000) -> FaceCurve:
     """The image of the (u, v) curve D on the face's surface, within tol (certified) and with joints
@@ -60,7 +40,8 @@ def curve_on_face(face, D: Curve, tol: float, angle: float = 1.0, *, bound: str 
         warnings.append(f"the face is a {kind}; (u, v) are taken in its B-spline conversion's parameters, and the "
                         f"pcurve lies on that converted surface")
         host = container_to_face(S)
-    _inside_face(face, S, D)
+    from .region import face_region
+    check_inside(face_region(face, S), D)
     t0 = time.perf_counter()
     res = approximate(S, D, tol, angle, bound=bound, progress=progress)
     t1 = time.perf_counter()

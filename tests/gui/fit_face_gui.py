@@ -192,18 +192,6 @@ try:
     step = os.path.join(OUT, "ruled_fit.step")
     commands.export_step([obj], step)
     res["step_size"] = os.path.getsize(step)
-    # "Export for machining...": the file dialog's XYUV G-code format, its questions answered with their defaults
-    from PySide import QtGui
-    from ruled_workbench.export import FORMATS
-    ngc = os.path.join(OUT, "ruled_fit.ngc")
-    label = next(k for k, v in FORMATS.items() if v == "xyuv")
-    asked = []
-    QtGui.QFileDialog.getSaveFileName = lambda *a, **k: (ngc, label)
-    QtGui.QInputDialog.getDouble = lambda parent, title, text, value, *a, **k: (asked.append(text) or value, True)
-    sel.clearSelection()
-    sel.addSelection(obj)
-    FreeCADGui.runCommand("Ruled_Export")
-    res["export"] = {"asked": asked, "gcode": os.path.exists(ngc), "message": commands.LAST_MESSAGE}
     # "Split for ruling" on the same face: the panel's preview, then OK; a picture of the split curve
     sel.clearSelection()
     sel.addSelection(imp, "Face7")

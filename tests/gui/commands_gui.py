@@ -1,0 +1,296 @@
+"""Run by tests/test_workbench_gui.py inside the FreeCAD GUI (under Xvfb): "Fit to tolerance", "Cone
+spline" and "Curve on face" from their toolbar entries through their task panels on faces of kj66 (and
+a cone), undo, the export panel writing G-code, APT and a STEP for CAM, the preferences page; with
+RULED_GUI_PHASE=restart, a second start that reads back what the export panel remembered.  Writes
+commands.json (restart.json) and pictures to $RULED_GUI_OUT; ends with os._exit."""
+import json
+import os
+import sys
+
+OUT = os.environ["RULED_GUI_OUT"]
+PHASE = os.environ.get("RULED_GUI_PHASE", "main")
+os.makedirs(OUT, exist_ok=True)
+code = 1
+res = {}
+
+
+def toolbar_run(name):
+    """Trigger the command's button in the Ruled toolbar, as a click does (True), or run it (False)."""
+    from PySide import QtGui
+    import FreeCADGui
+    mw = FreeCADGui.getMainWindow()
+    for bar in mw.findChildren(QtGui.QToolBar):
+        if bar.objectName() == "Ruled" or bar.windowTitle() == "Ruled":
+            for a in bar.actions():
+                if a.objectName() == name:
+                    a.trigger()
+                    return True
+    FreeCADGui.runCommand(name)
+    return False
+
+
+def shoot(name, obj=None):
+    import FreeCADGui
+    view = FreeCADGui.ActiveDocument.ActiveView
+    if obj is not None:
+        FreeCADGui.Selection.clearSelection()
+        FreeCADGui.Selection.addSelection(obj)
+        FreeCADGui.SendMsgToActiveView("ViewSelection")
+        FreeCADGui.Selection.clearSelection()
+    FreeCADGui.updateGui()
+    path = os.path.join(OUT, name)
+    view.saveImage(path, 1280, 1024, "White")
+    return path
+
+
+def grab(widget, name):
+    import FreeCADGui
+    for _ in range(3):
+        FreeCADGui.updateGui()
+    path = os.path.join(OUT, name)
+    widget.grab().save(path)
+    return path
+
+
+def only(doc, *visible):
+    for o in doc.Objects:
+        if hasattr(o, "ViewObject") and o.ViewObject is not None:
+            o.ViewObject.Visibility = o in visible
+
+
+def face_on(view, face):
+    u0, u1, v0, v1 = face.ParameterRange
+    n = face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))
+    view.setViewDirection((-n.x, -n.y, -n.z))
+
+
+def main():
+    import FreeCAD
+    import FreeCADGui
+    import Part
+    from PySide import QtGui
+    FreeCADGui.activateWorkbench("RuledWorkbench")
+    from ruled_workbench import commands, exportpanel, taskpanels
+    from ruled_workbench.features import make_ruled_fit, value
+    mw = FreeCADGui.getMainWindow()
+    res["commands"] = [c for c in commands.NAMES if c in FreeCADGui.listCommands()]
+    doc = FreeCAD.newDocument("Cmds")
+    imp = doc.addObject("Part::Feature", "Impeller")
+    imp.Shape = Part.read(os.environ["RULED_STEP"])
+    doc.recompute()
+    sel = FreeCADGui.Selection
+    view = FreeCADGui.ActiveDocument.ActiveView
+    imp.ViewObject.Transparency = 70
+    face7 = imp.Shape.getElement("Face7")
+
+    # Fit to tolerance: one strip's bound first, then a tolerance below it
+    sel.clearSelection()
+    sel.addSelection(imp, "Face7")
+    res["partition_toolbar"] = toolbar_run("Ruled_Partition")
+    p = taskpanels.ACTIVE
+    p.samples.setValue(10)
+    p.interior.setValue(4)
+    p.fit_samples.setValue(16)
+    p.measure.setValue(10)
+    p.tol.setValue(1000.0)
+    p.preview()
+    whole = value(p.obj.ErrorBound)
+    p.tol.setValue(round(0.8 * whole, 4))
+    ok = p.preview()
+    seconds = p.obj.Seconds
+    res["partition_text"] = p.result.text()
+    o = p.obj
+    res["partition_accept"] = ok and p.accept()
+    res["partition"] = {"whole": whole, "tol": value(o.Tolerance), "strips": o.Strips, "bound": value(o.ErrorBound),
+                        "hausdorff": value(o.Hausdorff), "bounds": list(o.StripBounds), "valid": o.isValid(),
+                        "status": o.Status, "reran": o.Seconds != seconds, "dev": len(o.Deviation),
+                        "faces": len(o.Shape.Faces), "vp": type(o.ViewObject.Proxy).__name__,
+                        "legend": o.Name == __import__("ruled_workbench.viewproviders", fromlist=["x"]).LEGENDS.get(
+                            doc.Name, [None])[0]}
+    name = o.Name
+    only(doc, o)
+    face_on(view, face7)
+    res["partition_shot"] = shoot("ruled_partition.png", o)
+    n = len(doc.Objects)
+    doc.undo()
+    res["partition_undo"] = [len(doc.Objects) == n - 1, doc.getObject(name) is None]
+    doc.redo()
+    res["partition_undo"].append(doc.getObject(name) is not None)
+
+    # Cone spline of a cone's face, through the panel
+    cone = doc.addObject("Part::Feature", "Cone")
+    cone.Shape = Part.makeCone(10, 6, 8).translate(FreeCAD.Vector(150, 0, 0))
+    doc.recompute()
+    sel.clearSelection()
+    sel.addSelection(cone, "Face1")
+    res["cone_toolbar"] = toolbar_run("Ruled_Cone")
+    c = taskpanels.ACTIVE
+    c.tol.setValue(0.001)
+    c.measure.setValue(8)
+    res["cone_fit_first_enabled"] = c.fit_first.isEnabled()
+    res["cone_preview"] = c.preview()
+    res["cone_text"] = c.result.text()
+    co = c.obj
+    res["cone_accept"] = c.accept()
+    res["cone"] = {"valid": co.isValid(), "status": co.Status, "patches": co.Patches, "developable": co.Developable,
+                   "bound": value(co.ErrorBound), "hausdorff": value(co.Hausdorff), "faces": len(co.Shape.Faces)}
+    only(doc, co)
+    view.viewIsometric()
+    res["cone_shot"] = shoot("ruled_cone.png", co)
+    # ... and of a RuledFit of the blade face (kj66's blades twist: the reason, one line, if refused)
+    fit = make_ruled_fit(doc, imp, "Face7", Samples=16, MeasureSamples=8)
+    doc.recompute()
+    sel.clearSelection()
+    sel.addSelection(fit)
+    toolbar_run("Ruled_Cone")
+    c2 = taskpanels.ACTIVE
+    res["cone_of_fit_fit_first_enabled"] = c2.fit_first.isEnabled()
+    c2.tol.setValue(0.05)
+    c2.measure.setValue(6)
+    c2.preview()
+    res["cone_of_fit"] = {"valid": c2.obj.isValid(), "status": c2.obj.Status, "text": c2.result.text(),
+                          "fit_bound": value(c2.obj.FitBound), "fit": value(fit.ErrorBound)}
+    c2.reject()
+
+    # Curve on face from a sketch: a line and an arc in the unit square of the face's parameter range, where
+    # the (trimmed) face is
+    u0, u1, v0, v1 = face7.ParameterRange
+
+    def inside(a, b):
+        return face7.isPartOfDomain(u0 + a * (u1 - u0), v0 + b * (v1 - v0))
+    grid = [(i / 20, j / 20) for i in range(1, 20) for j in range(1, 20) if inside(i / 20, j / 20)]
+    a0, b0 = grid[0]
+    a1, b1 = max(grid, key=lambda g: (g[0] - a0) ** 2 + (g[1] - b0) ** 2 if all(
+        inside(a0 + t * (g[0] - a0), b0 + t * (g[1] - b0)) for t in [x / 40 for x in range(41)]) else -1)
+    r = 0.01
+    ac, bc = max(grid, key=lambda g: sum(inside(g[0] + 2 * r * da, g[1] + 2 * r * db) for da in (-1, 0, 1)
+                                         for db in (-1, 0, 1)))      # a point well inside
+    sk = doc.addObject("Sketcher::SketchObject", "Sketch")
+    sk.addGeometry(Part.LineSegment(FreeCAD.Vector(a0, b0, 0), FreeCAD.Vector(a1, b1, 0)))
+    sk.addGeometry(Part.ArcOfCircle(Part.Circle(FreeCAD.Vector(ac, bc, 0), FreeCAD.Vector(0, 0, 1), r), 0.3, 2.8))
+    res["sketch"] = {"line": [a0, b0, a1, b1], "arc": [ac, bc, r], "centre_inside": inside(ac, bc)}
+    doc.recompute()
+    sel.clearSelection()
+    sel.addSelection(imp, "Face7")
+    sel.addSelection(sk)
+    res["curve_toolbar"] = toolbar_run("Ruled_Curve")
+    k = taskpanels.ACTIVE
+    k.tol.setValue(0.001)
+    res["curve_pick_enabled_with_sketch"] = k.pick_button.isEnabled()
+    res["curve_preview"] = k.preview()
+    res["curve_text"] = k.result.text()
+    ko = k.obj
+    k.accept()
+    res["curve"] = {"valid": ko.isValid(), "status": ko.Status, "edges": len(ko.Shape.Edges),
+                    "bound": value(ko.ErrorBound), "hausdorff": value(ko.Hausdorff), "on": value(ko.OnFace),
+                    "on_face": max(face7.distToShape(Part.Vertex(q))[0] for e in ko.Shape.Edges
+                                   for q in e.discretize(Number=40))}
+    # ... and through points picked on the face in the 3D view (the blade face on its own: in the part,
+    # the other blades hide it)
+    blade = doc.addObject("Part::Feature", "Blade")
+    blade.Shape = face7.copy()
+    doc.recompute()
+    only(doc, blade)
+    face_on(view, face7)
+    sel.clearSelection()
+    sel.addSelection(blade, "Face1")
+    FreeCADGui.SendMsgToActiveView("ViewSelection")
+    sel.clearSelection()
+    sel.addSelection(blade, "Face1")
+    toolbar_run("Ruled_Curve")
+    k2 = taskpanels.ACTIVE
+    k2.pick_button.setChecked(True)
+    FreeCADGui.updateGui()
+    along = sorted(grid, key=lambda g: g[1])         # along the blade, one way
+    spread = along[::max(1, len(along) // 6)]
+    inside = [(u0 + a * (u1 - u0), v0 + b * (v1 - v0)) for a, b in spread]
+    height = view.getSize()[1]
+    picked, targets = [], []
+    for uv in inside[:6]:
+        q = face7.valueAt(*uv)
+        x, y = view.getPointOnScreen(q)
+        for pos in ((x, y), (x, height - y)):        # pixels from the lower left (Coin's), whichever it is
+            if k2.pick(pos):
+                picked.append(list(pos))
+                targets.append(tuple(q))
+                break
+    res["picked"] = picked
+    k2.tol.setValue(0.001)
+    res["points_preview"] = k2.preview()
+    ko2 = k2.obj
+    k2.accept()
+    res["points"] = {"valid": ko2.isValid(), "status": ko2.Status, "n": len(ko2.Points),
+                     "bound": value(ko2.ErrorBound),
+                     "near_targets": max((ko2.Shape.distToShape(Part.Vertex(FreeCAD.Vector(*t)))[0] for t in targets),
+                                         default=None),
+                     "on_face": max(face7.distToShape(Part.Vertex(q))[0] for q in ko2.Shape.Edges[0].discretize(
+                         Number=40)) if ko2.Shape.Edges else None}
+    only(doc, blade, ko, ko2)
+    blade.ViewObject.Transparency = 50
+    sel.clearSelection()
+    res["curve_shot"] = shoot("ruled_curve.png")
+
+    # Export for machining: one panel, the files the command line writes with the same settings
+    mfit = make_ruled_fit(doc, imp, "Face7", MeasureSamples=0)      # the defaults: 2d, 40 samples
+    doc.recompute()
+    exports = {}
+    for fmt, path, settings in (
+            ("xyuv", os.path.join(OUT, "panel_wire.ngc"), {"Units": "inch", "ChordTol": 0.01, "Kerf": 0.1,
+                                                      "Side": "outside", "Planes": "", "Lead": 2.0, "Feed": 50.0,
+                                                      "CamStep": True}),
+            ("flank", os.path.join(OUT, "panel_mill.apt"), {"Units": "mm", "ChordTol": 0.01, "ToolRadius": 3.0,
+                                                       "Taper": 5.0, "Feed": 80.0, "CamStep": False})):
+        sel.clearSelection()
+        sel.addSelection(mfit)
+        toolbar_run("Ruled_Export")
+        ep = exportpanel.ACTIVE
+        ep.format.setCurrentIndex(ep.kinds.index(fmt))
+        ep.path.setText(path)
+        for key, val in settings.items():
+            exportpanel._put(ep.widgets[key], val)
+        enabled = {key: w.isEnabled() for key, w in ep.widgets.items()}
+        combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
+        res.setdefault("export_width", [ep.form.minimumSizeHint().width(), combo[0].width() if combo else None])
+        tips = all(w.toolTip() for w in ep.widgets.values()) and bool(ep.format.toolTip())
+        shot = grab(mw, f"ruled_export_{fmt}.png")
+        text = ep.result.text()
+        ok = ep.accept()
+        exports[fmt] = {"ok": ok, "text": ep.result.text() if not ok else text, "enabled": enabled, "tooltips": tips,
+                        "shot": shot,
+                        "exists": os.path.exists(path), "closed": exportpanel.ACTIVE is None}
+    res["export"] = exports
+    res["remembered"] = exportpanel.load_settings()
+    page = exportpanel.PreferencesPage()
+    page.loadSettings()
+    page.form.resize(520, 640)
+    res["prefs"] = {"shot": grab(page.form, "ruled_preferences.png"),
+                    "values": {k: exportpanel._get(w) for k, w in page.widgets.items()},
+                    "fit": {k: w.value() for k, w in page.fit.items()}}
+    page.fit["Samples"].setValue(30)
+    page.saveSettings()
+    res["fit_default_after_prefs"] = make_ruled_fit(doc, imp, "Face8").Samples
+    res["dialog_fits"] = QtGui.QApplication.desktop().screenGeometry().width() >= mw.width()
+
+
+def restart():
+    import FreeCADGui
+    FreeCADGui.activateWorkbench("RuledWorkbench")
+    from ruled_workbench import exportpanel
+    ep = exportpanel.ExportTaskPanel([])
+    res["values"] = ep.values()
+    page = exportpanel.PreferencesPage()
+    page.loadSettings()
+    res["fit_samples"] = page.fit["Samples"].value()
+
+
+try:
+    main() if PHASE == "main" else restart()
+    code = 0
+except Exception:
+    import traceback
+    traceback.print_exc()
+json.dump(res, open(os.path.join(OUT, "commands.json" if PHASE == "main" else "restart.json"), "w"), indent=1,
+          default=str)
+sys.stdout.flush()
+sys.stderr.flush()
+os._exit(code)

@@ -1,0 +1,324 @@
+"""Export for machining in one task panel, and the workbench's preferences page.
+
+The panel asks the format, the file and every setting of the machine data at once (units, chord
+tolerance, kerf, side, machine planes, feed, lead-in, tool radius and taper, a STEP for CAM), with
+the options that do not apply to the format disabled.  Its values are kept in FreeCAD's parameters
+(User parameter:BaseApp/Preferences/Mod/Ruled/Export) when it writes, and fill it the next time, also
+after a restart; the preferences page (Edit > Preferences > Ruled) edits the same values and the
+defaults of new fits.  The files are the command line's: ``ruled machine`` with the same settings.
+"""
+
+from __future__ import annotations
+
+import os
+
+import FreeCAD
+from PySide import QtGui
+
+EXPORT_GROUP = "User parameter:BaseApp/Preferences/Mod/Ruled/Export"
+FIT_GROUP = "User parameter:BaseApp/Preferences/Mod/Ruled/Fit"
+
+MACHINE = ("xyuv", "flank")
+ACTIVE = None            # the open export panel (for scripts and tests)
+# name, kind, default, the formats it applies to, label, tooltip
+SETTINGS = [
+    ("Units", ("mm", "inch"), "mm", MACHINE, "Units", "units of the G-code / APT / CSV coordinates (the model's are "
+     "mm; G21 or G20, UNITS/MM or UNITS/INCHES)"),
+    ("ChordTol", "length", 0.0, MACHINE + ("step-rulings",), "Chord tolerance", "largest distance between a straight "
+     "move and the contours (auto: 1e-4 of the part's size)"),
+    ("Kerf", "length", 0.0, ("xyuv",), "Kerf", "wire radius plus spark gap: the wire runs offset by it to the side "
+     "below (0: none)"),
+    ("Side", ("outside", "inside"), "outside", MACHINE, "Side", "the side of the face the wire offset or the tool is "
+     "on (outside: the face's normal)"),
+    ("Planes", "text", "", ("xyuv",), "Machine planes", "the two guide plane heights a, b along the machine axis, in "
+     "mm (empty: just outside the part)"),
+    ("Lead", "lead", -1.0, ("xyuv",), "Lead-in", "lead-in and lead-out length (auto: 5 % of the part's size; 0: "
+     "none)"),
+    ("Feed", "float", 100.0, MACHINE, "Feed", "feed rate, output units per minute"),
+    ("ToolRadius", "length", 5.0, ("flank",), "Tool radius", "flank milling: the tool's radius (at the tip for a "
+     "tapered tool)"),
+    ("Taper", "angle", 0.0, ("flank",), "Tool taper", "flank milling: half angle of a conical tool (0: cylindrical)"),
+    ("CamStep", "bool", False, MACHINE, "STEP for CAM", "also write a STEP beside the file: the ruled face and its "
+     "rulings at the synchronized points"),
+]
+
+
+def _group(path: str = EXPORT_GROUP):
+    return FreeCAD.ParamGet(path)
+
+
+def load_settings() -> dict:
+    """The remembered export settings (the defaults where none is remembered yet)."""
+    g = _group()
+    out = {"Format": g.GetString("Format", "xyuv"), "Path": g.GetString("Path", "")}
+    for name, kind, default, *_ in SETTINGS:
+        if kind == "bool":
+            out[name] = g.GetBool(name, default)
+        elif isinstance(kind, tuple) or kind == "text":
+            out[name] = g.GetString(name, default)
+        else:
+            out[name] = g.GetFloat(name, default)
+    return out
+
+
+def save_settings(values: dict) -> None:
+    """Remember the settings in FreeCAD's parameters and write them to the user's configuration now."""
+    g = _group()
+    for name, x in values.items():
+        if isinstance(x, bool):
+            g.SetBool(name, x)
+        elif isinstance(x, str):
+            g.SetString(name, x)
+        else:
+            g.SetFloat(name, float(x))
+    try:
+        FreeCAD.saveParameter()            # kept even if FreeCAD does not exit normally
+    except Exception:  # older FreeCAD: written at exit
+        pass
+
+
+def machine_params(v: dict, kind: str) -> dict:
+    """The settings as keyword arguments of workbench.commands.export for the format kind."""
+    from ruled.errors import BadInputError
+    if kind not in MACHINE:
+        return {"chord_tol": v["ChordTol"] or None} if kind == "step-rulings" else {}
+    planes = None
+    if v["Planes"].strip():
+        try:
+            planes = [float(x) for x in v["Planes"].replace(";", ",").split(",")]
+        except ValueError:
+            raise BadInputError(f"machine planes {v['Planes']!r}: give two heights a, b in mm, or leave it empty") \
+                from None
+    out = {"chord_tol": v["ChordTol"] or None, "side": v["Side"], "feed": v["Feed"], "units": v["Units"]}
+    if kind == "xyuv":
+        out.update(kerf=v["Kerf"], planes=planes, lead=None if v["Lead"] < 0 else v["Lead"])
+    else:
+        out.update(tool_radius=v["ToolRadius"], taper=v["Taper"])
+    return out
+
+
+def _widget(kind, default):
+    if isinstance(kind, tuple):
+        w = _combo(list(kind))
+    elif kind == "bool":
+        w = QtGui.QCheckBox()
+    elif kind == "text":
+        w = QtGui.QLineEdit()
+        w.setPlaceholderText("auto")
+    else:
+        w = QtGui.QDoubleSpinBox()
+        w.setDecimals(4)
+        w.setRange(-1.0 if kind == "lead" else 0.0, 90.0 if kind == "angle" else 10000.0)
+        w.setSuffix({"angle": " deg", "float": " /min"}.get(kind, " mm"))
+    return w
+
+
+SPECIAL = {"ChordTol": "auto", "Kerf": "none", "Lead": "auto"}     # what the lowest value of a box means
+
+
+def _combo(items) -> QtGui.QComboBox:
+    """A combo box as narrow as the side panel needs (its long entries elided, the list at full width)."""
+    w = QtGui.QComboBox()
+    w.addItems(items)
+    w.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
+    w.setMinimumContentsLength(8)
+    w.view().setMinimumWidth(w.view().sizeHintForColumn(0) + 20)
+    return w
+
+
+def _get(w):
+    if isinstance(w, QtGui.QComboBox):
+        return w.currentText()
+    if isinstance(w, QtGui.QCheckBox):
+        return bool(w.isChecked())
+    if isinstance(w, QtGui.QLineEdit):
+        return w.text()
+    return float(w.value())
+
+
+def _put(w, x):
+    if isinstance(w, QtGui.QComboBox):
+        w.setCurrentIndex(max(0, w.findText(x)))
+    elif isinstance(w, QtGui.QCheckBox):
+        w.setChecked(bool(x))
+    elif isinstance(w, QtGui.QLineEdit):
+        w.setText(x)
+    else:
+        w.setValue(float(x))
+
+
+def settings_rows(lay) -> dict:
+    """The settings' widgets added to a form layout (name -> widget), with tooltips."""
+    out = {}
+    for name, kind, default, _, label, tip in SETTINGS:
+        w = _widget(kind, default)
+        w.setToolTip(tip)
+        if name in SPECIAL:
+            w.setSpecialValueText(SPECIAL[name])
+        lay.addRow(label, w)
+        out[name] = w
+    return out
+
+
+class ExportTaskPanel:
+    """Format, file and settings at once; OK writes (the panel stays open with the reason when it cannot)."""
+
+    def __init__(self, objects):
+        global ACTIVE
+        from .export import FORMATS
+        ACTIVE = self
+        self.objects = objects
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("Export for machining")
+        lay = QtGui.QFormLayout(self.form)
+        lay.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
+        self.kinds = list(FORMATS.values())
+        self.format = _combo([k.split(" (")[0] for k in FORMATS])
+        self.format.setToolTip("what to write: the ruled faces as STEP (with their rulings as edges), XYUV G-code for "
+                               "a 4-axis wire, or flank-milling CL data (APT); a CSV and a JSON report go beside "
+                               "machine data")
+        lay.addRow("Format", self.format)
+        row = QtGui.QHBoxLayout()
+        self.path = QtGui.QLineEdit()
+        self.path.setToolTip("the file to write (its folder must exist)")
+        browse = QtGui.QPushButton("...")
+        browse.setToolTip("choose the file")
+        browse.setMaximumWidth(32)
+        row.addWidget(self.path)
+        row.addWidget(browse)
+        lay.addRow("File", row)
+        self.widgets = settings_rows(lay)
+        self.result = QtGui.QLabel("")
+        self.result.setWordWrap(True)
+        lay.addRow(self.result)
+        v = load_settings()
+        if v["Format"] in self.kinds:
+            self.format.setCurrentIndex(self.kinds.index(v["Format"]))
+        for name, w in self.widgets.items():
+            _put(w, v[name])
+        self.path.setText(self._default_path(v["Path"]))
+        browse.clicked.connect(self._browse)
+        self.format.currentIndexChanged.connect(self._format_changed)
+        self._format_changed()
+
+    def kind(self) -> str:
+        return self.kinds[self.format.currentIndex()]
+
+    def _default_path(self, last: str) -> str:
+        folder = os.path.dirname(last) if last else os.path.expanduser("~")
+        name = self.objects[0].Label if self.objects else "ruled"
+        return os.path.join(folder, name + self._suffix())
+
+    def _suffix(self) -> str:
+        return {"xyuv": ".ngc", "flank": ".apt"}.get(self.kind(), ".step")
+
+    def _format_changed(self, *_):
+        """Only the settings of the chosen format are enabled; the file's extension follows the format."""
+        kind = self.kind()
+        for name, _k, _d, formats, *_ in SETTINGS:
+            self.widgets[name].setEnabled(kind in formats)
+        base, ext = os.path.splitext(self.path.text())
+        if base and ext.lower() in (".ngc", ".nc", ".apt", ".cls", ".step", ".stp", ""):
+            self.path.setText(base + self._suffix())
+
+    def _browse(self):
+        from .export import FORMATS
+        name = list(FORMATS)[self.format.currentIndex()]
+        path, _ = QtGui.QFileDialog.getSaveFileName(None, "Export for machining", self.path.text(), name)
+        if path:
+            self.path.setText(path)
+
+    def values(self) -> dict:
+        out = {name: _get(w) for name, w in self.widgets.items()}
+        out.update(Format=self.kind(), Path=self.path.text())
+        return out
+
+    def write(self) -> bool:
+        """Write the file with the panel's settings; remember them.  False (and the reason shown) when it
+        cannot."""
+        from ruled.errors import RuledError
+
+        from .commands import export
+        v = self.values()
+        path = v["Path"].strip()
+        if not path or not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+            self.result.setText(f"Cannot write {path or 'nothing'}: choose a file in an existing folder")
+            return False
+        kind = v["Format"]
+        try:
+            params = machine_params(v, kind)
+            if kind in MACHINE and v["CamStep"]:
+                params["cam_step"] = os.path.splitext(path)[0] + "_cam.step"
+            export(self.objects, path, kind, **params)
+        except RuledError as exc:
+            self.result.setText(f"Cannot export: {exc}")
+            return False
+        except Exception as exc:  # Part's OCCError, OSError on write failures
+            self.result.setText(f"Cannot write {path}: {exc}")
+            return False
+        save_settings(v)
+        self.written = path
+        FreeCAD.Console.PrintMessage(f"Ruled: wrote {path}\n")
+        return True
+
+    def accept(self):
+        if not self.write():
+            return False
+        self._close()
+        return True
+
+    def reject(self):
+        self._close()
+        return True
+
+    def _close(self):
+        global ACTIVE
+        import FreeCADGui
+        FreeCADGui.Control.closeDialog()
+        ACTIVE = None
+
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+
+# the defaults of new fits (Edit > Preferences > Ruled), read by features.fit_defaults
+FIT_DEFAULTS = [("Samples", 40, "Samples per side", "samples per side of a new fit"),
+                ("MeasureSamples", 40, "Measure samples", "n x n samples of a new fit's measured Hausdorff distance "
+                 "(0: none)")]
+
+
+class PreferencesPage:
+    """Edit > Preferences > Ruled: the defaults of new fits and the export settings."""
+
+    def __init__(self, parent=None):
+        self.form = QtGui.QWidget(parent)
+        self.form.setWindowTitle("Ruled")
+        outer = QtGui.QVBoxLayout(self.form)
+        fits = QtGui.QGroupBox("New fits")
+        lay = QtGui.QFormLayout(fits)
+        self.fit = {}
+        for name, default, label, tip in FIT_DEFAULTS:
+            w = QtGui.QSpinBox()
+            w.setRange(0 if name == "MeasureSamples" else 3, 2000)
+            w.setToolTip(tip)
+            lay.addRow(label, w)
+            self.fit[name] = w
+        exp = QtGui.QGroupBox("Export for machining (also remembered from the export panel)")
+        self.widgets = settings_rows(QtGui.QFormLayout(exp))
+        outer.addWidget(fits)
+        outer.addWidget(exp)
+        outer.addStretch(1)
+
+    def loadSettings(self):
+        g = _group(FIT_GROUP)
+        for name, default, *_ in FIT_DEFAULTS:
+            self.fit[name].setValue(g.GetInt(name, default))
+        v = load_settings()
+        for name, w in self.widgets.items():
+            _put(w, v[name])
+
+    def saveSettings(self):
+        g = _group(FIT_GROUP)
+        for name, w in self.fit.items():
+            g.SetInt(name, int(w.value()))
+        save_settings({name: _get(w) for name, w in self.widgets.items()})
