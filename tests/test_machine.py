@@ -252,6 +252,8 @@ def test_xyuv_blade_round_trip(tmp_path):
     k = xyuv_round_trip(tmp_path, path, 6, 0.005, kerf=0.005, name="kerf")
     assert k["rep"]["machine"]["offset_deviation"] < 0.5 * k["chord"]
     assert k["h"].max <= k["fit"] * (1 + 1e-3) + k["chord"]
+    # the report measures the cut against the trimmed face offset by the kerf (not its surface's rectangle)
+    assert k["rep"]["cut"]["max"] <= k["rep"]["cut"]["bound"] and k["rep"]["cut"]["max"] <= 2 * k["fit"] + k["chord"]
 
 
 def test_xyuv_planes_given(tmp_path, hyp_file):

@@ -27,7 +27,8 @@ def run_gui(script: str, home, **env_more):
         os.symlink(ROOT, home / "Mod" / "Ruled")
     os.makedirs(OUT, exist_ok=True)
     env = {**os.environ, "QTWEBENGINE_DISABLE_SANDBOX": "1", "FREECAD_USER_HOME": str(home),
-           "RULED_STEP": data_file("kj66_impeller.step"), "RULED_GUI_OUT": OUT, **env_more}
+           "RULED_STEP": data_file("kj66_impeller.step"), "RULED_GUI_OUT": OUT,
+           "RULED_GUI_LIB": os.path.join(ROOT, "tests", "gui"), **env_more}
     env.pop("QT_QPA_PLATFORM", None)
     run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
                           os.path.join(ROOT, "tests", "gui", script)],
@@ -39,6 +40,7 @@ def run_gui(script: str, home, **env_more):
 def test_fit_through_the_task_panel(tmp_path):
     run_gui("fit_face_gui.py", tmp_path / "home")
     r = json.load(open(os.path.join(OUT, "result.json")))
+    assert r["toolbar"] and all(r["toolbar"])          # each command clicked in the Ruled toolbar
     assert r["commands"] == ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Partition", "Ruled_Cone",
                              "Ruled_Curve", "Ruled_Export"]
     for sub, active, msg in r["bad"]:
@@ -162,8 +164,12 @@ def test_commands_and_the_export_panel(tmp_path):
     assert pt["on_face"] <= 1e-9 and pt["near_targets"] <= 0.005 * 60     # a pixel or two of the 60 mm blade
     for key in ("partition_shot", "cone_shot", "curve_shot"):
         assert os.path.getsize(r[key]) > 10_000
-    width, combo = r["export_width"]
-    assert combo is None or width <= combo, r["export_width"]
+    for width, combo in [r["export_width"]] + r["widths"]:      # every panel fits the combo view
+        assert combo is None or width <= combo, (r["export_width"], r["widths"])
+    ro = r["reopen"]
+    assert ro["clean"] and all(ro["valid"]) and ro["same"], ro
+    assert ro["kinds"] == ["RuledConeSpline", "RuledCurveOnFace", "RuledFit", "RuledPartition"], ro["kinds"]
+    assert ro["view_providers"] == ["ViewProviderRuledCurve", "ViewProviderRuledFit"]
     # the export panel: the settings of its format only, tooltips, then the files of 'ruled machine'
     ex = r["export"]
     for fmt, on, off in (("xyuv", ("Kerf", "Planes", "Lead"), ("ToolRadius", "Taper")),

@@ -313,7 +313,7 @@ class PartitionTaskPanel(_Panel):
                                    "tolerance.")
         self.result.setWordWrap(True)
         for label, w in (("Tolerance", self.tol), ("Max strips", self.max_strips), ("Split samples", self.samples),
-                         ("Split interior rows", self.interior), ("Samples per side fit", self.fit_samples),
+                         ("Split rows", self.interior), ("Fit samples", self.fit_samples),
                          ("Measure samples", self.measure)):
             lay.addRow(label, w)
         lay.addRow(self.preview_button)

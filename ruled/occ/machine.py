@@ -11,9 +11,6 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import numpy as np
-from OCP.BRep import BRep_Tool
-from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-from OCP.Geom import Geom_OffsetSurface
 from OCP.TopAbs import TopAbs_REVERSED
 
 from ..fit import FitOptions, FitResult
@@ -21,7 +18,7 @@ from ..machine import Lines, MachineOptions, MachinePath, cut_points, machine_pa
 from ..machine_output import path_report
 from .convert import container_to_face, conversion_slack, face_to_container, segment_edge
 from .region import fit_face
-from .measure import _Projector, face_bounds, face_points, hausdorff, two_sided
+from .measure import _Projector, face_points, hausdorff, two_sided
 
 
 @dataclass
@@ -41,10 +38,27 @@ def outward(face) -> float:
 
 
 def offset_face(face, distance: float):
-    """The face's surface offset by `distance` along its outside normal, over the face's (u, v) bounds."""
-    surf = Geom_OffsetSurface(BRep_Tool.Surface_s(face), float(distance) * outward(face))
-    u0, u1, v0, v1 = face_bounds(face)
-    return BRepBuilderAPI_MakeFace(surf, u0, u1, v0, v1, 1e-7).Face()
+    """The face as bounded by its edges, offset by `distance` along its outside normal (OCCT's offset
+    of the face itself, its edges offset with it), or None when OCCT cannot build it."""
+    from OCP.BRepOffset import BRepOffset_Skin
+    from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeOffsetShape
+    from OCP.GeomAbs import GeomAbs_Arc
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+    mk = BRepOffsetAPI_MakeOffsetShape()
+    try:
+        mk.PerformByJoin(face, float(distance), 1e-6, BRepOffset_Skin, False, False, GeomAbs_Arc, False)
+    except Exception:  # Standard_Failure and friends: no offset of this face
+        return None
+    if not mk.IsDone():
+        return None
+    ex = TopExp_Explorer(mk.Shape(), TopAbs_FACE)
+    faces = []
+    while ex.More():
+        faces.append(TopoDS.Face_s(ex.Current()))
+        ex.Next()
+    return faces[0] if len(faces) == 1 else None
 
 
 def cam_shapes(face, R, u: np.ndarray, rulings: bool = False) -> list:
@@ -115,6 +129,11 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
         rep["fit"]["measured"] = h.max
         if opts.mode == "xyuv":
             target = face if opts.kerf == 0 else offset_face(face, out_side * outward(face) * opts.kerf)
+            if target is None:
+                warns.append("OCCT cannot offset this face by the kerf: what the wire cuts is not measured")
+                rep["timings"] = {"fit": t1 - t0, "path": t2 - t1, "measure": time.perf_counter() - t2}
+                rep["warnings"] = warns
+                return FaceMachine(res, R, path, out_face, rep, out_side, warns)
             c = measure_cut(target, path, measure_samples)
             fit_err = max(h.max, c["fit_on_the_same_lines"])
             rep["fit"].update(measured=fit_err, measured_grid=h.max)     # the grid alone can miss narrow peaks

@@ -7,6 +7,8 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.environ["RULED_GUI_LIB"])
+from guitools import toolbar_run  # noqa: E402
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
 os.makedirs(OUT, exist_ok=True)
@@ -14,19 +16,11 @@ code = 1
 res = {}
 
 
-def toolbar_run(name):
-    """Trigger the command's button in the Ruled toolbar, as a click does (True), or run it (False)."""
+def panel_width(mw, panel):
+    """[the panel's least width, the combo view's width]."""
     from PySide import QtGui
-    import FreeCADGui
-    mw = FreeCADGui.getMainWindow()
-    for bar in mw.findChildren(QtGui.QToolBar):
-        if bar.objectName() == "Ruled" or bar.windowTitle() == "Ruled":
-            for a in bar.actions():
-                if a.objectName() == name:
-                    a.trigger()
-                    return True
-    FreeCADGui.runCommand(name)
-    return False
+    combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
+    return [panel.form.minimumSizeHint().width(), combo[0].width() if combo else None]
 
 
 def shoot(name, obj=None):
@@ -88,6 +82,7 @@ def main():
     sel.addSelection(imp, "Face7")
     res["partition_toolbar"] = toolbar_run("Ruled_Partition")
     p = taskpanels.ACTIVE
+    res["widths"] = [panel_width(mw, p)]
     p.samples.setValue(10)
     p.interior.setValue(4)
     p.fit_samples.setValue(16)
@@ -125,6 +120,7 @@ def main():
     sel.addSelection(cone, "Face1")
     res["cone_toolbar"] = toolbar_run("Ruled_Cone")
     c = taskpanels.ACTIVE
+    res["widths"].append(panel_width(mw, c))
     c.tol.setValue(0.001)
     c.measure.setValue(8)
     res["cone_fit_first_enabled"] = c.fit_first.isEnabled()
@@ -175,6 +171,7 @@ def main():
     sel.addSelection(sk)
     res["curve_toolbar"] = toolbar_run("Ruled_Curve")
     k = taskpanels.ACTIVE
+    res["widths"].append(panel_width(mw, k))
     k.tol.setValue(0.001)
     res["curve_pick_enabled_with_sketch"] = k.pick_button.isEnabled()
     res["curve_preview"] = k.preview()
@@ -269,7 +266,29 @@ def main():
     page.fit["Samples"].setValue(30)
     page.saveSettings()
     res["fit_default_after_prefs"] = make_ruled_fit(doc, imp, "Face8").Samples
-    res["dialog_fits"] = QtGui.QApplication.desktop().screenGeometry().width() >= mw.width()
+    # save, close, reopen in the GUI: nothing in the report view, every Ruled object valid, the same results
+    report = [w for w in mw.findChildren(QtGui.QTextEdit) if "Report" in w.objectName()]
+    ruled = [o for o in doc.Objects if hasattr(o, "ErrorBound") and o.isValid() and o.Status == "ok"]
+    before = {o.Name: value(o.ErrorBound) for o in ruled}
+    path = os.path.join(OUT, "commands.FCStd")
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    FreeCADGui.updateGui()
+    if report:
+        report[0].clear()
+    d2 = FreeCAD.openDocument(path)
+    FreeCADGui.updateGui()
+    text = report[0].toPlainText() if report else ""
+    objs = [d2.getObject(n) for n in before]
+    for o in objs:
+        o.touch()
+    d2.recompute()
+    res["reopen"] = {"text": text[-1500:], "clean": bool(report) and "Traceback" not in text and "Error" not in text,
+                     "valid": [o.isValid() for o in objs],
+                     "same": all(abs(value(o.ErrorBound) - before[o.Name]) <= 1e-9 * max(before[o.Name], 1e-12)
+                                 for o in objs),
+                     "kinds": sorted({type(o.Proxy).__name__ for o in objs}),
+                     "view_providers": sorted({type(o.ViewObject.Proxy).__name__ for o in objs})}
 
 
 def restart():

@@ -5,6 +5,8 @@ pictures to $RULED_GUI_OUT; ends with os._exit (FreeCAD exits 0 even when a scri
 import sys
 import os
 import json
+sys.path.insert(0, os.environ["RULED_GUI_LIB"])
+from guitools import toolbar_run  # noqa: E402
 OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
 code = 1
@@ -28,7 +30,7 @@ def extra_checks(doc, imp, obj, res):
     for o, sub in ((imp, "Face7"), (imp, "Face8"), (doc.getObject("Cone"), "Face1")):
         sel.addSelection(o, sub)
     before = {o.Name for o in doc.Objects}
-    FreeCADGui.runCommand("Ruled_FitMany")
+    res.setdefault("toolbar", []).append(toolbar_run("Ruled_FitMany"))
     new = [o for o in doc.Objects if o.Name not in before]
     res["many"] = [[o.Source[1][0], o.isValid(), o.Status] for o in new]
     for o in new:
@@ -45,7 +47,7 @@ def extra_checks(doc, imp, obj, res):
     timer.start(100)
     sel.clearSelection()
     sel.addSelection(imp, "Face7")
-    FreeCADGui.runCommand("Ruled_Fit")
+    res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     p2 = taskpanels.ACTIVE
     combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
     res["panel_width"] = [p2.form.minimumSizeHint().width(), combo[0].width() if combo else None]
@@ -69,7 +71,7 @@ def extra_checks(doc, imp, obj, res):
     before = sorted(o.Name for o in doc.Objects)
     sel.clearSelection()
     sel.addSelection(imp, "Face7")
-    FreeCADGui.runCommand("Ruled_Fit")
+    res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     p3 = taskpanels.ACTIVE
     p3.samples.setValue(160)
     p3.measure.setValue(80)
@@ -143,7 +145,7 @@ try:
     sel.clearSelection()
     sel.addSelection(imp, "Face7")
     res["active_on_face"] = commands.FitCommand().IsActive()
-    FreeCADGui.runCommand("Ruled_Fit")
+    res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     panel = taskpanels.ACTIVE
     res["panel"] = panel is not None
     panel.samples.setValue(16)
@@ -183,7 +185,7 @@ try:
     doc.recompute()
     sel.clearSelection()
     sel.addSelection(cone, "Face1")
-    FreeCADGui.runCommand("Ruled_Fit")
+    res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     bad_panel = taskpanels.ACTIVE
     bad_panel.samples.setValue(12)
     res["bad_face"] = {"accepted": bad_panel.accept(), "text": bad_panel.result.text()}
@@ -195,7 +197,7 @@ try:
     # "Split for ruling" on the same face: the panel's preview, then OK; a picture of the split curve
     sel.clearSelection()
     sel.addSelection(imp, "Face7")
-    FreeCADGui.runCommand("Ruled_Split")
+    res.setdefault("toolbar", []).append(toolbar_run("Ruled_Split"))
     sp = taskpanels.ACTIVE
     sp.samples.setValue(12)
     sp.interior.setValue(4)
