@@ -16,6 +16,8 @@
               [--chord-tol t] [--units mm|inch] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv]
               [--step CAM.step [--rulings]]
               [--report R.json] [--plot P.png]
+    ruled batch INPUT... [--faces all|bspline|ruled-candidates|K,L-M] [fit options] [--jobs N]
+              [--scheduler tcp://HOST:PORT] [--resume] [--face-timeout S] -o OUTDIR
     ruled demo
 
 Every error a user can cause ends in one line on stderr and exit code 2.
@@ -50,7 +52,7 @@ def _parser() -> argparse.ArgumentParser:
                                 "(wire EDM, flank milling, hot-wire cutting).")
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser,
-                           metavar="{faces,fit,split,curve-on-surface,cone,machine,demo}")
+                           metavar="{faces,fit,split,curve-on-surface,cone,machine,batch,demo}")
     f = sub.add_parser("faces", help="list the faces of a STEP/BREP file (trimmed or not, edges, sides, holes)")
     f.add_argument("input")
     f.add_argument("--edges", action="store_true",
@@ -156,9 +158,39 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("--measure-samples", type=int, default=24, help="n x n samples per face for the measure")
     k.add_argument("--quiet", action="store_true", help="no progress bars")
     _machine_parser(sub)
+    _batch_parser(sub)
     d = sub.add_parser("demo", help="fit a bundled example; files go to ./ruled-demo/")
     d.add_argument("--quiet", action="store_true")
     return p
+
+
+def _batch_parser(sub) -> None:
+    b = sub.add_parser("batch", help="fit every selected face of many files (a process pool or a Dask cluster), "
+                       "with a summary (CSV, JSON, HTML)")
+    b.add_argument("inputs", nargs="+", metavar="INPUT", help="STEP (.step/.stp) or BREP (.brep) files")
+    b.add_argument("--faces", default="all",
+                   help="all, bspline (the B-spline faces), ruled-candidates (faces whose iso-parametric ruled "
+                        "surface is already within --candidate-fraction of their size) or indices K,L-M "
+                        "(default all)")
+    b.add_argument("--candidate-fraction", type=float, default=0.01,
+                   help="--faces ruled-candidates: the fraction of a face's size (default 0.01)")
+    b.add_argument("--method", choices=["2d", "4d"], default="2d", help="the fit ('ruled fit --method')")
+    b.add_argument("--samples", type=int, default=40, help="samples per boundary (default 40)")
+    b.add_argument("--objective", choices=["sum", "max"], default="sum", help="as 'ruled fit --objective'")
+    b.add_argument("--max-error", type=float, default=None, help="as 'ruled fit --max-error'")
+    b.add_argument("--direction", choices=["auto", "u", "v"], default="auto", help="as 'ruled fit --direction'")
+    b.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")
+    b.add_argument("--jobs", type=int, default=None, help="worker processes (default: the number of cores)")
+    b.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                   help="run the faces on this Dask distributed cluster instead (pip install 'ruled[dask]')")
+    b.add_argument("--resume", action="store_true",
+                   help="skip the faces whose report exists for the same input file, face and options")
+    b.add_argument("--face-timeout", type=float, default=600.0,
+                   help="seconds a face may take before it is recorded as failed (default 600; local pool)")
+    b.add_argument("--memory-cap", type=float, default=None,
+                   help="MiB for the whole batch, divided among the workers (default: 80%% of the free memory)")
+    b.add_argument("-o", "--output", required=True, help="output folder: one folder per input file, summary.*")
+    b.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _machine_parser(sub) -> None:
@@ -278,8 +310,10 @@ def cmd_faces(args) -> int:
 
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
-            elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None) -> dict:
-    """The whole job: read, fit, build, measure, write. Returns the report dict."""
+            elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True) -> dict:
+    """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
+    already (the batch's workers keep the files they have read); say: print the warnings and notes
+    (the batch keeps them in the reports)."""
     from .options import FitOptions
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
@@ -288,7 +322,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     # the face before the engine: a wrong --face is answered without loading it
     from .occ.io import face_area, get_face, write_step
     t0 = time.perf_counter()
-    face = get_face(input_path, face_index)
+    face = get_face(input_path, face_index) if face is None else face
     t_read = time.perf_counter() - t0
     from .occ.convert import container_to_face
     from .occ.measure import hausdorff
@@ -304,7 +338,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
         bar.done()
     t_fit = time.perf_counter() - t_fit
     warnings = list(res.patch.warnings)
-    for w in warnings:
+    for w in warnings if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
     t1 = time.perf_counter()
     out_face = container_to_face(res.surface)
@@ -324,7 +358,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
     rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None
     rep["warnings"] = warnings
-    for note in res.notes:
+    for note in res.notes if say else ():
         print(f"ruled: {note}", file=sys.stderr)
     if report:
         write_report(rep, report)
@@ -700,6 +734,11 @@ def cmd_demo(args) -> int:
     return 0
 
 
+def cmd_batch(args) -> int:
+    from .batch import main_batch
+    return main_batch(args)
+
+
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
@@ -707,7 +746,7 @@ def main(argv=None) -> int:
             from .facecount import check_known     # a file read before: a wrong --face without OCCT
             check_known(args.input, args.face)
         return {"faces": cmd_faces, "fit": cmd_fit, "split": cmd_split, "curve-on-surface": cmd_curve_on_surface,
-                "cone": cmd_cone, "machine": cmd_machine, "demo": cmd_demo}[args.cmd](args)
+                "cone": cmd_cone, "machine": cmd_machine, "batch": cmd_batch, "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:
         print(f"ruled: error: {exc}", file=sys.stderr)
         return 2

@@ -77,5 +77,7 @@ def plot(res: ConeSpline, path: str) -> None:
         ax.legend(loc="best", fontsize=7)
     fig.suptitle(f"cone spline: {len(res.patches)} patches, tolerance {res.tol:g}, bound (eq. 9) {res.bound:.4g}")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    from .outputs import atomic
+    with atomic(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)

@@ -55,8 +55,10 @@ if os.environ.get("RULED_NO_NUMBA", "") not in ("1", "true", "yes"):
 
 
 _POOL = None
-# the cores this process may use (asked once: the kernels are called thousands of times per fit)
+# the cores this process may use (asked once: the kernels are called thousands of times per fit);
+# RULED_THREADS caps them (the batch's workers share the cores)
 CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+CORES = max(1, min(CORES, int(os.environ.get("RULED_THREADS") or CORES)))
 
 
 def _run_chunks(fn, N: int, min_chunk: int = 16384) -> None:

@@ -12,6 +12,7 @@ import numpy as np
 
 from .errors import BadInputError
 from .machine import MachinePath, frame_of
+from .outputs import atomic, write_text
 
 
 def _fmt(x: float, digits: int = 6) -> str:
@@ -48,8 +49,7 @@ def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = 
     for row in m[1:]:
         lines.append("G1 " + _xyuv(row) + f" F{path.feed:g}")
     lines.append("M2")
-    with open(filename, "w") as fh:
-        fh.write("\n".join(lines) + "\n")
+    write_text(filename, "\n".join(lines) + "\n")
 
 
 def _vec(v) -> str:
@@ -64,7 +64,7 @@ def write_csv(path: MachinePath, filename: str, units: str = "mm") -> None:
     """xyuv: one row per move (kind, X, Y, U, V, the two 3D points, u); flank: one row per CL point
     (u, tip x y z, axis i j k); lengths in the output units."""
     k = _scale(units)
-    with open(filename, "w", newline="") as fh:
+    with atomic(filename) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         if path.mode == "xyuv":
             w.writerow(["kind", "X", "Y", "U", "V", "lower_x", "lower_y", "lower_z", "upper_x", "upper_y",
@@ -98,8 +98,7 @@ def write_apt(path: MachinePath, filename: str, title: str = "", units: str = "m
     for p, a in zip(path.lower * k, path.axes):
         lines.append("GOTO/" + ",".join(_fmt(x) for x in p) + "," + ",".join(_fmt(x, 9) for x in a))
     lines.append("FINI")
-    with open(filename, "w") as fh:
-        fh.write("\n".join(lines) + "\n")
+    write_text(filename, "\n".join(lines) + "\n")
 
 
 def write_machine(path: MachinePath, filename: str, title: str = "", csv_path: Optional[str] = None,
@@ -149,5 +148,6 @@ def plot_path(path: MachinePath, filename: str, title: str = "") -> None:
     ax.set_title(title or f"{path.mode}: {len(a)} synchronized points, chord tolerance {path.chord_tol:.3g} "
                  f"(links every {step})", fontsize=9)
     fig.tight_layout()
-    fig.savefig(filename, dpi=110)
+    with atomic(filename) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)

@@ -88,8 +88,8 @@ def _plain(o):
 
 
 def write_report(d: dict, path: str) -> None:
-    with open(path, "w") as fh:
-        json.dump(d, fh, indent=1, default=_plain)
+    from .outputs import write_text
+    write_text(path, json.dumps(d, indent=1, default=_plain))
 
 
 def plot(res: FitResult, path: str, measured: Optional[float] = None) -> None:
@@ -142,5 +142,7 @@ def plot(res: FitResult, path: str, measured: Optional[float] = None) -> None:
         ax3.set_title(f"elevations ({2 * b.lift['levels'] + 1} levels of {b.lift['step']:.3g})")
         ax3.legend(loc="best", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    from .outputs import atomic
+    with atomic(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)

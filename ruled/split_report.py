@@ -100,5 +100,7 @@ def plot_split(res: SplitResult, path: str, measured: dict) -> None:
     ax2.set_title("optimal vs iso-parametric splits")
     ax2.legend(loc="best", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    from .outputs import atomic
+    with atomic(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)

@@ -197,7 +197,8 @@ def export_step(objects, path: str) -> None:
     shapes = [o.Shape for o in objects if hasattr(o, "Shape") and not o.Shape.isNull()]
     if not shapes:
         raise ValueError("nothing to export: select a ruled result")
-    Part.makeCompound(shapes).exportStep(path)
+    from .export import write_step
+    write_step(Part.makeCompound(shapes), path)
 
 
 class ExportCommand:

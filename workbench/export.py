@@ -23,6 +23,13 @@ FORMATS = {
 }
 
 
+def write_step(shape, path: str) -> None:
+    """A Part shape as a STEP file, written whole or not at all (ruled.outputs)."""
+    from ruled.outputs import atomic
+    with atomic(path) as tmp:
+        shape.exportStep(tmp)
+
+
 def _faces(objects) -> list:
     return [f for o in objects if hasattr(o, "Shape") and not o.Shape.isNull() for f in o.Shape.Faces]
 
@@ -67,7 +74,7 @@ def rulings_step(objects, path: str, chord_tol=None) -> int:
         shapes += [Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]
     if not shapes:
         raise ValueError("nothing to export: select a ruled result")
-    Part.makeCompound(shapes).exportStep(path)
+    write_step(Part.makeCompound(shapes), path)
     return len(shapes)
 
 
@@ -96,8 +103,8 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     if cam_step:
         from ruled.machine import Lines
         A, B = Lines(R, 1.0).rulings(mp.u)
-        Part.makeCompound([surface_to_face(R)] + [Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape()
-                                                  for a, b in zip(A, B)]).exportStep(cam_step)
+        write_step(Part.makeCompound([surface_to_face(R)] + [
+            Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]), cam_step)
     rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
            "machine": path_report(mp),
            "fit": {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}}
@@ -115,6 +122,6 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     elif measure_samples:
         rep["tool_envelope"] = tool_envelope(S, out_side, mp)
     rep["warnings"] = list(mp.warnings)
-    with open(os.path.splitext(path)[0] + ".json", "w") as fh:
-        json.dump(rep, fh, indent=1, default=float)
+    from ruled.outputs import write_text
+    write_text(os.path.splitext(path)[0] + ".json", json.dumps(rep, indent=1, default=float))
     return rep

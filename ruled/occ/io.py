@@ -145,8 +145,10 @@ def write_step(shapes, path: str) -> None:
     d = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(d):
         raise BadInputError(f"cannot write {path}: folder {d} does not exist")
-    if w.Write(path) != IFSelect_ReturnStatus.IFSelect_RetDone:
-        raise BadInputError(f"cannot write {path}; check that the folder is writable")
+    from ..outputs import atomic
+    with atomic(path) as tmp:
+        if w.Write(tmp) != IFSelect_ReturnStatus.IFSelect_RetDone:
+            raise BadInputError(f"cannot write {path}; check that the folder is writable")
 
 
 __all__ = ["read_shape", "faces_of", "get_face", "face_area", "list_faces", "write_step", "FaceInfo"]
