@@ -459,8 +459,10 @@ def options_dict(args) -> dict:
 def main_batch(args) -> int:
     from .options import FitOptions
     from .progress import Bar
+    from .cli import check_measure_samples
     FitOptions(samples=args.samples, objective=args.objective, max_error=args.max_error, direction=args.direction,
                method=args.method).checked()
+    check_measure_samples(args.measure_samples)
     bar = Bar(enabled=not args.quiet and sys.stderr.isatty())
     try:
         out = run_batch(args.inputs, args.output, faces=args.faces, fraction=args.candidate_fraction,

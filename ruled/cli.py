@@ -258,13 +258,58 @@ def _print_files(output: str, others) -> None:
     _print_files_only(others)
 
 
-def _check_outputs(*paths) -> None:
-    """Refuse before any work when an output's folder does not exist."""
+MAX_MEASURE = 1000      # --measure-samples: n x n OCCT projections each way (1000: about 2 million)
+
+
+def check_measure_samples(n: int, least: int = 2) -> None:
+    """Refuse a measure that cannot be made (too few samples) or would run for hours, with the estimate."""
+    if n < least:
+        raise RuledError(f"--measure-samples must be at least {least}")
+    if n > MAX_MEASURE:
+        minutes = 2 * n * n * 60e-6 / 60          # about 60 microseconds per OCCT projection
+        raise RuledError(f"--measure-samples {n}: {2 * n * n:,} OCCT projections, about {minutes:,.0f} minutes; "
+                         f"use at most {MAX_MEASURE}")
+
+
+def _argv_with_negative_values(argv: list) -> list:
+    """An option followed by a negative number or list (--planes -1.5,1.5) as --planes=-1.5,1.5, which
+    argparse would otherwise read as an option."""
+    import re
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a.startswith("--") and "=" not in a and i + 1 < len(argv) and re.match(r"^-(\d|\.\d)", argv[i + 1]):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
+def _check_outputs(*paths, inputs=()) -> None:
+    """Refuse before any work an output that is an input (however spelled), that another output names too,
+    that is a folder or a device, or whose folder does not exist or is not writable."""
+    ins = {os.path.realpath(p) for p in inputs if p}
+    seen = {}
     for path in paths:
-        if path:
-            d = os.path.dirname(os.path.abspath(path))
-            if not os.path.isdir(d):
-                raise RuledError(f"cannot write {path}: folder {d} does not exist")
+        if not path:
+            continue
+        real = os.path.realpath(path)
+        if real in ins:
+            raise RuledError(f"{path} is the input file: writing it would destroy the input; give another file")
+        if real in seen:
+            raise RuledError(f"{path} is given for two outputs ({seen[real]} and {path}); give each its own file")
+        seen[real] = path
+        if os.path.isdir(real):
+            raise RuledError(f"cannot write {path}: it is a folder; give a file name")
+        if os.path.exists(real) and not os.path.isfile(real):
+            raise RuledError(f"cannot write {path}: it is not a regular file (a device?); give a file name")
+        d = os.path.dirname(real)
+        if not os.path.isdir(d):
+            raise RuledError(f"cannot write {path}: folder {d} does not exist")
+        if not os.access(d, os.W_OK | os.X_OK):
+            raise RuledError(f"cannot write {path}: folder {d} is not writable")
 
 
 def _with_bar(quiet: bool, face_index: int, work):
@@ -318,7 +363,8 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
                       memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
-    _check_outputs(output, report, plot)
+    _check_outputs(output, report, plot, inputs=(input_path,))
+    check_measure_samples(measure_samples)
     # the face before the engine: a wrong --face is answered without loading it
     from .occ.io import face_area, get_face, write_step
     t0 = time.perf_counter()
@@ -394,8 +440,7 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
 
 
 def cmd_fit(args) -> int:
-    if args.measure_samples < 2:
-        raise RuledError("--measure-samples must be at least 2")
+    check_measure_samples(args.measure_samples)
     if args.tol is not None:
         return cmd_partition(args)
     if args.split_faces:
@@ -427,11 +472,10 @@ def run_split(args) -> dict:
     from .report import write_report
     from .split_report import plot_split, split_report
 
-    if args.measure_samples < 4:
-        raise RuledError("--measure-samples must be at least 4")
+    check_measure_samples(args.measure_samples, 4)
     args.split_samples, args.split_objective, args.split_step = args.samples, args.objective, args.step
     opts = _split_options(args, args.fit_samples)
-    _check_outputs(args.output, args.report, args.plot, args.split_faces)
+    _check_outputs(args.output, args.report, args.plot, args.split_faces, inputs=(args.input,))
     t0 = time.perf_counter()
     face = get_face(args.input, args.face)
     fs = _with_bar(args.quiet, args.face, lambda bar: split_of_face(face, opts, bar, args.measure_samples))
@@ -476,7 +520,7 @@ def cmd_partition(args) -> int:
 
     if args.method != "2d":
         raise RuledError("--tol partitions with 2d fits; drop --method 4d")
-    _check_outputs(args.output, args.report, args.split_faces)
+    _check_outputs(args.output, args.report, args.split_faces, inputs=(args.input,))
     opts = _split_options(args, args.samples, args.objective)
     t0 = time.perf_counter()
     face = get_face(args.input, args.face)
@@ -523,7 +567,7 @@ def run_curve_on_surface(input_path: str, face_index: int, output: str, *, uv=No
 
     if measure_samples < 2:
         raise RuledError("--measure-samples must be at least 2")
-    _check_outputs(output, report)
+    _check_outputs(output, report, inputs=(input_path,))
     D, dom = _load_domain_curve(uv, uv_curve)
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
@@ -579,9 +623,8 @@ def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step:
     from .report import write_report
 
     tol = check_tolerance(tol)
-    if measure_samples < 4:
-        raise RuledError("--measure-samples must be at least 4")
-    _check_outputs(output, report, plot)
+    check_measure_samples(measure_samples, 4)
+    _check_outputs(output, report, plot, inputs=(input_path,))
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
     fc = _with_bar(quiet, face_index, lambda bar: cone_of_face(
@@ -636,15 +679,14 @@ def run_machine(args) -> dict:
         raise RuledError("--kerf is for --xyuv; a flank tool is offset by --tool-radius")
     if args.xyuv and args.tool_radius is not None:
         raise RuledError("--tool-radius is for --flank; a wire is offset by --kerf")
-    if args.measure_samples < 4:
-        raise RuledError("--measure-samples must be at least 4")
+    check_measure_samples(args.measure_samples, 4)
     if args.ruled and args.method != "2d":
         raise RuledError("--ruled machines the face as it is; --method chooses a fit: give one of them")
     if args.ruled and args.rails is not None:
         raise RuledError("--ruled machines the face as it is; --rails chooses a fit's rails: give one of them")
     fit_opts = FitOptions(samples=args.samples, method=args.method).checked()
     csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
-    _check_outputs(args.output, csv_path, args.step, args.report, args.plot)
+    _check_outputs(args.output, csv_path, args.step, args.report, args.plot, inputs=(args.input,))
     face = get_face(args.input, args.face)
     fm = _with_bar(args.quiet, args.face, lambda bar: machine_of_face(
         face, opts, fit_opts, bar, args.measure_samples, 1.0 if args.side == "outside" else -1.0,
@@ -740,7 +782,7 @@ def cmd_batch(args) -> int:
 
 
 def main(argv=None) -> int:
-    args = _parser().parse_args(argv)
+    args = _parser().parse_args(_argv_with_negative_values(sys.argv[1:] if argv is None else list(argv)))
     try:
         if isinstance(getattr(args, "face", None), int) and isinstance(getattr(args, "input", None), str):
             from .facecount import check_known     # a file read before: a wrong --face without OCCT

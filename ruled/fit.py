@@ -332,6 +332,9 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
             errors.append(exc)
     ok = {d: c for d, c in cands.items() if not isinstance(c, str)}
     if not ok:
+        if len(errors) == 2 and all("closed across the rulings" in str(e) for e in errors):
+            raise DegenerateFaceError("the face is closed in both directions (like a torus): there are no two "
+                                      "boundaries to rule between; split the face first")
         raise DegenerateFaceError("degenerate face: " + "; ".join(str(e) for e in errors))
     if len(ok) > 1:     # ... then S's side too, where it can make the direction win
         for d, c in list(ok.items()):

@@ -64,8 +64,8 @@ class FitOptions:
                                 f"(10 gives 21 levels)")
         if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
             raise BadInputError(f"--step {self.step} must be a positive distance in model units")
-        if self.memory_cap is not None and not (self.memory_cap > 0):
-            raise BadInputError(f"--memory-cap {self.memory_cap} must be a positive size")
+        if self.memory_cap is not None and not (np.isfinite(self.memory_cap) and self.memory_cap > 0):
+            raise BadInputError(f"--memory-cap {self.memory_cap / 2.0 ** 20:g} must be a positive, finite size in MiB")
         try:
             method, metric = Method(self.method), Metric(self.metric)
             objective, direction = Objective(self.objective), Direction(self.direction)

@@ -156,3 +156,35 @@ def test_bad_arguments_are_refused_in_one_line(tmp_path, args, needle):
 def test_missing_input_refused(tmp_path):
     r = _cli("batch", str(tmp_path / "nope.step"), "-o", str(tmp_path / "o"), timeout=120)
     assert r.returncode == 2 and "no such file" in r.stderr
+
+
+def test_face_timeout_records_failed_and_goes_on(tmp_path):
+    """Two faces with a limit no fit meets: both recorded as failed with the reason, the batch ends
+    normally (their workers replaced)."""
+    r = _cli("batch", data_file("kj66_impeller.step"), "--faces", "6,8", "--jobs", "1", "--face-timeout", "0.2",
+             "-o", str(tmp_path / "t"), "--quiet", timeout=300)
+    assert r.returncode == 0, r.stderr
+    rows = json.load(open(tmp_path / "t" / "summary.json"))["rows"]
+    assert [x["status"] for x in rows] == ["failed", "failed"]
+    assert all("ran past --face-timeout 0.2 s" in x["reason"] for x in rows)
+
+
+def test_ruled_candidates_are_the_nearly_ruled_faces(tmp_path):
+    """--faces ruled-candidates keeps the faces whose iso-parametric ruled surface is within 1 % of their
+    size: of a cone's side, a plane and Elber's ex2 (0.27 from its boundaries' ruled surface, 14 % of its
+    size), the first two."""
+    pytest.importorskip("OCP")
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCone
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.gp import gp_Pln
+    from ruled.batch import select
+    from ruled.examples import elber_ex2
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import faces_of, write_step
+    cone = faces_of(BRepPrimAPI_MakeCone(10.0, 6.0, 8.0).Shape())[0]
+    plane = BRepBuilderAPI_MakeFace(gp_Pln(), 0.0, 5.0, 0.0, 3.0).Face()
+    path = str(tmp_path / "three.step")
+    write_step([cone, plane, container_to_face(elber_ex2())], path)
+    kinds = [k for _, k, _ in select(path, "all", 0.01)]
+    kept = [k for k, _, _ in select(path, "ruled-candidates", 0.01)]
+    assert len(kinds) == 3 and kept == [0, 1], (kinds, kept)

@@ -201,3 +201,55 @@ def test_fit_4d_on_an_exactly_ruled_face_keeps_the_exact_2d_result(tmp_path):
     rep = json.loads((tmp_path / "r.json").read_text())
     assert rep["result_method"] == "2d" and "exact" in rep["notes"][0]
     assert rep["hausdorff"]["max"] <= 1e-9 and rep["hausdorff"]["max"] <= rep["error_bound"]
+
+
+@pytest.mark.parametrize("case", ["input", "input-respelled", "folder", "device", "twice", "read-only", "measure",
+                                  "memory-cap"])
+def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
+    """Outputs checked before the face is read: never the input (however spelled), never one file for two
+    outputs, a folder or a device named as such, a read-only folder; impossible measures and memory caps
+    refused with the figure.  One line, exit 2, no output written."""
+    src = str(tmp_path / "in.step")
+    import shutil
+    shutil.copy(data_file("kj66_impeller.step"), src)
+    before = os.path.getsize(src)
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    os.chmod(ro, 0o500)
+    args, needle = {
+        "input": (["-o", src], "is the input file: writing it would destroy the input"),
+        "input-respelled": (["-o", str(tmp_path / "x" / ".." / "in.step")], "is the input file"),
+        "folder": (["-o", str(tmp_path)], "it is a folder; give a file name"),
+        "device": (["-o", "/dev/full"], "it is not a regular file (a device?)"),
+        "twice": (["-o", str(tmp_path / "a.step"), "--report", str(tmp_path / "a.step")], "is given for two outputs"),
+        "read-only": (["-o", str(tmp_path / "a.step"), "--report", str(ro / "r.json")], "is not writable"),
+        "measure": (["-o", str(tmp_path / "a.step"), "--measure-samples", "1000000"], "about 2,000,000 minutes"),
+        "memory-cap": (["-o", str(tmp_path / "a.step"), "--memory-cap", "inf"], "--memory-cap inf must be a positive"),
+    }[case]
+    r = ruled("fit", src, "--face", "6", *args, cwd=str(tmp_path), timeout=120)
+    os.chmod(ro, 0o700)
+    if case == "read-only" and os.geteuid() == 0:
+        pytest.skip("root writes into read-only folders")
+    assert r.returncode == 2 and needle in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert os.path.getsize(src) == before and not os.path.exists(tmp_path / "a.step")
+
+
+def test_negative_values_of_list_options_are_values(tmp_path):
+    """--planes -1.5,20 is the option's value, not an unknown option."""
+    out = str(tmp_path / "w.ngc")
+    r = ruled("machine", data_file("kj66_impeller.step"), "--face", "6", "--xyuv", "--planes", "-1.5,20", "-o", out,
+              "--measure-samples", "4", "--quiet")
+    assert r.returncode == 0, r.stderr
+    rep_lines = open(out).read().splitlines()
+    assert any("height -1.5" in x for x in rep_lines[:3]) and any("height 20" in x for x in rep_lines[:3])
+
+
+def test_a_face_closed_in_both_directions_is_refused_as_such(tmp_path):
+    """A torus's face has no two boundaries to rule between: said so, not 'degenerate ... use --direction'."""
+    pytest.importorskip("OCP")
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeTorus
+    from ruled.occ.io import faces_of, write_step
+    path = str(tmp_path / "torus.step")
+    write_step(faces_of(BRepPrimAPI_MakeTorus(10.0, 3.0).Shape())[0], path)
+    line = _one_line_error(ruled("fit", path, "--face", "0", "-o", str(tmp_path / "t.step")))
+    assert "closed in both directions" in line and "split the face first" in line and "--direction" not in line
