@@ -188,3 +188,30 @@ def test_ruled_candidates_are_the_nearly_ruled_faces(tmp_path):
     kinds = [k for _, k, _ in select(path, "all", 0.01)]
     kept = [k for k, _, _ in select(path, "ruled-candidates", 0.01)]
     assert len(kinds) == 3 and kept == [0, 1], (kinds, kept)
+
+
+def test_summary_page_in_a_real_browser(pool_batch):
+    """The summary page opened by headless Chromium: a screenshot (artifacts/batch/summary.png, look at
+    it) with the table's header and the thumbnails drawn (many distinct colours, not a blank page)."""
+    import shutil
+    exe = shutil.which("chromium") or shutil.which("chromium-browser")
+    if exe is None:
+        pytest.skip("Chromium is not installed (apt-get install -y chromium)")
+    _, out, _, _ = pool_batch
+    dest = os.path.join(ROOT, "artifacts", "batch")
+    os.makedirs(dest, exist_ok=True)
+    png = os.path.join(dest, "summary.png")
+    if os.path.exists(png):
+        os.unlink(png)
+    r = subprocess.run([exe, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                        "--window-size=1400,1800", f"--screenshot={png}",
+                        "file://" + os.path.join(out, "summary.html")], capture_output=True, text=True, timeout=120)
+    assert os.path.exists(png), r.stderr[-2000:]
+    from PIL import Image
+    img = Image.open(png).convert("RGB")
+    assert img.size == (1400, 1800)
+    colours = img.resize((350, 450)).getcolors(1 << 20)
+    assert colours is not None and len(colours) > 200                 # text, the header, the plots
+    # the header's dark blue band is there (the table is drawn)
+    px = img.load()
+    assert any(px[x, y] == (0x1f, 0x4e, 0x79) for x in range(0, 1400, 7) for y in range(0, 400, 3))
