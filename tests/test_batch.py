@@ -73,12 +73,12 @@ def test_pool_batch_summary_matches_single_fits(pool_batch, tmp_path):
 
 
 def test_dask_local_cluster_gives_the_same_summary(pool_batch, tmp_path):
-    """Sixteen of the faces (the worst, the best, between) through a Dask LocalCluster of 2 workers: the
+    """Eight of the faces (the worst, the best, between) through a Dask LocalCluster of 2 workers: the
     pool's rows, figure for figure."""
     distributed = pytest.importorskip("distributed")
     step, out, _, _ = pool_batch
     rows = _rows(out)
-    chosen = sorted({r["face"] for r in rows[:6] + rows[-6:] + rows[20:24]})
+    chosen = sorted({r["face"] for r in rows[:3] + rows[-3:] + rows[20:22]})
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as c:
         r = _cli("batch", step, "--faces", ",".join(map(str, chosen)), *FAST, "--scheduler", c.scheduler_address,
                  "-o", str(tmp_path / "dask"), "--quiet")
@@ -102,27 +102,32 @@ def _intact(folder) -> None:
 
 def test_killed_and_resumed_gives_the_uninterrupted_summary(pool_batch, tmp_path):
     step, out, _, _ = pool_batch
-    chosen = sorted(r["face"] for r in _rows(out))[:12]            # twelve of the B-spline faces
+    chosen = sorted(r["face"] for r in _rows(out))[:8]             # eight of the B-spline faces
     faces = ",".join(map(str, chosen))
     ref = [r for r in _rows(out) if r["face"] in chosen]
     dest = str(tmp_path / "resumed")
     rnd = random.Random(7)
     args = [sys.executable, "-m", "ruled.cli", "batch", step, "--faces", faces, "--jobs", "2", *FAST, "-o", dest,
             "--quiet", "--resume"]
-    # Ctrl-C: the batch stops at once with the summary of the faces that finished
-    p = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # Ctrl-C (the fits at their defaults: slower): the batch stops at once with the summary of what finished
+    stopped = str(tmp_path / "stopped")
+    p = subprocess.Popen(args[:args.index(FAST[0])] + ["-o", stopped], cwd=ROOT, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
     time.sleep(6.0)
     p.send_signal(signal.SIGINT)
     t0 = time.perf_counter()
     _, err = p.communicate(timeout=60)
     assert p.returncode == 130 and time.perf_counter() - t0 < 10 and "interrupted" in err, err
-    with open(os.path.join(dest, "summary.json")) as fh:
+    with open(os.path.join(stopped, "summary.json")) as fh:
         assert json.load(fh)["faces"] < len(chosen)
     for _ in range(2):                   # killed at random moments, resumed each time
         p = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                              start_new_session=True)
-        time.sleep(rnd.uniform(3.0, 8.0))
-        os.killpg(p.pid, signal.SIGKILL)
+        time.sleep(rnd.uniform(3.0, 6.0))
+        try:
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:       # it finished first
+            pass
         p.wait()
         if os.path.isdir(os.path.join(dest, "kj66_impeller")):
             _intact(os.path.join(dest, "kj66_impeller"))

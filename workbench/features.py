@@ -377,7 +377,7 @@ class RuledSplit(_Feature):
         _add(obj, "App::PropertyVectorList", "SplitCurve", RESULT_GROUP, "points of the kept split curve on the face",
              None, True)
         _add(obj, "App::PropertyInteger", "MeasureSamples", group, "n x n samples per fitted side for the measured "
-             "Hausdorff distance and the colours (0: do not measure)", 24)
+             "Hausdorff distance and the colours (0: do not measure)", 16)
         add_results(obj, "the kept split's two fitted sides (together)")
 
     def options(self, obj):
