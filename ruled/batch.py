@@ -24,7 +24,6 @@ from .errors import BadInputError, RuledError
 
 COLUMNS = ["file", "face", "type", "trimmed_pct", "method", "status", "error_bound", "hausdorff", "seconds",
            "warnings", "reason"]
-FIT_OPTIONS = ("samples", "objective", "max_error", "direction", "method", "measure_samples")
 
 
 # ------------------------------------------------------------------------------------------ selection
@@ -46,9 +45,9 @@ def parse_faces(spec: str) -> object:
 
 
 def naive_ruled_error(S) -> float:
-    """The larger, over the two directions, of the least distance between the face's surface and the
-    iso-parametric ruled surface between its two opposite boundaries (at the same parameters): a cheap
-    over-estimate of what a ruled surface can reach, for picking candidates."""
+    """The smaller, over the two directions, of the largest parametric distance between the face's surface
+    and the iso-parametric ruled surface between its two opposite boundaries (at the same parameters): a
+    cheap over-estimate of what a ruled surface can reach, for picking candidates."""
     import numpy as np
     u0, u1, v0, v1 = S.domain
     s = np.linspace(0.0, 1.0, 17)
@@ -121,9 +120,7 @@ def run_face(job: dict) -> dict:
     from .occ.io import read_faces
     from .report import write_report
     t0 = time.perf_counter()
-    row = {"file": job["file"], "face": job["face"], "type": job["type"], "trimmed_pct": job["trimmed_pct"],
-           "method": job["options"]["method"], "status": "ok", "error_bound": None, "hausdorff": None,
-           "seconds": None, "warnings": "", "reason": ""}
+    row = _row(job, "ok")
     paths = face_paths(job["folder"], job["face"])
     try:
         faces = _FACES.get((job["input"], job["digest"]))
@@ -144,23 +141,28 @@ def run_face(job: dict) -> dict:
     return row
 
 
-def failed_row(job: dict, reason: str, seconds: float) -> dict:
+def _row(job: dict, status: str, reason: str = "", seconds=None) -> dict:
+    """A summary row of the job's face (its figures None until the task fills them)."""
     return {"file": job["file"], "face": job["face"], "type": job["type"], "trimmed_pct": job["trimmed_pct"],
-            "method": job["options"]["method"], "status": "failed", "error_bound": None, "hausdorff": None,
+            "method": job["options"]["method"], "status": status, "error_bound": None, "hausdorff": None,
             "seconds": seconds, "warnings": "", "reason": reason}
+
+
+def failed_row(job: dict, reason: str, seconds: float) -> dict:
+    return _row(job, "failed", reason, seconds)
 
 
 def done_row(job: dict) -> Optional[dict]:
     """The row of a face finished by an earlier run with the same key (resume), or None."""
-    path = face_paths(job["folder"], job["face"])["json"]
+    paths = face_paths(job["folder"], job["face"])
     try:
-        with open(path) as fh:
+        with open(paths["json"]) as fh:
             b = json.load(fh).get("batch", {})
     except (OSError, ValueError):
         return None
     if b.get("key") != job["key"] or b.get("row", {}).get("status") not in ("ok", "refused"):
         return None
-    if b["row"]["status"] == "ok" and not os.path.exists(face_paths(job["folder"], job["face"])["step"]):
+    if b["row"]["status"] == "ok" and not os.path.exists(paths["step"]):
         return None
     return b["row"]
 
@@ -256,7 +258,7 @@ class LocalPool:
 class DaskPool:
     """The same face task on an existing Dask distributed cluster (``ruled[dask]``)."""
 
-    def __init__(self, address: str, timeout: float):
+    def __init__(self, address: str):
         try:
             from distributed import Client
         except ImportError:
@@ -265,7 +267,6 @@ class DaskPool:
             self.client = Client(address, timeout=5)
         except (OSError, TimeoutError) as exc:
             raise BadInputError(f"cannot reach the Dask scheduler {address} ({exc}); check the address") from None
-        self.timeout = timeout
 
     def run(self, jobs: list, on_row) -> None:
         from distributed import as_completed
@@ -313,16 +314,16 @@ def html_page(rows: list, outdir: str, counts: dict) -> str:
     """One self-contained page: the table (sortable by clicking a column), each face's plot inline."""
     import base64
     import html
+
+    def num(x, fmt="{:.6g}"):
+        return "" if x is None else fmt.format(x)
     cells = []
     for r in rows:
-        png = os.path.join(outdir, os.path.splitext(r["file"])[0], f"face_{r['face']}.png")
+        png = face_paths(os.path.join(outdir, os.path.splitext(r["file"])[0]), r["face"])["png"]
         img = ""
         if os.path.exists(png):
             with open(png, "rb") as fh:
                 img = f'<img src="data:image/png;base64,{base64.b64encode(fh.read()).decode()}" alt="plot">'
-
-        def num(x, fmt="{:.6g}"):
-            return "" if x is None else fmt.format(x)
         cells.append(
             f'<tr class="{r["status"]}"><td>{html.escape(r["file"])}</td><td>{r["face"]}</td>'
             f'<td>{html.escape(str(r["type"]))}</td><td>{num(r["trimmed_pct"], "{:.0f}")}</td>'
@@ -411,7 +412,7 @@ def run_batch(inputs: list, outdir: str, *, faces: str = "all", fraction: float 
     if not face_timeout > 0:
         raise BadInputError(f"--face-timeout {face_timeout:g} must be a positive number of seconds")
     spec = parse_faces(faces)
-    pool = DaskPool(scheduler, face_timeout) if scheduler else LocalPool(jobs, face_timeout)   # reachable first
+    pool = DaskPool(scheduler) if scheduler else LocalPool(jobs, face_timeout)   # the cluster reachable first
     try:
         return _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume, memory_cap_mb, progress)
     finally:
@@ -444,9 +445,8 @@ def _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume,
     interrupted = False
     try:
         pool.run(run, on_row)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt:   # the summary of what finished; run_batch then stops the running faces
         interrupted = True
-        pool.close()            # the running faces stop now; what finished goes into the summary
     paths = write_summary(rows, outdir)
     return {"rows": sort_rows(rows), "paths": paths, "interrupted": interrupted, "total": total}
 

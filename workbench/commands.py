@@ -35,17 +35,20 @@ def selected_face():
 
 
 class FitCommand:
+    """A face selected, a task panel opened on it (the subclasses name their panel and their selection)."""
+
     panel = "FitTaskPanel"
+    select = staticmethod(lambda: selected_face())
 
     def GetResources(self):
         return {"Pixmap": icon("fit.svg"), "MenuText": "Fit ruled surface",
                 "ToolTip": "Fit the best ruled surface to the selected face, with a certified error (select one face)"}
 
     def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and selected_face()[0] is not None
+        return FreeCAD.ActiveDocument is not None and self.select()[0] is not None
 
     def Activated(self):
-        obj, sub = selected_face()
+        obj, sub = self.select()
         if obj is None:
             _say(sub)
             return
@@ -85,22 +88,12 @@ def selected_fit_or_face():
 
 class ConeCommand(FitCommand):
     panel = "ConeTaskPanel"
+    select = staticmethod(lambda: selected_fit_or_face())
 
     def GetResources(self):
         return {"Pixmap": icon("cone.svg"), "MenuText": "Cone spline",
                 "ToolTip": "Approximate a Ruled fit (or a ruled face) by tangent-continuous developable cone and "
                            "cylinder patches (select a Ruled fit or one face)"}
-
-    def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and selected_fit_or_face()[0] is not None
-
-    def Activated(self):
-        obj, sub = selected_fit_or_face()
-        if obj is None:
-            _say(sub)
-            return
-        from . import taskpanels
-        FreeCADGui.Control.showDialog(taskpanels.ConeTaskPanel(obj, sub))
 
 
 def selected_face_and_sketch():

@@ -20,6 +20,7 @@ FIT_GROUP = "User parameter:BaseApp/Preferences/Mod/Ruled/Fit"
 
 MACHINE = ("xyuv", "flank")
 ACTIVE = None            # the open export panel (for scripts and tests)
+SPECIAL = {"ChordTol": "auto", "Kerf": "none", "Lead": "auto"}     # what the lowest value of a box means
 # name, kind, default, the formats it applies to, label, tooltip
 SETTINGS = [
     ("Units", ("mm", "inch"), "mm", MACHINE, "Units", "units of the G-code / APT / CSV coordinates (the model's are "
@@ -97,7 +98,7 @@ def machine_params(v: dict, kind: str) -> dict:
     return out
 
 
-def _widget(kind, default):
+def _widget(kind):
     if isinstance(kind, tuple):
         w = _combo(list(kind))
     elif kind == "bool":
@@ -111,9 +112,6 @@ def _widget(kind, default):
         w.setRange(-1.0 if kind == "lead" else 0.0, 90.0 if kind == "angle" else 10000.0)
         w.setSuffix({"angle": " deg", "float": " /min"}.get(kind, " mm"))
     return w
-
-
-SPECIAL = {"ChordTol": "auto", "Kerf": "none", "Lead": "auto"}     # what the lowest value of a box means
 
 
 def _combo(items) -> QtGui.QComboBox:
@@ -150,8 +148,8 @@ def _put(w, x):
 def settings_rows(lay) -> dict:
     """The settings' widgets added to a form layout (name -> widget), with tooltips."""
     out = {}
-    for name, kind, default, _, label, tip in SETTINGS:
-        w = _widget(kind, default)
+    for name, kind, _default, _formats, label, tip in SETTINGS:
+        w = _widget(kind)
         w.setToolTip(tip)
         if name in SPECIAL:
             w.setSpecialValueText(SPECIAL[name])

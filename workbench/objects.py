@@ -280,20 +280,25 @@ class RuledCurveOnFace(_Feature):
         if n >= 2:
             on, far = [], []
             for D, e in zip(curves, edges):
-                t = np.linspace(*D.domain, n)
-                exact = np.array([tuple(face.Surface.value(float(u), float(v))) for u, v in D(t)[:, :2]])
+                exact = _image(face, D, n)
                 pts = np.array([tuple(e.valueAt(float(x))) for x in np.linspace(*e.ParameterRange, n)])
                 on.append(distances(pts, face).max())
                 # both ways, brute force: the exact image's samples to a dense polyline of the edge, the
                 # edge's samples to a dense polyline of the exact image (the extrema of OCCT's point-to-curve
                 # projection miss the nearest point on curves with C0 joints)
-                dense = np.linspace(*D.domain, 8 * n)
-                exact_line = np.array([tuple(face.Surface.value(float(u), float(v))) for u, v in D(dense)[:, :2]])
+                exact_line = _image(face, D, 8 * n)
                 edge_line = np.array([tuple(p) for p in e.discretize(Number=8 * n)])
                 far.append(max(to_polyline(exact, edge_line), to_polyline(pts, exact_line)))
             obj.OnFace, obj.Hausdorff = float(max(on)), float(max(far))
         else:
             obj.OnFace, obj.Hausdorff = 0.0, 0.0
+
+
+def _image(face, D, n: int):
+    """n points of the exact image S(D(t)) of a domain curve on the face (FreeCAD's evaluation)."""
+    import numpy as np
+    uv = D(np.linspace(*D.domain, n))[:, :2]
+    return np.array([tuple(face.Surface.value(float(u), float(v))) for u, v in uv])
 
 
 def make_ruled_partition(doc, source, subname: str, **properties):

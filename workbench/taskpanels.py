@@ -236,21 +236,15 @@ class SplitTaskPanel(_Panel):
     def __init__(self, source, subname: str, obj=None):
         lay = self._open(source, make_ruled_split, subname, obj)
         tip = self._tip
-        self.samples = tip(QtGui.QSpinBox(), "samples of the split DP along each side (P, Q and M columns)")
-        self.samples.setRange(4, 200)
-        self.samples.setValue(30)
-        self.interior = tip(QtGui.QSpinBox(), "interior rows where the split curve may cross (M-rows)")
-        self.interior.setRange(1, 100)
-        self.interior.setValue(10)
+        self.samples = _spin(4, 200, 30, "samples of the split DP along each side (P, Q and M columns)")
+        self.interior = _spin(1, 100, 10, "interior rows where the split curve may cross (M-rows)")
         self.dims = tip(QtGui.QComboBox(), "4: nothing lifted; 5: the split points lifted along the normal; "
                         "7: the rulings' ends lifted too")
         self.dims.addItems(["4", "5", "7"])
         self.objective = tip(QtGui.QComboBox(), "max: the least largest line metric along the split curve (the "
                              "paper's); sum: their least total")
         self.objective.addItems(["max", "sum"])
-        self.fit_samples = tip(QtGui.QSpinBox(), "samples per side of each half's ruled fit")
-        self.fit_samples.setRange(3, 2000)
-        self.fit_samples.setValue(40)
+        self.fit_samples = _spin(3, 2000, 40, "samples per side of each half's ruled fit")
         self.preview_button = tip(QtGui.QPushButton("Preview"), "split with these parameters and show both halves "
                                   "(Cancel stops a split that runs)")
         self.result = QtGui.QLabel("Preview finds the split curve and fits both sides.")

@@ -282,10 +282,8 @@ def _face_mesh(face, n: int, cols):
     """The face's n x n parameter grid as triangles, coloured per vertex."""
     from pivy import coin
 
-    from .measure import face_bounds
-    u0, u1, v0, v1 = face_bounds(face)
-    s = face.Surface
-    pts = [s.value(float(u), float(v)) for u in np.linspace(u0, u1, n) for v in np.linspace(v0, v1, n)]
+    from .measure import grid
+    pts = grid(face, n)            # the same grid (and order) as the measured deviations
     sep = coin.SoSeparator()
     mat = coin.SoMaterial()
     mat.diffuseColor.setValues(0, n * n, [tuple(map(float, c)) for c in cols])
@@ -295,7 +293,7 @@ def _face_mesh(face, n: int, cols):
     hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
     hints.creaseAngle = 0.8
     coords = coin.SoCoordinate3()
-    coords.point.setValues(0, n * n, [(p.x, p.y, p.z) for p in pts])
+    coords.point.setValues(0, n * n, [tuple(map(float, p)) for p in pts])
     idx = []
     for i in range(n - 1):
         for j in range(n - 1):
