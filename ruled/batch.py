@@ -20,7 +20,7 @@ import sys
 import time
 from typing import Optional
 
-from .errors import BadInputError, RuledError
+from .errors import BadInputError, RuledError, positive
 
 COLUMNS = ["file", "face", "type", "trimmed_pct", "method", "status", "error_bound", "hausdorff", "seconds",
            "warnings", "reason"]
@@ -409,8 +409,7 @@ def run_batch(inputs: list, outdir: str, *, faces: str = "all", fraction: float 
         jobs = os.cpu_count() or 1
     if jobs < 1:
         raise BadInputError(f"--jobs {jobs} must be at least 1")
-    if not face_timeout > 0:
-        raise BadInputError(f"--face-timeout {face_timeout:g} must be a positive number of seconds")
+    positive("--face-timeout", face_timeout, "seconds")
     spec = parse_faces(faces)
     pool = DaskPool(scheduler) if scheduler else LocalPool(jobs, face_timeout)   # the cluster reachable first
     try:

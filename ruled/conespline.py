@@ -23,7 +23,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .cone import FatArc, fit_fat_conic, generators_concurrent, patch_surface, trim_arc
-from .errors import BadInputError
+from .errors import BadInputError, positive
 from .nurbs import Curve, Surface
 
 Progress = Optional[Callable[[str, float], None]]
@@ -343,8 +343,7 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     derivatives, v in [0, 1], rulings joining equal v) within tol (eq. 9 on every patch).  Neighbouring
     patches of one piece are tangent continuous (to 1e-6 rad) or the surface is refused, unless
     allow_creases (pieces of §6 meet at creases in any case)."""
-    if not (np.isfinite(tol) and tol > 0):
-        raise BadInputError(f"the tolerance must be positive (got {tol}); give --tol in model units, e.g. 0.01")
+    positive("--tol", tol)
     if not (np.isfinite(step) and 0 < step <= 1):
         raise BadInputError(f"the step must be in (0, 1] (got {step}); it is a fraction of the boundary's parameter")
     t0 = time.perf_counter()
@@ -436,8 +435,8 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     if res.max_g1_deg > G1_DEG and not allow_creases:
         raise BadInputError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "
                             f"{res.max_g1_deg:.3g} deg (the surface twists so much that patches collapse to triangles "
-                            f"and the §5 extension cannot be used); raise the tolerance, or pass --allow-creases "
-                            f"(allow_creases=True) to keep it")
+                            f"and the §5 extension cannot be used); raise the tolerance, or pass --allow-creases to "
+                            f"keep the creases")
     return res
 
 

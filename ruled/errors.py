@@ -45,3 +45,18 @@ class CancelledError(RuledError):
     """The user interrupted the work."""
 
     kind = "cancelled"
+
+
+def positive(name: str, value, what: str = "a distance in model units", zero_ok: bool = False) -> float:
+    """value as a float, or the one wording every command uses for a bad size:
+    '<name> must be a positive finite number (<what>), not <value>' ('zero or a positive ...' where
+    zero is allowed)."""
+    import math
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise BadInputError(f"{name} must be a number ({what}), not {value!r}") from None
+    if not (math.isfinite(x) and (x > 0 or (zero_ok and x == 0))):
+        raise BadInputError(f"{name} must be {'zero or ' if zero_ok else ''}a positive finite number ({what}), "
+                            f"not {x:g}")
+    return x

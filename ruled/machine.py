@@ -34,7 +34,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from .errors import BadInputError
+from .errors import BadInputError, positive
 from .nurbs import Surface
 
 Progress = Optional[Callable[[str, float], None]]
@@ -63,16 +63,8 @@ class MachineOptions:
     tip: str = "auto"                       # flank: the tool tip at the rulings' first end, second, or auto (lower z)
 
     def checked(self) -> "MachineOptions":
-        def positive(name, x, zero_ok=False):
-            if x is None:
-                return None
-            try:
-                x = float(x)
-            except (TypeError, ValueError):
-                raise BadInputError(f"{name} must be a number, not {x!r}") from None
-            if not math.isfinite(x) or x < 0 or (x == 0 and not zero_ok):
-                raise BadInputError(f"{name} must be {'at least 0' if zero_ok else 'positive'}, not {x:g}")
-            return x
+        def size(name, x, zero_ok=False, what="a distance in model units"):
+            return None if x is None else positive(name, x, what, zero_ok)
 
         if self.mode not in ("xyuv", "flank"):
             raise BadInputError(f"unknown machine output {self.mode!r}; use xyuv or flank")
@@ -85,18 +77,18 @@ class MachineOptions:
             if len(planes) != 2 or not all(math.isfinite(h) for h in planes) or planes[0] == planes[1]:
                 raise BadInputError(f"--planes takes two different heights a,b, not {self.planes!r}")
             planes = tuple(sorted(planes))
-        r = positive("--tool-radius", self.tool_radius)
+        r = size("--tool-radius", self.tool_radius)
         if self.mode == "flank" and r is None:
             raise BadInputError("flank milling needs the tool radius (--tool-radius R)")
         taper = float(self.taper_deg)
         if not (0.0 <= taper < 45.0):
             raise BadInputError(f"--taper must be from 0 to 45 degrees (the tool's half angle), not {taper:g}")
-        feed = positive("--feed", self.feed)
+        feed = size("--feed", self.feed, what="model units per minute")
         if self.tip not in ("auto", "first", "second"):
             raise BadInputError(f"--tip is auto, first or second, not {self.tip!r}")
-        return MachineOptions(self.mode, positive("--chord-tol", self.chord_tol), planes, _axis_spec(self.axis),
-                              positive("--margin", self.margin), positive("--kerf", self.kerf, True), r, taper,
-                              positive("--lead", self.lead, True), feed, int(self.max_points), self.tip)
+        return MachineOptions(self.mode, size("--chord-tol", self.chord_tol), planes, _axis_spec(self.axis),
+                              size("--margin", self.margin), size("--kerf", self.kerf, True), r, taper,
+                              size("--lead", self.lead, True), feed, int(self.max_points), self.tip)
 
 
 def _axis_spec(axis):

@@ -8,7 +8,7 @@ from typing import Optional
 
 import numpy as np
 
-from .errors import BadInputError
+from .errors import BadInputError, positive
 
 
 class Objective(str, Enum):
@@ -56,16 +56,16 @@ class FitOptions:
     def checked(self) -> "FitOptions":
         if not isinstance(self.samples, (int, np.integer)) or self.samples < 3:
             raise BadInputError(f"--samples {self.samples} is too small; use at least 3 (40 is a good start)")
-        if self.max_error is not None and not (self.max_error > 0):
-            raise BadInputError(f"--max-error {self.max_error} must be a positive distance in model units")
+        if self.max_error is not None:
+            positive("--max-error", self.max_error)
         if self.elevations is not None and (not isinstance(self.elevations, (int, np.integer))
                                             or not 0 <= self.elevations <= 200):
             raise BadInputError(f"--elevations {self.elevations} must be a whole number of levels from 0 to 200 "
                                 f"(10 gives 21 levels)")
-        if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
-            raise BadInputError(f"--step {self.step} must be a positive distance in model units")
-        if self.memory_cap is not None and not (np.isfinite(self.memory_cap) and self.memory_cap > 0):
-            raise BadInputError(f"--memory-cap {self.memory_cap / 2.0 ** 20:g} must be a positive, finite size in MiB")
+        if self.step is not None:
+            positive("--step", self.step)
+        if self.memory_cap is not None:
+            positive("--memory-cap", self.memory_cap / 2.0 ** 20, "a size in MiB")
         try:
             method, metric = Method(self.method), Metric(self.metric)
             objective, direction = Objective(self.objective), Direction(self.direction)

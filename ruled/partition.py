@@ -19,7 +19,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .errors import BadInputError, InfeasibleError
+from .errors import BadInputError, InfeasibleError, positive
 from .fit import Direction, FitOptions, FitResult, fit_surface
 from .nurbs import Curve, Surface
 from .split import check_memory, row_scores, split_dp, split_tables
@@ -55,7 +55,7 @@ class SplitOptions:
             raise BadInputError(f"--elevations {self.levels} must be a whole number from 1 to 6 (levels on each side "
                                 f"of the surface; 2 gives the paper's 5)")
         if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
-            raise BadInputError(f"--step {self.step} must be a positive distance in model units")
+            positive("--step", self.step)
         if not isinstance(self.max_strips, (int, np.integer)) or self.max_strips < 1:
             raise BadInputError(f"--max-strips {self.max_strips} must be at least 1")
         m = 2 * self.levels + 1
@@ -267,8 +267,7 @@ def partition(S: Surface, tol: float, opts: SplitOptions = SplitOptions(), progr
     of its optimal M-curve and its best iso-parametric curve, until every strip's bound is within tol;
     then the fewest uniform iso-parametric strips for the same tolerance, and keep whichever is fewer."""
     opts = opts.checked()
-    if not (np.isfinite(tol) and tol > 0):
-        raise BadInputError(f"--tol {tol} must be a positive distance in model units")
+    positive("--tol", tol)
     t0 = time.perf_counter()
     So, transposed, whole = whole_fit(S, opts.fit, progress)
     strips = [whole]

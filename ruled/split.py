@@ -18,7 +18,7 @@ import numpy as np
 
 from . import kernels
 from .distance import lifted_segment_distances, segment_distances
-from .errors import BadInputError, InfeasibleError, TooBigError
+from .errors import BadInputError, InfeasibleError, TooBigError, positive
 from .nurbs import Surface
 
 # predecessor offsets (di, dj, da, db): P, Q forward or not; M stays, or moves to the next column and
@@ -93,8 +93,7 @@ def split_tables(S: Surface, n: int, d: int, m: int = 9, iters: int = 3, dims: i
         if dims != 4:
             A, B = A[:, None, :, :, None], B[:, None, :, :, None]
         return SplitTables(u, vl, A, B)
-    if not (np.isfinite(step) and step > 0):
-        raise BadInputError(f"the elevation step must be a positive distance, got {step}")
+    positive("--step", step)
     h = step * (np.arange(2 * levels + 1) - levels)
     hp = h if dims == 7 else np.zeros(1)
     i, e, a, b, f = (x.ravel() for x in np.meshgrid(np.arange(n), np.arange(hp.size), np.arange(n), np.arange(d),

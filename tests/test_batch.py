@@ -149,7 +149,7 @@ def test_killed_and_resumed_gives_the_uninterrupted_summary(pool_batch, tmp_path
     (["--faces", "3-x"], "--faces '3-x'"),
     (["--faces", "999"], "--faces names 999"),
     (["--jobs", "0"], "--jobs 0 must be at least 1"),
-    (["--face-timeout", "0"], "--face-timeout 0 must be"),
+    (["--face-timeout", "0"], "--face-timeout must be a positive finite number (seconds), not 0"),
     (["--samples", "1"], "samples"),
     (["--scheduler", "tcp://127.0.0.1:9"], "cannot reach the Dask scheduler"),
 ])

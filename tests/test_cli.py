@@ -224,7 +224,7 @@ def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
         "twice": (["-o", str(tmp_path / "a.step"), "--report", str(tmp_path / "a.step")], "is given for two outputs"),
         "read-only": (["-o", str(tmp_path / "a.step"), "--report", str(ro / "r.json")], "is not writable"),
         "measure": (["-o", str(tmp_path / "a.step"), "--measure-samples", "1000000"], "about 2,000,000 minutes"),
-        "memory-cap": (["-o", str(tmp_path / "a.step"), "--memory-cap", "inf"], "--memory-cap inf must be a positive"),
+        "memory-cap": (["-o", str(tmp_path / "a.step"), "--memory-cap", "inf"], "--memory-cap must be a positive finite number (a size in MiB), not inf"),
     }[case]
     r = ruled("fit", src, "--face", "6", *args, cwd=str(tmp_path), timeout=120)
     os.chmod(ro, 0o700)
@@ -253,3 +253,25 @@ def test_a_face_closed_in_both_directions_is_refused_as_such(tmp_path):
     write_step(faces_of(BRepPrimAPI_MakeTorus(10.0, 3.0).Shape())[0], path)
     line = _one_line_error(ruled("fit", path, "--face", "0", "-o", str(tmp_path / "t.step")))
     assert "closed in both directions" in line and "split the face first" in line and "--direction" not in line
+
+
+def test_one_wording_for_a_size_that_must_be_positive(tmp_path):
+    """Every command says a bad size the same way, naming its flag and its unit (issue 19, point 7)."""
+    kj = data_file("kj66_impeller.step")
+    out = str(tmp_path / "a.step")
+    for args, line in [
+        (["fit", kj, "--face", "6", "--max-error", "-1", "-o", out], "--max-error must be a positive finite number "
+         "(a distance in model units), not -1"),
+        (["fit", kj, "--face", "6", "--tol", "0", "-o", out], "--tol must be a positive finite number "
+         "(a distance in model units), not 0"),
+        (["split", kj, "--face", "6", "--dims", "5", "--step", "-1", "-o", out], "--step must be a positive "
+         "finite number (a distance in model units), not -1"),
+        (["curve-on-surface", kj, "--face", "6", "--tol", "nan", "--uv", "0.1,0.1;0.9,0.9", "-o", out],
+         "--tol must be a positive finite number (a distance in model units), not nan"),
+        (["machine", kj, "--face", "6", "--xyuv", "--kerf", "-1", "-o", str(tmp_path / "a.ngc")],
+         "--kerf must be zero or a positive finite number (a distance in model units), not -1"),
+        (["batch", kj, "--face-timeout", "inf", "-o", str(tmp_path / "b")], "--face-timeout must be a positive "
+         "finite number (seconds), not inf"),
+    ]:
+        r = ruled(*args, cwd=str(tmp_path), timeout=120)
+        assert r.returncode == 2 and r.stderr.strip() == f"ruled: error: {line}", (args, r.stderr)

@@ -293,3 +293,46 @@ def test_rails_fix_the_pair_and_faces_lists_edges(tmp_path):
     assert "trimmed 8%" in lines[i] and "edges 4" in lines[i]
     assert [s.split()[1] for s in lines[i + 1:i + 5]] == ["0", "1", "2", "3"]
     assert "sides:" in lines[i + 5]
+
+
+def _raw_face(surf, u0, u1, v0, v1):
+    """A face of surf over the (u, v) rectangle with its pcurves where they are given, even a period
+    away from the surface's knots (as some exporters write them): no ShapeFix, which would move them."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
+    from OCP.BRepLib import BRepLib
+    from OCP.GeomAbs import GeomAbs_Shape
+    pts = [(u0, v0), (u1, v0), (u1, v1), (u0, v1), (u0, v0)]
+    mk = BRepBuilderAPI_MakeWire()
+    for a, b in zip(pts, pts[1:]):
+        mk.Add(BRepBuilderAPI_MakeEdge(curve2d([a, b]), surf).Edge())
+    face = BRepBuilderAPI_MakeFace(surf, mk.Wire(), True).Face()
+    BRepLib.BuildCurves3d_s(face, 1e-9, GeomAbs_Shape.GeomAbs_C1, 14, 200)
+    return face
+
+
+def test_faces_whose_bounds_and_knots_disagree_convert_or_are_refused():
+    """Issue 19: a face whose UV bounds lie a period away from its periodic surface's knots crashed in
+    Geom_BSplineSurface::Segment; one across the seam lost the part past the seam.  Both are fitted
+    whole now (OCCT measures the result against the face); a non-periodic surface whose knots the
+    face's bounds miss is refused in one line."""
+    from OCP.Geom import Geom_CylindricalSurface, Geom_RectangularTrimmedSurface
+    from OCP.GeomConvert import GeomConvert
+    from OCP.gp import gp_Ax3
+
+    from ruled.occ.convert import face_to_container, face_uv_bounds
+    P = 2 * np.pi
+    cyl = Geom_CylindricalSurface(gp_Ax3(), 2.0)
+    bs = GeomConvert.SurfaceToBSplineSurface_s(Geom_RectangularTrimmedSurface(cyl, 0, P, 0, 3))
+    bs.SetUPeriodic()
+    for u0, u1 in ((7.5, 8.5), (5.5, 7.0), (-3.0, -1.0)):
+        face = _raw_face(bs, u0, u1, 0.5, 2.5)
+        assert face_uv_bounds(face) == pytest.approx((u0, u1, 0.5, 2.5))
+        assert face_to_container(face).domain == pytest.approx((u0, u1, 0.5, 2.5))
+        res, bound, h, area = _fit_and_measure(face, n=12, samples=12)
+        assert h.max <= 1e-5 * _size(face) and bound >= h.max and abs(area - 1.0) <= 1e-3, (u0, u1, h.max, area)
+    flat = bs.Copy()
+    flat.SetUNotPeriodic()
+    with pytest.raises(RuledError) as exc:
+        face_to_container(_raw_face(flat, 7.5, 8.5, 0.5, 2.5))
+    assert str(exc.value) == ("the face's u range [7.5, 8.5] lies outside its surface's knot range [0, 6.28318531]; "
+                              "repair the face (ShapeFix in your CAD system)")

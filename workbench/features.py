@@ -219,9 +219,9 @@ def ruling_lines(fits) -> list:
 
 # the engine's messages name the command line's options; in FreeCAD they are properties (until errors
 # carry the option they concern as a field)
-REMEDIES = {"pass --allow-creases (allow_creases=True)": "set AllowCreases",
+REMEDIES = {"pass --allow-creases": "set AllowCreases",
             "run 'ruled fit' first, or 'ruled cone --fit'": "cone-spline a Ruled fit of it, or set FitFirst",
-            "(allow_creases=True)": "(set AllowCreases)", "--max-strips": "MaxStrips", "--fit-samples": "FitSamples",
+            "--max-strips": "MaxStrips", "--fit-samples": "FitSamples",
             "--samples": "Samples", "--interior": "Interior", "--tol": "Tolerance", "--elevations": "Elevations",
             "--step": "Step", "--dims": "Dims", "--max-error": "MaxError", "--direction": "Direction",
             "--objective": "Objective", "--method": "Method", "--metric": "Metric"}

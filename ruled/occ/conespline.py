@@ -13,7 +13,7 @@ from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
 from OCP.BRepCheck import BRepCheck_Analyzer
 
 from ..conespline import ConeSpline, Progress, cone_spline_of_surface
-from ..errors import BadInputError
+from ..errors import positive
 from .convert import container_to_face, face_surface_type, face_to_container
 from .measure import FaceSet, sample_faces, to_lines
 
@@ -129,10 +129,4 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
 
 
 def check_tolerance(tol) -> float:
-    try:
-        tol = float(tol)
-    except (TypeError, ValueError):
-        raise BadInputError(f"the tolerance must be a number (got {tol!r})") from None
-    if not (np.isfinite(tol) and tol > 0):
-        raise BadInputError(f"the tolerance must be positive (got {tol:g}); give it in model units, e.g. --tol 0.01")
-    return tol
+    return positive("--tol", tol)

@@ -110,22 +110,56 @@ def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
             raise BadInputError(f"cannot convert this {face_surface_type(face)} face to a B-spline "
                                 f"surface ({exc}); convert it to NURBS in your CAD system first") from None
         return bs
+    return _restricted(bs, (u0, u1, v0, v1))
+
+
+def _restricted(bs: Geom_BSplineSurface, bounds: tuple) -> Geom_BSplineSurface:
+    """bs restricted to the face's UV bounds, parametrised as the face's pcurves are.
+
+    A periodic direction keeps the face's own parameters, whichever period they lie in (exporters
+    shift pcurves by whole periods) and across the seam; a direction the face goes all the way round
+    stays whole.  Bounds that overhang a non-periodic surface's knot range are clamped to it; a face
+    whose bounds miss that range is refused."""
     ku0, ku1, kv0, kv1 = bs.Bounds()
-    tol = 1e-9 * max(1.0, abs(ku1 - ku0), abs(kv1 - kv0))
-    # a periodic direction that the face goes all the way round is kept whole (its bounds may be shifted)
-    if bs.IsUPeriodic() and (u1 - u0) >= ku1 - ku0 - tol:
-        u0, u1 = ku0, ku1
-    if bs.IsVPeriodic() and (v1 - v0) >= kv1 - kv0 - tol:
-        v0, v1 = kv0, kv1
-    if (u0 > ku0 + tol or u1 < ku1 - tol or v0 > kv0 + tol or v1 < kv1 - tol):
-        if bs.IsUPeriodic() and (u1 - u0) < ku1 - ku0 - tol:
-            bs.SetUNotPeriodic()
-        if bs.IsVPeriodic() and (v1 - v0) < kv1 - kv0 - tol:
-            bs.SetVNotPeriodic()
-        bs.Segment(max(u0, ku0) if not bs.IsUPeriodic() else u0,
-                   min(u1, ku1) if not bs.IsUPeriodic() else u1,
-                   max(v0, kv0) if not bs.IsVPeriodic() else v0,
-                   min(v1, kv1) if not bs.IsVPeriodic() else v1)
+    size = max(1.0, abs(ku1 - ku0), abs(kv1 - kv0))
+    tol = 1e-9 * size
+    lo, hi = list(bounds[::2]), list(bounds[1::2])
+    shift = [0.0, 0.0]
+    for d, (k0, k1, periodic) in enumerate(((ku0, ku1, bs.IsUPeriodic()), (kv0, kv1, bs.IsVPeriodic()))):
+        name = "uv"[d]
+        if not (np.isfinite(lo[d]) and np.isfinite(hi[d]) and hi[d] > lo[d]):
+            raise BadInputError(f"the face's {name} bounds [{lo[d]:g}, {hi[d]:g}] are empty or not finite; "
+                                f"repair the face (ShapeFix in your CAD system)")
+        if periodic:
+            period = k1 - k0
+            n = np.floor((lo[d] - k0 + tol) / period)    # whole periods between the face and the knots
+            shift[d] = n * period
+            if hi[d] - lo[d] >= period - tol:           # all the way round: the whole period
+                lo[d], hi[d] = k0 + shift[d], k1 + shift[d]
+        else:
+            if lo[d] > k1 - tol or hi[d] < k0 + tol:
+                raise BadInputError(f"the face's {name} range [{lo[d]:.9g}, {hi[d]:.9g}] lies outside its surface's "
+                                    f"knot range [{k0:.9g}, {k1:.9g}]; repair the face (ShapeFix in your CAD system)")
+            lo[d], hi[d] = max(lo[d], k0), min(hi[d], k1)
+    whole = [hi[d] - lo[d] >= ((ku1 - ku0), (kv1 - kv0))[d] - tol for d in range(2)]
+    if not all(whole):
+        # a periodic surface segments across its seam; the result's knots start in the period OCCT
+        # picks: they are moved below to the face's own parameters
+        try:
+            bs.Segment(lo[0] - shift[0], hi[0] - shift[0], lo[1] - shift[1], hi[1] - shift[1])
+        except Exception as exc:  # OCCT's Standard_DomainError
+            raise BadInputError(f"cannot restrict the face's surface to the face's bounds u [{lo[0]:.9g}, "
+                                f"{hi[0]:.9g}], v [{lo[1]:.9g}, {hi[1]:.9g}] ({exc}); repair the face "
+                                f"(ShapeFix in your CAD system)") from None
+    b = bs.Bounds()
+    for d, get, put in ((0, bs.UKnots, bs.SetUKnots), (1, bs.VKnots, bs.SetVKnots)):
+        delta = lo[d] - b[2 * d]
+        if abs(delta) > tol:
+            k = get()
+            moved = TColStd_Array1OfReal(1, k.Length())
+            for i in range(1, k.Length() + 1):
+                moved.SetValue(i, k.Value(i) + delta)
+            put(moved)
     return bs
 
 
