@@ -93,6 +93,58 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface 
     return pts, (lo - p, np.maximum(hi, lo) - p)
 
 
+def crease_jumps(S: Surface, axis: int) -> tuple:
+    """The parameters along axis (0: u, 1: v) where S is only C0 (knots of multiplicity >= degree
+    inside the domain, and the seam of a periodic direction), and for each a rigorous bound of the jump
+    of the derivative along axis across it, over the whole crease.
+
+    The one-sided derivatives at a knot of full multiplicity in the derivative's net (degree q = p - 1)
+    are the net's control rows on either side of it, so the jump of the homogeneous derivative is a
+    B-spline across the crease whose control points are their differences (convex hull).  Rational:
+    jump(S') = (jump(A') - (S - c) jump(w')) / w with the poles centred on c (the jump does not depend on
+    where the surface lies), |S - c| <= max |P - c| and w >= the smallest weight."""
+    knots = S.knots_u if axis == 0 else S.knots_v
+    p = S.degree_u if axis == 0 else S.degree_v
+    a, b = (S.domain[0], S.domain[1]) if axis == 0 else (S.domain[2], S.domain[3])
+    periodic = S.periodic_u if axis == 0 else S.periodic_v
+    kv, mult = np.unique(knots, return_counts=True)
+    sel = (mult >= p) & (kv > a) & (kv < b)
+    if not (sel.any() or periodic):
+        return np.zeros(0), np.zeros(0)
+    P = S.poles
+    w = np.ones(P.shape[:2]) if S.weights is None else S.weights
+    c = P.reshape(-1, 3).mean(axis=0)
+    H = np.concatenate([(P - c) * w[..., None], w[..., None]], axis=2)
+    D, kd = _deriv_net(H, knots, p, axis)
+    D = np.moveaxis(D, axis, 0)                   # (rows across the crease, along it, 4)
+    q = p - 1
+    where, left, right = [], [], []
+    for x, m in zip(kv[sel], mult[sel]):
+        r = int(np.searchsorted(kd, x, side="left"))
+        where.append(x)
+        left.append(r - 1)
+        right.append(r + int(m) - q - 1)
+    if periodic:                                  # the seam: the end row against the first
+        where.append(a)
+        left.append(D.shape[0] - 1)
+        right.append(0)
+    jump = D[np.array(right)] - D[np.array(left)]                 # (creases, along, 4)
+    reach = float(np.linalg.norm(P - c, axis=2).max())
+    J = (np.linalg.norm(jump[..., :3], axis=2).max(axis=1) + reach * np.abs(jump[..., 3]).max(axis=1)) / w.min()
+    return np.array(where, float), J
+
+
+def _crease_term(creases: tuple, lo: np.ndarray, hi: np.ndarray, period: float = 0.0) -> np.ndarray:
+    """Per cell, the sum of the derivative jumps of the creases inside the cell's parameter range [lo, hi]
+    (with their copies a period on, where the parameter is unwrapped)."""
+    where, J = creases
+    out = np.zeros(lo.shape)
+    for x, j in zip(where, J):
+        for k in ((0.0, 1.0, -1.0) if period else (0.0,)):
+            out += j * ((lo <= x + k * period) & (x + k * period <= hi))
+    return out
+
+
 def _twin(S: Surface, ruled: bool = False) -> Surface:
     """S with finer knot spans for its derivative bounds (ruled: R, whose t direction is linear)."""
     pu = pieces_for(S.knots_u, S.degree_u, BOUND_SPANS)
@@ -677,6 +729,7 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
     bS = Sb.derivative_bounds()
     M = {k: SpanRangeMax(Sb.knots_u, Sb.degree_u, bS[k].max(axis=1)) for k in ("Suu", "Suv", "Svv")}
     Rss_span = Rb.derivative_bounds()["Suu"][:, 0]
+    creases = (crease_jumps(S, 0), crease_jumps(S, 1))
     extra_s = np.zeros(0)
     tt = np.linspace(0.0, 1.0, target_t + 1)
     best = None
@@ -723,6 +776,14 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
         rs = (hs ** 2 * _range_max(Rss_span, span_s)[:, None] + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s
               + Mvv * dv_s ** 2) / 8.0
         rt = (Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
+        if creases[0][0].size or creases[1][0].size:
+            # S o phi has a kink where phi crosses a crease of S: linear interpolation across a kink of
+            # slope jump J along an edge of parameter change d errs by up to J d / 4 more
+            cv = np.stack([W[:-1, :-1], W[1:, :-1], W[:-1, 1:], W[1:, 1:]])
+            Ju = _crease_term(creases[0], lo, hi, L if closed else 0.0)
+            Jv = _crease_term(creases[1], cv.min(axis=0), cv.max(axis=0))
+            rs = rs + (Ju * du_s + Jv * dv_s) / 4.0
+            rt = rt + (Ju * du_t + Jv * dv_t) / 4.0
         rem = rs + rt
         cell = _corner_max(f) + rem
         cert = Certificate(float(cell.max()), float(f.max()), float(rem.max()), (ns, nt))

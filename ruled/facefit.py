@@ -174,7 +174,21 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     res = fit_surface(patch.surface, opts, progress)
     if not patch.identity:          # an untrimmed face keeps today's exact path
         res = _area_checked(with_iso(res, progress), patch)
-    return replace(with_deviation(res, patch.deviation), patch=patch)
+    res = with_deviation(res, patch.deviation)
+    far = far_from_ruled(res.error_bound, patch.face_size or region_size(region))
+    return replace(res, patch=patch if far is None else replace(patch, warnings=patch.warnings + (far,)))
+
+
+FAR = 0.1    # a best ruled surface farther than this fraction of the face's size is no use to a line cut
+
+
+def far_from_ruled(bound: float, size: float) -> Optional[str]:
+    """The warning for a face no ruled surface comes near, said as soon as the fit is known."""
+    if not (size > 0 and bound >= FAR * size):
+        return None
+    return (f"no ruled surface comes near this face: the best is within {bound:.4g} of it, {100 * bound / size:.0f} % "
+            f"of its size ({size:.4g}); a line cannot cut it as one face: split it into strips (ruled fit --tol T) "
+            f"or machine it another way")
 
 
 def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:

@@ -216,6 +216,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     _stage(progress, f"certify ({direction})", 0.0)
     t0 = time.perf_counter()
     cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
+    bd, R, cert = _coarser(So, pairing, (C0, C1, u0, L), bd, R, cert, tol, grid)
     T["certify"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 1.0)
     pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
@@ -226,6 +227,26 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     pc = cost[path[:, 0] % n, path[:, 1] % n]
     return DirectionFit(direction, closed, R, path, rulings, pp, pc, res.score, (sig, dlt, rc), pairing,
                         bd.fit_error, cert, T, bd, So)
+
+
+COARSE = 0.01     # rails within this fraction of a result's bound are fine enough
+
+
+def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: float, grid: tuple):
+    """A result far from the face (its bound far above the rails' fitting tolerance, which follows the
+    rulings' own distances) needs no rails finer than a fraction of its bound: refitted to that, kept
+    when its certified bound is no more than 2 % higher and it has fewer poles (a hopeless face fitted
+    into hundreds of poles is not a result anyone can use)."""
+    coarse = COARSE * cert.bound
+    n = bd.A.poles.shape[0]
+    if not (np.isfinite(coarse) and coarse > 10.0 * tol and n > 16):
+        return bd, R, cert
+    bd2 = fit_boundaries(*curves, pairing, coarse)
+    if bd2.A.poles.shape[0] >= n:
+        return bd, R, cert
+    R2 = ruled_surface(bd2)
+    cert2 = certified_bound(So, pairing, bd2, R2, *grid, 1.02 * cert.bound)
+    return (bd2, R2, cert2) if cert2.bound <= 1.02 * cert.bound else (bd, R, cert)
 
 
 def _follow_exact(So: Surface, closed: bool, ab: np.ndarray, h: float, refined: tuple, pairing,

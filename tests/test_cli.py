@@ -275,3 +275,27 @@ def test_one_wording_for_a_size_that_must_be_positive(tmp_path):
     ]:
         r = ruled(*args, cwd=str(tmp_path), timeout=120)
         assert r.returncode == 2 and r.stderr.strip() == f"ruled: error: {line}", (args, r.stderr)
+
+
+def test_a_hopeless_face_says_so_at_once_and_stays_compact(tmp_path):
+    """Issue 19: a closed helical blade (a swept profile of ~130 x 12 poles) came back as 804 x 2 poles
+    after minutes.  Its result now has tens of poles, and the warning that no ruled surface comes near
+    it is the first thing said (before the measure); the bound still holds against OCCT's measure."""
+    pytest.importorskip("OCP")
+    from trimmed_faces import swept_blade_face
+
+    from ruled.occ.io import write_step
+    src = str(tmp_path / "blade.step")
+    write_step(swept_blade_face(), src)
+    rep_path = tmp_path / "r.json"
+    r = ruled("fit", src, "--face", "0", "-o", str(tmp_path / "o.step"), "--report", str(rep_path),
+              "--measure-samples", "16", cwd=str(tmp_path), timeout=300)
+    assert r.returncode == 0, r.stderr
+    first = r.stderr.strip().splitlines()[0]
+    assert first.startswith("ruled: warning: face 0: no ruled surface comes near this face: the best is within ")
+    assert "a line cannot cut it as one face: split it into strips (ruled fit --tol T)" in first
+    rep = json.loads(rep_path.read_text())
+    nu, nv = rep["result"]["poles"]
+    assert nv == 2 and nu <= 40, rep["result"]["poles"]
+    assert rep["warnings"] == [first.split(": ", 3)[3]]
+    assert rep["hausdorff"]["max"] <= rep["error_bound"] and rep["hausdorff"]["max"] >= 0.1 * 133

@@ -157,3 +157,27 @@ def coons_reference(surf, sides, n: int = 40):
             arr.SetValue(i + 1, j + 1, surf.Value(float(uv[0]), float(uv[1])))
     bs = GeomAPI_PointsToBSplineSurface(arr, 3, 3, GeomAbs_Shape.GeomAbs_C2, 1e-6).Surface()
     return BRepBuilderAPI_MakeFace(bs, 1e-7).Face()
+
+
+def swept_blade_face(profile: int = 200, stations: int = 40):
+    """A closed blade: a NACA-like profile (chord 30) swept half a turn along a helix (radius 40, rise 60),
+    interpolated by OCCT into a bicubic of about 130 x 12 poles.  No ruled surface comes near it."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    t = np.linspace(0, 2 * np.pi, profile)
+    x = 15 * (1 + np.cos(t))
+    c = x / 30
+    yt = 18 * (0.2969 * np.sqrt(c + 1e-12) - 0.126 * c - 0.3516 * c ** 2 + 0.2843 * c ** 3 - 0.1015 * c ** 4)
+    y = np.where(t < np.pi, yt, -yt)
+    P = TColgp_Array2OfPnt(1, profile, 1, stations)
+    for j, s in enumerate(np.linspace(0, 1, stations)):
+        a = np.pi * s
+        centre = np.array([40 * np.cos(a), 40 * np.sin(a), 60 * s])
+        tan = np.array([-40 * np.pi * np.sin(a), 40 * np.pi * np.cos(a), 60.0])
+        tan /= np.linalg.norm(tan)
+        rad = np.array([np.cos(a), np.sin(a), 0.0])
+        b = np.cross(tan, rad)
+        for i in range(profile):
+            p = centre + 0.3 * (x[i] - 15) * rad + (y[i] + 0.9 * (x[i] - 15)) * b
+            P.SetValue(i + 1, j + 1, gp_Pnt(*map(float, p)))
+    bs = GeomAPI_PointsToBSplineSurface(P, 3, 3, GeomAbs_Shape.GeomAbs_C2, 1e-3).Surface()
+    return BRepBuilderAPI_MakeFace(bs, 1e-7).Face()
