@@ -127,10 +127,14 @@ def run_face(job: dict) -> dict:
         if faces is None:
             faces = _FACES[(job["input"], job["digest"])] = read_faces(job["input"])
         o = job["options"]
+        if not o.get("plots", True):         # no thumbnail of an earlier run beside this run's figures
+            with contextlib.suppress(OSError):
+                os.unlink(paths["png"])
         rep = run_fit(job["input"], job["face"], paths["step"], samples=o["samples"], objective=o["objective"],
                       max_error=o["max_error"], direction=o["direction"], method=o["method"],
                       measure_samples=o["measure_samples"], memory_cap_mb=job["memory_cap_mb"],
-                      report=None, plot=paths["png"], quiet=True, face=faces[job["face"]], say=False)
+                      report=None, plot=paths["png"] if o.get("plots", True) else None, quiet=True,
+                      face=faces[job["face"]], say=False)
         row.update(error_bound=rep["error_bound"], hausdorff=rep["hausdorff"]["max"],
                    warnings="; ".join(rep.get("warnings", [])))
     except RuledError as exc:
@@ -258,7 +262,7 @@ class LocalPool:
 class DaskPool:
     """The same face task on an existing Dask distributed cluster (``ruled[dask]``)."""
 
-    def __init__(self, address: str):
+    def __init__(self, address: str, timeout: float = float("inf")):
         try:
             from distributed import Client
         except ImportError:
@@ -267,17 +271,36 @@ class DaskPool:
             self.client = Client(address, timeout=5)
         except (OSError, TimeoutError) as exc:
             raise BadInputError(f"cannot reach the Dask scheduler {address} ({exc}); check the address") from None
+        self.timeout = timeout
 
     def run(self, jobs: list, on_row) -> None:
-        from distributed import as_completed
-        # --face-timeout: a Dask task cannot be stopped from here; the cluster's own limits apply
-        futures = {self.client.submit(run_face, job, pure=False): (job, time.perf_counter()) for job in jobs}
-        for f in as_completed(list(futures)):
-            job, t0 = futures.pop(f)
+        """No more faces in flight than the cluster has threads, so that a face's clock starts when it
+        starts; a face past --face-timeout is recorded as failed and the batch goes on (Dask cannot stop
+        a running task: its thread is counted busy until the face ends, its result then dropped)."""
+        from distributed import FIRST_COMPLETED, wait
+        slots = max(1, sum(self.client.nthreads().values()))
+        pending, running, overdue = list(jobs), {}, set()
+        while pending or running:
+            overdue = {f for f in overdue if not f.done()}
+            while pending and len(running) + len(overdue) < slots:
+                job = pending.pop(0)
+                running[self.client.submit(run_face, job, pure=False)] = (job, time.perf_counter())
             try:
-                on_row(f.result())
-            except Exception as exc:  # the task raised on its worker (or the worker died): the face failed
-                on_row(failed_row(job, f"crashed: {type(exc).__name__}: {exc}", time.perf_counter() - t0))
+                done = wait(list(running), timeout=0.25, return_when=FIRST_COMPLETED).done
+            except TimeoutError:
+                done = ()
+            for f in done:
+                job, t0 = running.pop(f)
+                try:
+                    on_row(f.result())
+                except Exception as exc:  # the task raised on its worker (or the worker died): the face failed
+                    on_row(failed_row(job, f"crashed: {type(exc).__name__}: {exc}", time.perf_counter() - t0))
+            now = time.perf_counter()
+            for f, (job, t0) in list(running.items()):
+                if now - t0 > self.timeout:
+                    running.pop(f)
+                    overdue.add(f)
+                    on_row(failed_row(job, f"ran past --face-timeout {self.timeout:g} s", now - t0))
 
     def close(self) -> None:
         self.client.close()
@@ -411,7 +434,8 @@ def run_batch(inputs: list, outdir: str, *, faces: str = "all", fraction: float 
         raise BadInputError(f"--jobs {jobs} must be at least 1")
     positive("--face-timeout", face_timeout, "seconds")
     spec = parse_faces(faces)
-    pool = DaskPool(scheduler) if scheduler else LocalPool(jobs, face_timeout)   # the cluster reachable first
+    # the cluster reachable first
+    pool = DaskPool(scheduler, face_timeout) if scheduler else LocalPool(jobs, face_timeout)
     try:
         return _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume, memory_cap_mb, progress)
     finally:
@@ -452,7 +476,8 @@ def _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume,
 
 def options_dict(args) -> dict:
     return {"samples": args.samples, "objective": args.objective, "max_error": args.max_error,
-            "direction": args.direction, "method": args.method, "measure_samples": args.measure_samples}
+            "direction": args.direction, "method": args.method, "measure_samples": args.measure_samples,
+            "plots": not args.no_plots}
 
 
 def main_batch(args) -> int:

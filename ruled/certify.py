@@ -101,37 +101,50 @@ def crease_jumps(S: Surface, axis: int) -> tuple:
     The one-sided derivatives at a knot of full multiplicity in the derivative's net (degree q = p - 1)
     are the net's control rows on either side of it, so the jump of the homogeneous derivative is a
     B-spline across the crease whose control points are their differences (convex hull).  Rational:
-    jump(S') = (jump(A') - (S - c) jump(w')) / w with the poles centred on c (the jump does not depend on
-    where the surface lies), |S - c| <= max |P - c| and w >= the smallest weight."""
+    jump(S') = (jump(A') - S jump(w')) / w = sum_ij N_i N_j (dA_i w_j - A_j dw_i) / sum_ij N_i N_j w_i w_j
+    along the crease (A_j, w_j: its row of homogeneous poles), hence at most the largest
+    |dA_i / w_i - (P_j - c) dw_i / w_i| over overlapping i, j, with the poles centred on the row's c (the
+    jump does not depend on where the surface lies)."""
     knots = S.knots_u if axis == 0 else S.knots_v
     p = S.degree_u if axis == 0 else S.degree_v
+    q_along = S.degree_v if axis == 0 else S.degree_u
     a, b = (S.domain[0], S.domain[1]) if axis == 0 else (S.domain[2], S.domain[3])
     periodic = S.periodic_u if axis == 0 else S.periodic_v
     kv, mult = np.unique(knots, return_counts=True)
     sel = (mult >= p) & (kv > a) & (kv < b)
     if not (sel.any() or periodic):
         return np.zeros(0), np.zeros(0)
-    P = S.poles
-    w = np.ones(P.shape[:2]) if S.weights is None else S.weights
-    c = P.reshape(-1, 3).mean(axis=0)
-    H = np.concatenate([(P - c) * w[..., None], w[..., None]], axis=2)
-    D, kd = _deriv_net(H, knots, p, axis)
-    D = np.moveaxis(D, axis, 0)                   # (rows across the crease, along it, 4)
+    P = np.moveaxis(S.poles, axis, 0)                            # (rows across the crease, along it, 3)
+    w = np.ones(P.shape[:2]) if S.weights is None else np.moveaxis(S.weights, axis, 0)
+    H = np.concatenate([P * w[..., None], w[..., None]], axis=2)
+    D, kd = _deriv_net(H, knots, p, 0)
     q = p - 1
-    where, left, right = [], [], []
+    where, left, right, row = [], [], [], []
     for x, m in zip(kv[sel], mult[sel]):
         r = int(np.searchsorted(kd, x, side="left"))
         where.append(x)
         left.append(r - 1)
         right.append(r + int(m) - q - 1)
+        row.append(int(np.searchsorted(knots, x, side="left")) - 1)   # the row of poles the crease runs on
     if periodic:                                  # the seam: the end row against the first
         where.append(a)
         left.append(D.shape[0] - 1)
         right.append(0)
-    jump = D[np.array(right)] - D[np.array(left)]                 # (creases, along, 4)
-    reach = float(np.linalg.norm(P - c, axis=2).max())
-    J = (np.linalg.norm(jump[..., :3], axis=2).max(axis=1) + reach * np.abs(jump[..., 3]).max(axis=1)) / w.min()
-    return np.array(where, float), J
+        row.append(0)
+    J = []
+    for lo_, hi_, r in zip(left, right, row):
+        jump = D[hi_] - D[lo_]                                      # (along, 4), homogeneous, not centred
+        wr, Pr = w[r], P[r]
+        c = Pr.mean(axis=0)
+        dA = jump[:, :3] - c * jump[:, 3:]                          # the same jump with the poles centred on c
+        Y, Z = dA / wr[:, None], jump[:, 3] / wr
+        n = Pr.shape[0]
+        best = 0.0
+        for k in range(-q_along, q_along + 1):                      # overlapping i, j = i + k
+            i = np.arange(max(0, -k), min(n, n - k))
+            best = max(best, float(np.linalg.norm(Y[i] - (Pr[i + k] - c) * Z[i][:, None], axis=1).max()))
+        J.append(best)
+    return np.array(where, float), np.array(J)
 
 
 def _crease_term(creases: tuple, lo: np.ndarray, hi: np.ndarray, period: float = 0.0) -> np.ndarray:

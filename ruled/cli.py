@@ -180,13 +180,15 @@ def _batch_parser(sub) -> None:
     b.add_argument("--max-error", type=float, default=None, help="as 'ruled fit --max-error'")
     b.add_argument("--direction", choices=["auto", "u", "v"], default="auto", help="as 'ruled fit --direction'")
     b.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")
+    b.add_argument("--no-plots", action="store_true",
+                   help="no plot per face (faster on thousands of faces; the summary page then has no thumbnails)")
     b.add_argument("--jobs", type=int, default=None, help="worker processes (default: the number of cores)")
     b.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                    help="run the faces on this Dask distributed cluster instead (pip install 'ruled[dask]')")
     b.add_argument("--resume", action="store_true",
                    help="skip the faces whose report exists for the same input file, face and options")
     b.add_argument("--face-timeout", type=float, default=600.0,
-                   help="seconds a face may take before it is recorded as failed (default 600; local pool)")
+                   help="seconds a face may take before it is recorded as failed (default 600)")
     b.add_argument("--memory-cap", type=float, default=None,
                    help="MiB for the whole batch, divided among the workers (default: 80%% of the free memory)")
     b.add_argument("-o", "--output", required=True, help="output folder: one folder per input file, summary.*")

@@ -256,20 +256,14 @@ def _continuity(C: Curve, u: float) -> int:
 
 
 def _mapped_knots(C: Curve, u0: float, L: float, pairing: Pairing, which: str, p: int):
-    """Interior knots of C where it is not C2, mapped into s through the pairing, with the
-    multiplicity they need in a degree-p space to keep C's measured continuity there."""
+    """Interior knots of C mapped into s through the pairing, with the multiplicity they need in
+    a degree-p space to keep C's measured continuity there."""
     lo, hi = C.domain
     ks = np.unique(C.knots)
     ks = ks[(ks > lo) & (ks < hi)]
     if ks.size == 0:
         return np.zeros(0), np.zeros(0, int)
-    cont = np.array([_continuity(C, k) for k in ks], int)
-    # only the knots where C is not C2 are breaks the result must keep; at smooth knots the space grows
-    # only where the fit needs it (all of a dense boundary's knots made results of hundreds of poles)
-    ks, cont = ks[cont < 2], cont[cont < 2]
-    if ks.size == 0:
-        return np.zeros(0), np.zeros(0, int)
-    mult = np.maximum(1, p - cont)
+    mult = np.array([max(1, p - _continuity(C, k)) for k in ks])
     x = (ks - u0) / L
     a, b = pairing.ab(np.array([0.0, 1.0]))
     f0, f1 = (a if which == "a" else b)

@@ -82,8 +82,15 @@ def test_dask_local_cluster_gives_the_same_summary(pool_batch, tmp_path):
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as c:
         r = _cli("batch", step, "--faces", ",".join(map(str, chosen)), *FAST, "--scheduler", c.scheduler_address,
                  "-o", str(tmp_path / "dask"), "--quiet")
+        # a limit no fit meets: recorded as failed, and the batch ends (Dask cannot stop the tasks)
+        t = _cli("batch", step, "--faces", ",".join(map(str, chosen[:3])), *FAST, "--scheduler",
+                 c.scheduler_address, "--face-timeout", "0.05", "-o", str(tmp_path / "late"), "--quiet")
     assert r.returncode == 0, r.stderr[-3000:]
     assert _rows(str(tmp_path / "dask")) == [x for x in rows if x["face"] in chosen]
+    assert t.returncode == 0, t.stderr[-3000:]
+    late = json.load(open(tmp_path / "late" / "summary.json"))["rows"]
+    assert len(late) == 3 and all(x["status"] == "failed" and "ran past --face-timeout 0.05 s" in x["reason"]
+                                  for x in late), late
 
 
 def _intact(folder) -> None:
@@ -109,17 +116,18 @@ def test_killed_and_resumed_gives_the_uninterrupted_summary(pool_batch, tmp_path
     rnd = random.Random(7)
     args = [sys.executable, "-m", "ruled.cli", "batch", step, "--faces", faces, "--jobs", "2", *FAST, "-o", dest,
             "--quiet", "--resume"]
-    # Ctrl-C (the fits at their defaults: slower): the batch stops at once with the summary of what finished
+    # Ctrl-C (every B-spline face, at the fits' defaults: far from done when it comes): the batch stops at
+    # once with the summary of what finished
     stopped = str(tmp_path / "stopped")
-    p = subprocess.Popen(args[:args.index(FAST[0])] + ["-o", stopped], cwd=ROOT, stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen(args[:args.index("--faces")] + ["--faces", "bspline", "--jobs", "2", "-o", stopped],
+                         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     time.sleep(6.0)
     p.send_signal(signal.SIGINT)
     t0 = time.perf_counter()
     _, err = p.communicate(timeout=60)
     assert p.returncode == 130 and time.perf_counter() - t0 < 10 and "interrupted" in err, err
     with open(os.path.join(stopped, "summary.json")) as fh:
-        assert json.load(fh)["faces"] < len(chosen)
+        assert json.load(fh)["faces"] < len(_rows(out))
     for _ in range(2):                   # killed at random moments, resumed each time
         p = subprocess.Popen(args, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                              start_new_session=True)

@@ -224,7 +224,8 @@ def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
         "twice": (["-o", str(tmp_path / "a.step"), "--report", str(tmp_path / "a.step")], "is given for two outputs"),
         "read-only": (["-o", str(tmp_path / "a.step"), "--report", str(ro / "r.json")], "is not writable"),
         "measure": (["-o", str(tmp_path / "a.step"), "--measure-samples", "1000000"], "about 2,000,000 minutes"),
-        "memory-cap": (["-o", str(tmp_path / "a.step"), "--memory-cap", "inf"], "--memory-cap must be a positive finite number (a size in MiB), not inf"),
+        "memory-cap": (["-o", str(tmp_path / "a.step"), "--memory-cap", "inf"],
+                       "--memory-cap must be a positive finite number (a size in MiB), not inf"),
     }[case]
     r = ruled("fit", src, "--face", "6", *args, cwd=str(tmp_path), timeout=120)
     os.chmod(ro, 0o700)

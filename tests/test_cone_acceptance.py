@@ -236,7 +236,8 @@ def test_cli_cone_writes_step_report_and_plot(cone_step, tmp_path):
 def test_cli_refuses_bad_input(cone_step, tmp_path):
     out = str(tmp_path / "x.step")
     r = _run("cone", cone_step, "--face", "0", "--tol", "0", "-o", out)
-    assert r.returncode == 2 and "--tol must be a positive finite number (a distance in model units), not 0" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
+    assert "--tol must be a positive finite number (a distance in model units), not 0" in r.stderr
     r = _run("cone", cone_step, "--face", "0", "--tol", "-1", "-o", out)
     assert r.returncode == 2
     # a face that is not ruled: Elber's ex2, with its distance from the ruled surface between its boundaries

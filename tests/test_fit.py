@@ -236,3 +236,37 @@ def test_bounded_least_squares_matches_scipy(rng):
         y = lsq_linear(A, b, bounds=(lb, ub), method="bvls").x
         assert np.all(x >= lb) and np.all(x <= ub)
         assert np.linalg.norm(A @ x - b) <= np.linalg.norm(A @ y - b) * (1 + 1e-10) + 1e-12
+
+
+def _creased(rational: bool) -> Surface:
+    """A bicubic-by-linear sheet whose middle row of poles is pushed out and sideways: degree 1 across,
+    an interior knot of full multiplicity, so a crease runs along u through the middle of the face and
+    every ruling along v crosses it."""
+    u = np.linspace(0.0, 10.0, 6)
+    rows = [np.stack([u, np.zeros(6), np.zeros(6)], 1),
+            np.stack([u + 1.5 * np.sin(u / 3), np.full(6, 4.0), 1.2 + 0.8 * np.cos(u / 2)], 1),
+            np.stack([u, np.full(6, 8.0), 0.3 * u], 1)]
+    P = np.stack(rows, axis=1)
+    w = None
+    if rational:
+        w = np.ones(P.shape[:2])
+        w[:, 1] = np.linspace(0.5, 2.5, 6)
+    ku = np.array([0, 0, 0, 0, 1, 2, 3, 3, 3, 3], float)
+    return Surface(P, ku, np.array([0, 0, 0.5, 1, 1], float), 3, 1, w)
+
+
+@pytest.mark.parametrize("rational", [False, True])
+def test_certificate_holds_where_rulings_cross_a_crease(rational):
+    """Issue 19's fuzzing (and issue 22): the map from the result onto the face crosses the face's crease;
+    the derivative's jump there adds to the remainder, so the bound stays above OCCT's dense measure."""
+    from ruled.certify import crease_jumps
+    S = _creased(rational)
+    where, J = crease_jumps(S, 1)
+    assert where.tolist() == [0.5]
+    u = np.linspace(0, 3, 301)
+    lo = S.evaluate(u, np.full(301, 0.5 - 1e-9), 1).Sv
+    hi = S.evaluate(u, np.full(301, 0.5 + 1e-9), 1).Sv
+    sampled = np.linalg.norm(hi - lo, axis=1).max()
+    assert sampled <= J[0] <= 4 * sampled        # a bound of the jump, and not a loose one
+    res, h = _fit_and_measure(S, n_measure=60, direction="v")
+    assert res.error_bound >= h.max, (res.error_bound, h.max)
