@@ -230,6 +230,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
 
 
 COARSE = 0.01     # rails within this fraction of a result's bound are fine enough
+COMPACT_POLES = 40   # results with more poles than this are rebuilt coarser when far from the face
 
 
 def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: float, grid: tuple):
@@ -239,7 +240,7 @@ def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: flo
     into hundreds of poles is not a result anyone can use)."""
     coarse = COARSE * cert.bound
     n = bd.A.poles.shape[0]
-    if not (np.isfinite(coarse) and coarse > 10.0 * tol and n > 16):
+    if not (np.isfinite(coarse) and coarse > 10.0 * tol and n > COMPACT_POLES):
         return bd, R, cert
     bd2 = fit_boundaries(*curves, pairing, coarse)
     if bd2.A.poles.shape[0] >= n:

@@ -25,6 +25,8 @@ from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 from ..hostform import Hausdorff, PolygonClassifier, grid_size
 
 SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local projections
+SEEDS = 8          # the exact distance also searches locally from this many nearest seeds
+PIECES = 6         # ... and in this many nearest smooth pieces between creases, from their own seeds
 
 
 def face_bounds(face):
@@ -110,6 +112,46 @@ def _classifier(face) -> PolygonClassifier:
     return PolygonClassifier(lambda: _boundary_polygon(face), face_bounds(face), exact)
 
 
+def _crease_knots(surf, bounds) -> tuple:
+    """The knots of the face's B-spline surface inside its bounds where it is only C0 (multiplicity >=
+    degree), in u and in v; none for other surfaces."""
+    from OCP.GeomAbs import GeomAbs_SurfaceType
+    ad = GeomAdaptor_Surface(surf)
+    if ad.GetType() != GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
+        return [], []
+    bs = ad.BSpline()
+    u0, u1, v0, v1 = bounds
+    return ([bs.UKnot(i) for i in range(1, bs.NbUKnots() + 1) if bs.UMultiplicity(i) >= bs.UDegree()
+             and u0 < bs.UKnot(i) < u1],
+            [bs.VKnot(i) for i in range(1, bs.NbVKnots() + 1) if bs.VMultiplicity(i) >= bs.VDegree()
+             and v0 < bs.VKnot(i) < v1])
+
+
+def _crease_runs(surf, bounds, inside, n: int = 200) -> list:
+    """The face's creases: iso-curves of its B-spline surface at knots of full multiplicity (where the
+    surface is only C0), as (curve, parameters, points, (u, v), the direction across) runs of n samples
+    inside the face.  A closest
+    point can lie on a crease without being an extremum of either side, so the local projections miss it."""
+    from OCP.GeomAdaptor import GeomAdaptor_Curve
+    ku, kv = _crease_knots(surf, bounds)
+    u0, u1, v0, v1 = bounds
+    runs = []
+    for along_u, ks, iso in ((False, ku, surf.UIso), (True, kv, surf.VIso)):
+        a, b = (u0, u1) if along_u else (v0, v1)
+        for k in ks:
+            c = GeomAdaptor_Curve(iso(k), a, b)
+            t = np.linspace(a, b, n)
+            uv = np.stack([t, np.full(n, k)] if along_u else [np.full(n, k), t], axis=1)
+            ok = inside.points(uv)
+            # contiguous runs inside the face
+            edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]])))
+            for s0, s1 in zip(edges[::2], edges[1::2]):
+                tt = t[s0:s1]
+                runs.append((c, tt, np.array([_p3(c.Value(float(x))) for x in tt]), uv[s0:s1],
+                             1 if along_u else 0))         # the parameter that crosses the crease
+    return runs
+
+
 class _Projector:
     """Distances to a face as bounded by its edges (OCCT only)."""
 
@@ -120,7 +162,7 @@ class _Projector:
         self.proj.Init(self.surf, self.u0, self.u1, self.v0, self.v1)
         self.sas = ShapeAnalysis_Surface(self.surf)
         self.inside = _classifier(face)
-        # a dense cloud of every edge: closest points may lie on the boundary
+        # a dense cloud of every edge and crease: closest points may lie on the boundary, or on a crease
         self.curves, pts, ids, ts = [], [], [], []
         for e in _face_edges(face):
             c = BRepAdaptor_Curve(e)
@@ -129,11 +171,26 @@ class _Projector:
             ids.append(np.full(t.size, len(self.curves)))
             ts.append(t)
             self.curves.append(c)
+        crease_pts, crease_uv, crease_dir = [], [], []
+        for c, t, p, uv, across in _crease_runs(self.surf, (self.u0, self.u1, self.v0, self.v1), self.inside):
+            pts.append(p)
+            ids.append(np.full(t.size, len(self.curves)))
+            ts.append(t)
+            self.curves.append(c)
+            crease_pts.append(p)
+            crease_uv.append(uv)
+            crease_dir.append(np.full(t.size, across))
+        # seeds on either side of every crease: a local search does not cross one
+        self.crease = None
+        if crease_pts:
+            from scipy.spatial import cKDTree
+            self.crease = (cKDTree(np.concatenate(crease_pts)), np.concatenate(crease_uv), np.concatenate(crease_dir))
         self.edge_pts = np.concatenate(pts) if pts else np.zeros((0, 3))
         self.edge_id = np.concatenate(ids) if ids else np.zeros(0, int)
         self.edge_t = np.concatenate(ts) if ts else np.zeros(0)
         self.face = face
         self._local = None
+        self._piece_cache = None
 
     def _local_search(self):
         """The seeds of the local projection (a grid inside the face, KD-tree) and OCCT's local
@@ -146,6 +203,30 @@ class _Projector:
                            cKDTree(pts) if len(pts) else None, uv,
                            cKDTree(self.edge_pts) if len(self.edge_pts) else None)
         return self._local
+
+    def _pieces(self) -> list:
+        """The face's smooth pieces between its creases (none without creases): for each, OCCT's local
+        extremum search bounded to it and a grid of seeds inside the face (built on first use).  A local
+        search does not cross a crease, and where the surface folds there the nearest seeds of the whole
+        face can all lie on the other sheet."""
+        if self._piece_cache is None:
+            from scipy.spatial import cKDTree
+            ku, kv = _crease_knots(self.surf, (self.u0, self.u1, self.v0, self.v1))
+            self._piece_cache = []
+            if ku or kv:
+                ub, vb = [self.u0, *ku, self.u1], [self.v0, *kv, self.v1]
+                m = max(6, int(SEED_GRID / np.sqrt((len(ub) - 1) * (len(vb) - 1))))
+                for a, b in zip(ub[:-1], ub[1:]):
+                    for c, d in zip(vb[:-1], vb[1:]):
+                        us, vs = np.linspace(a, b, m), np.linspace(c, d, m)
+                        iu, iv = np.nonzero(self.inside.grid(us, vs))
+                        if iu.size == 0:
+                            continue
+                        uv = np.stack([us[iu], vs[iv]], axis=1)
+                        pts = np.array([_p3(self.surf.Value(float(u), float(v))) for u, v in uv])
+                        ad = GeomAdaptor_Surface(self.surf, a, b, c, d)
+                        self._piece_cache.append((Extrema_GenLocateExtPS(ad, 1e-10, 1e-10), cKDTree(pts), uv, ad))
+        return [(loc, tree, uv) for loc, tree, uv, _ in self._piece_cache]
 
     def upper(self, X: np.ndarray) -> np.ndarray:
         """Distances from the points X (N, 3) to points of the face (each at least the distance to the
@@ -233,6 +314,36 @@ class _Projector:
             d = float(np.linalg.norm(np.array(self._value(u, v)) - x))
             if d < best:
                 best, seed = d, (u, v)
+        # OCCT's extrema can miss the nearest point where the surface folds back over itself (creases,
+        # collapsed rows): local searches from the nearest seeds of the face's grid, on either sheet
+        _, loc, tree, uvs, _ = self._local_search()
+        starts = []
+        if tree is not None:
+            _, ks = tree.query(x, k=min(SEEDS, tree.n))
+            starts += [uvs[kk] for kk in np.atleast_1d(ks)]
+        if self.crease is not None:
+            ctree, cuv, cdir = self.crease
+            _, ks = ctree.query(x, k=min(SEEDS // 2, ctree.n))
+            span = (self.u1 - self.u0, self.v1 - self.v0)
+            for kk in np.atleast_1d(ks):
+                for side in (-1e-7, 1e-7):
+                    st = cuv[kk].copy()
+                    st[cdir[kk]] += side * span[cdir[kk]]
+                    starts.append(st)
+        searches = [(loc, u, v) for u, v in starts]
+        near = []
+        for ploc, ptree, puv in self._pieces():     # the nearest smooth pieces, each from its own seeds
+            ds, ks = ptree.query(x, k=min(2, ptree.n))
+            near.append((float(np.min(ds)), ploc, puv[np.atleast_1d(ks)]))
+        for _, ploc, puv in sorted(near, key=lambda t: t[0])[:PIECES]:
+            searches += [(ploc, u, v) for u, v in puv]
+        for lc, u, v in searches:
+            lc.Perform(P, float(u), float(v), False)
+            if lc.IsDone():
+                u, v = lc.Point().Parameter()
+                d = float(np.sqrt(lc.SquareDistance()))
+                if d < best and self.inside(u, v):
+                    best, seed = d, (u, v)
         if seed is not None:
             best = min(best, self._polish(x, *seed, 4))
         if self.edge_pts.size:
