@@ -277,7 +277,7 @@ class DaskPool:
         """No more faces in flight than the cluster has threads, so that a face's clock starts when it
         starts; a face past --face-timeout is recorded as failed and the batch goes on (Dask cannot stop
         a running task: its thread is counted busy until the face ends, its result then dropped)."""
-        from distributed import FIRST_COMPLETED, wait
+        from distributed import wait
         slots = max(1, sum(self.client.nthreads().values()))
         pending, running, overdue = list(jobs), {}, set()
         while pending or running:
@@ -286,7 +286,7 @@ class DaskPool:
                 job = pending.pop(0)
                 running[self.client.submit(run_face, job, pure=False)] = (job, time.perf_counter())
             try:
-                done = wait(list(running), timeout=0.25, return_when=FIRST_COMPLETED).done
+                done = wait(list(running), timeout=0.25, return_when="FIRST_COMPLETED").done
             except TimeoutError:
                 done = ()
             for f in done:

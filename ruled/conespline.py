@@ -143,6 +143,10 @@ def ruled_boundaries(S: Surface, direction: str = "auto", rel: float = 1e-9):
                         f"({dev / size:.2%} of its size); run 'ruled fit' first, or 'ruled cone --fit'")
 
 
+# boundaries within this fraction of the size of two parallel planes lie in them (the model's tolerance)
+PLANAR = 1e-6
+
+
 # ---------------------------------------------------------------------------------------- frames
 def _dirs(c0, c1, v):
     D = c1(v) - c0(v)
@@ -350,12 +354,18 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     vs = np.linspace(0.0, 1.0, 257)
     n, dev = _plane_normal(c0, c1, vs)
     size = float(np.ptp(np.vstack([c0(vs), c1(vs)]), axis=0).max())
-    planar = dev <= 1e-9 * max(size, 1e-300)
+    # boundaries within the model's tolerance of two parallel planes are in them (a CAD file holds no
+    # better: a blade's boundaries at z = 0 and 36 to 1.2e-5); the sliver between a boundary and its
+    # plane, along the rulings, is added to the bound
+    planar = dev <= PLANAR * max(size, 1e-300)
     U = _dirs(c0, c1, vs)
     ranges = [(0.0, 1.0)]
+    slack = 0.0
     if planar:
-        if np.abs(U @ n).min() <= 1e-9:
+        cos = float(np.abs(U @ n).min())
+        if cos <= 1e-9:
             raise BadInputError("a ruling lies in the planes of the boundaries; the surface cannot be cut by them")
+        slack = dev / cos
     else:
         ranges = split_fans(c0, dc0, c1, dc1, split_by_tilt(c0, c1, max_tilt_deg))
         if len(ranges) > MAX_PIECES:
@@ -382,12 +392,15 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
             plan.append((a, b, z, ext))
             continue
         if planar or b - a < 1.0 / 128 or len(plan) + len(queue) + 2 > MAX_PIECES:
+            where = (f"the two boundaries run against each other there (their tangents "
+                     f"{np.degrees(np.arccos(np.clip(score, -1, 1))):.0f} deg apart near v = {a + (b - a) * at:.3g}: "
+                     f"the surface twists too much, or a fan of rulings goes through one boundary point)")
             raise BadInputError(
-                f"{'the' if planar else 'the boundaries are not in parallel planes, and no'} pair of parallel "
-                f"planes across the rulings gives a fat curve that does not fold: between them the two boundaries "
-                f"run against each other (their tangents {np.degrees(np.arccos(np.clip(score, -1, 1))):.0f} deg "
-                f"apart near v = {a + (b - a) * at:.3g}; the surface twists too much there, or a fan of rulings "
-                f"goes through one boundary point); use a part of the surface between two parallel planes")
+                (f"between the boundaries' parallel planes the fat curve folds, so no cone spline follows it: {where}"
+                 if planar else
+                 f"the boundaries are not in parallel planes, and between every pair of parallel planes tried across "
+                 f"the rulings the fat curve folds, so no cone spline follows it: {where}")
+                + "; use a part of the surface between two parallel planes")
         cut = a + (b - a) * min(max(at, 0.1), 0.9)
         queue[0:0] = [(a, cut), (cut, b)]
         folds += 1
@@ -430,7 +443,10 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
         def ends(v, lo_=lo_, hi_=hi_, o=origin):
             return o + lo_(v)[0], o + hi_(v)[0]
         pieces.append(Piece((a, b), origin, E, (h0, h1), (H0, H1), planar, arcs, e0, e1, o0, o1, ends))
-    res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches), _g1(patches), notes=notes)
+    if slack > 0.0:
+        notes.append(f"the boundaries lie within {dev:.3g} of their parallel planes (taken as the planes): "
+                     f"the bound includes the {slack:.3g} between them along the rulings")
+    res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches) + slack, _g1(patches), notes=notes)
     res.timings["fit"] = time.perf_counter() - t0
     if res.max_g1_deg > G1_DEG and not allow_creases:
         raise BadInputError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "

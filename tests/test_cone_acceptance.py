@@ -266,7 +266,8 @@ def test_twisted_surfaces_are_refused_with_the_reason():
 
     def d1(v):
         return np.tile([-2.0, 0.0, 0.0], (len(np.atleast_1d(v)), 1))
-    with pytest.raises(BadInputError, match="fold"):
+    with pytest.raises(BadInputError, match="^between the boundaries' parallel planes the fat curve folds, so no "
+                                            "cone spline follows it: the two boundaries run against each other"):
         cone_spline(c0, d0, c1, d1, 0.01)
     # rulings that spin round many times: too many pieces
     k = 20 * np.pi
@@ -358,3 +359,34 @@ def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
     d = max(FaceSet(fc.faces).distance(x) for x in sample_faces([face], 12))
     assert d <= fc.fit.error_bound + 0.05
     assert fc.result.max_g1_deg > 1.0 and any("tangent continuous" in w for w in fc.warnings)
+
+
+def test_boundaries_in_parallel_planes_to_the_models_tolerance_are_planar():
+    """Issue 21: a blade whose boundaries lie at z = 0 and z = 36 to 1.2e-5 was refused as 'not in
+    parallel planes'.  Paper example 1 with its boundaries moved off their planes by 3e-7 of its size
+    (a CAD file's tolerance): one piece between the boundaries' planes, as for the exact example, the
+    sliver between boundary and plane in the bound, and the bound above the measure."""
+    b0, db0, b1, db1 = _spiral()
+    c0, dc0, c1, dc1 = _original(b0, db0, b1, db1, 1.0)
+    size = float(np.ptp(np.vstack([c0(np.linspace(0, 1, 99)), c1(np.linspace(0, 1, 99))]), axis=0).max())
+    eps = 3e-7 * size
+
+    def w0(v):
+        return c0(v) + np.column_stack([0 * v, 0 * v, eps * np.sin(9 * np.atleast_1d(v))])
+
+    def w1(v):
+        return c1(v) + np.column_stack([0 * v, 0 * v, eps * np.cos(7 * np.atleast_1d(v))])
+
+    def dw0(v):
+        return dc0(v) + np.column_stack([0 * v, 0 * v, 9 * eps * np.cos(9 * np.atleast_1d(v))])
+
+    def dw1(v):
+        return dc1(v) - np.column_stack([0 * v, 0 * v, 7 * eps * np.sin(7 * np.atleast_1d(v))])
+    res = cone_spline(w0, dw0, w1, dw1, 1e-3, 0.5)
+    assert len(res.pieces) == 1 and res.pieces[0].planar_boundaries
+    assert any("of their parallel planes" in note for note in res.notes)
+
+    def ends(v):
+        return w0(v), w1(v)
+    d1, d2 = _measured(cone_faces(res), ends)
+    assert max(d1, d2) <= res.bound <= 1e-3 + 10 * eps, (d1, d2, res.bound)
