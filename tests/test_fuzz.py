@@ -32,7 +32,7 @@ def _batch(tmp, method: str):
     write_step([f for f, _ in faces], src)
     out = str(tmp / f"out{method}")
     r = subprocess.run([sys.executable, "-m", "ruled.cli", "batch", src, "--method", method, "--samples", "12",
-                        "--measure-samples", "16", "--jobs", "2", "--face-timeout", str(FACE_LIMIT), "--no-plots",
+                        "--measure-samples", "12", "--jobs", "2", "--face-timeout", str(FACE_LIMIT), "--no-plots",
                         "--quiet", "-o", out], capture_output=True, text=True, cwd=ROOT, timeout=3000)
     assert r.returncode == 0, r.stderr[-3000:]
     with open(os.path.join(out, "summary.json")) as fh:
