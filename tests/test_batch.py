@@ -119,8 +119,11 @@ def test_killed_and_resumed_gives_the_uninterrupted_summary(pool_batch, tmp_path
     # Ctrl-C (every B-spline face, at the fits' defaults: far from done when it comes): the batch stops at
     # once with the summary of what finished
     stopped = str(tmp_path / "stopped")
+    # (Ctrl-C as a terminal delivers it: a test run started in the background, as by nohup, would pass
+    # SIGINT ignored to the batch)
     p = subprocess.Popen(args[:args.index("--faces")] + ["--faces", "bspline", "--jobs", "2", "-o", stopped],
-                         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     time.sleep(6.0)
     p.send_signal(signal.SIGINT)
     t0 = time.perf_counter()
