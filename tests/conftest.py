@@ -52,3 +52,23 @@ def run_freecadcmd(script: str, tmp_path, timeout: int = 600, env: dict = None):
                          env={**os.environ, "HOME": str(tmp_path), **(env or {})})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     return run
+
+
+# The fuzz batches (tests/test_fuzz.py) start as soon as the tests are collected, in a process of their own
+# on one worker: the suite runs on one core and their minutes pass on the other.
+FUZZ = {}
+
+
+def pytest_collection_finish(session):
+    if any("test_fuzz.py" in item.nodeid for item in session.items) and "proc" not in FUZZ:
+        import subprocess
+        import tempfile
+        FUZZ["dir"] = tempfile.mkdtemp(prefix="ruled-fuzz-")
+        FUZZ["proc"] = subprocess.Popen([sys.executable, os.path.join(HERE, "fuzz_faces.py"), FUZZ["dir"], "1"],
+                                        cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def pytest_sessionfinish(session):
+    proc = FUZZ.get("proc")
+    if proc is not None and proc.poll() is None:
+        proc.kill()

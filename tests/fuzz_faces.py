@@ -120,3 +120,36 @@ def random_face(rng):
 def random_faces(seed: int, count: int) -> list:
     rng = np.random.default_rng(seed)
     return [random_face(rng) for _ in range(count)]
+
+
+# the fuzz batches: seed and number of faces per method
+COUNTS = {"2d": (1902, 200), "4d": (1904, 30)}
+FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 1 s)
+
+
+def run(folder: str, jobs: int = 1) -> int:
+    """Write the random faces of each method to a STEP file in folder and fit them with ``ruled batch``
+    (a per-face limit, no plots); the summaries land in folder/out<method>.  Returns the exit code."""
+    import os
+    import subprocess
+    import sys
+
+    from ruled.occ.io import write_step
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    for method, (seed, count) in COUNTS.items():
+        src = os.path.join(folder, f"fuzz{method}.step")
+        write_step([f for f, _ in random_faces(seed, count)], src)
+        r = subprocess.run([sys.executable, "-m", "ruled.cli", "batch", src, "--method", method, "--samples", "12",
+                            "--measure-samples", "12", "--jobs", str(jobs), "--face-timeout", str(FACE_LIMIT),
+                            "--no-plots", "--quiet", "-o", os.path.join(folder, f"out{method}")],
+                           cwd=root, capture_output=True, text=True)
+        with open(os.path.join(folder, f"batch{method}.log"), "w") as fh:
+            fh.write(r.stdout + r.stderr)
+        if r.returncode != 0:
+            return r.returncode
+    return 0
+
+
+if __name__ == "__main__":       # python tests/fuzz_faces.py FOLDER [JOBS]
+    import sys
+    sys.exit(run(sys.argv[1], int(sys.argv[2]) if len(sys.argv) > 2 else 1))

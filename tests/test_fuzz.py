@@ -1,48 +1,41 @@
 """Random faces through the whole job (issue 19, point 5): 200 faces fitted in 2D and 30 in 4D by
-``ruled batch`` on two workers with a per-face time limit, each result measured by OCCT against the
-face as bounded by its edges.  Asserted on every face: no crash and no hang (a refusal is a one-line
-RuledError), the certified bound at least the measured distance, a valid result face.  The faces
-(tests/fuzz_faces.py) are rational and periodic, of degrees 1-5 with 2-12 poles, knots of every
-multiplicity, weights 0.2-5, scales 1e-4-1e4, offsets up to 1e5, collapsed rows and trimmed sides."""
+``ruled batch`` with a per-face time limit, each result measured by OCCT against the face as bounded by
+its edges.  Asserted on every face: no crash and no hang (a refusal is a one-line RuledError), the
+certified bound at least the measured distance, a valid result face.  The faces (tests/fuzz_faces.py)
+are rational and periodic, of degrees 1-5 with 2-12 poles, knots of every multiplicity, weights 0.2-5,
+scales 1e-4-1e4, offsets up to 1e5, collapsed rows and trimmed sides.  The batches start in the
+background when the tests are collected (conftest.py) and are waited for here."""
 
 from __future__ import annotations
 
 import json
 import os
-import subprocess
-import sys
 
 import pytest
 
 pytest.importorskip("OCP")
 
-from conftest import ROOT  # noqa: E402
-from fuzz_faces import random_faces  # noqa: E402
-
-COUNTS = {"2d": (1902, 200), "4d": (1904, 30)}       # seed, faces
-# a face that takes longer than this hangs (they take about 1 s)
-FACE_LIMIT = 120
+from conftest import FUZZ  # noqa: E402
+from fuzz_faces import COUNTS, random_faces  # noqa: E402
 
 
-def _batch(tmp, method: str):
-    from ruled.occ.io import write_step
-    seed, count = COUNTS[method]
-    faces = random_faces(seed, count)
-    src = str(tmp / f"fuzz{method}.step")
-    write_step([f for f, _ in faces], src)
-    out = str(tmp / f"out{method}")
-    r = subprocess.run([sys.executable, "-m", "ruled.cli", "batch", src, "--method", method, "--samples", "12",
-                        "--measure-samples", "12", "--jobs", "2", "--face-timeout", str(FACE_LIMIT), "--no-plots",
-                        "--quiet", "-o", out], capture_output=True, text=True, cwd=ROOT, timeout=3000)
-    assert r.returncode == 0, r.stderr[-3000:]
-    with open(os.path.join(out, "summary.json")) as fh:
+@pytest.fixture(scope="module")
+def batches():
+    proc = FUZZ.get("proc")
+    assert proc is not None, "the fuzz batches start when tests/test_fuzz.py is collected (conftest.py)"
+    assert proc.wait(timeout=3000) == 0, [open(os.path.join(FUZZ["dir"], f)).read()[-3000:]
+                                          for f in os.listdir(FUZZ["dir"]) if f.endswith(".log")]
+    return FUZZ["dir"]
+
+
+@pytest.fixture(scope="module", params=list(COUNTS))
+def fuzz(request, batches):
+    method = request.param
+    with open(os.path.join(batches, f"out{method}", "summary.json")) as fh:
         rows = json.load(fh)["rows"]
-    return faces, src, os.path.join(out, f"fuzz{method}"), rows
-
-
-@pytest.fixture(scope="module", params=["2d", "4d"])
-def fuzz(request, tmp_path_factory):
-    return (request.param, *_batch(tmp_path_factory.mktemp("fuzz"), request.param))
+    seed, count = COUNTS[method]
+    return (method, random_faces(seed, count), os.path.join(batches, f"fuzz{method}.step"),
+            os.path.join(batches, f"out{method}", f"fuzz{method}"), rows)
 
 
 @pytest.mark.slow
@@ -69,7 +62,7 @@ def test_random_faces_are_fitted_soundly_or_refused_in_one_line(fuzz):
 
 @pytest.mark.slow
 def test_the_tightest_bounds_hold_against_a_denser_measure(fuzz):
-    """The faces whose measure came closest to their bound, measured again twice as densely (32 x 32 points
+    """The faces whose measure came closest to their bound, measured again more densely (32 x 32 points
     of each face plus its edges, projected by OCCT onto the other)."""
     from trimmed_faces import measure
 

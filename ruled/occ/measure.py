@@ -314,11 +314,11 @@ class _Projector:
             d = float(np.linalg.norm(np.array(self._value(u, v)) - x))
             if d < best:
                 best, seed = d, (u, v)
-        # OCCT's extrema can miss the nearest point where the surface folds back over itself (creases,
-        # collapsed rows): local searches from the nearest seeds of the face's grid, on either sheet
+        # OCCT's extrema can miss the nearest point where the surface folds back over itself at a crease:
+        # local searches from the nearest seeds of the face's grid, on either sheet
         _, loc, tree, uvs, _ = self._local_search()
         starts = []
-        if tree is not None:
+        if tree is not None and self.crease is not None:
             _, ks = tree.query(x, k=min(SEEDS, tree.n))
             starts += [uvs[kk] for kk in np.atleast_1d(ks)]
         if self.crease is not None:
