@@ -30,7 +30,7 @@ the pairing where it crawls (fans of rulings), so the cells stay small there.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -60,6 +60,13 @@ class Certificate:
     remainder: float    # largest per-cell remainder term
     nodes: tuple        # grid size (nu, nv)
     map_deviation: float = 0.0   # included in bound: the fitted patch's deviation from the bounded face
+    rounding: float = 0.0        # included in bound: double precision's round-off in the evaluations
+
+
+# round-off of the evaluations the bound rests on (points of S and R, their differences), in units of
+# the largest coordinate: a few dozen operations each, each within half an ulp (a face far from the
+# origin and tiny carries its coordinates' round-off in every distance)
+ROUND_ULPS = 64
 
 
 def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface = None):
@@ -68,12 +75,8 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface 
     remainder needs a node); and each cell's range of knot spans (lo, hi), inclusive.  A cell may
     straddle knots where S is C1: its second derivatives are bounded there by the largest of its
     spans' bounds, which is all the remainder needs."""
-    knots = S.knots_u if direction == "u" else S.knots_v
-    p = S.degree_u if direction == "u" else S.degree_v
     a, b = (S.domain[0], S.domain[1]) if direction == "u" else (S.domain[2], S.domain[3])
-    kv, mult = np.unique(knots, return_counts=True)
-    crease = kv[(mult >= p) & (kv > a) & (kv < b)]
-    br = np.unique(np.concatenate([[a], crease, [b]]))
+    br = np.unique(np.concatenate([[a], S.creases(0 if direction == "u" else 1), [b]]))
     # cells per piece in proportion to its length, at least one
     k = np.maximum(1, np.round(target * np.diff(br) / (b - a))).astype(int)
     pts = np.concatenate([np.linspace(x0, x1, kk, endpoint=False) for x0, x1, kk in zip(br[:-1], br[1:], k)]
@@ -85,8 +88,8 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface 
         pts = pts[keep]
         pts = pts[np.concatenate([np.diff(pts) > 0, [True]])]
     if Sb is not None:      # the spans of the bounding twin (the same surface, finer knots)
-        knots = Sb.knots_u if direction == "u" else Sb.knots_v
         S = Sb
+    knots, p = (S.knots_u, S.degree_u) if direction == "u" else (S.knots_v, S.degree_v)
     n = S.poles.shape[0] if direction == "u" else S.poles.shape[1]
     lo = np.clip(np.searchsorted(knots, pts[:-1], side="right") - 1, p, n - 1)
     hi = np.clip(np.searchsorted(knots, pts[1:], side="left") - 1, p, n - 1)
@@ -108,11 +111,10 @@ def crease_jumps(S: Surface, axis: int) -> tuple:
     knots = S.knots_u if axis == 0 else S.knots_v
     p = S.degree_u if axis == 0 else S.degree_v
     q_along = S.degree_v if axis == 0 else S.degree_u
-    a, b = (S.domain[0], S.domain[1]) if axis == 0 else (S.domain[2], S.domain[3])
+    a = S.domain[0] if axis == 0 else S.domain[2]
     periodic = S.periodic_u if axis == 0 else S.periodic_v
-    kv, mult = np.unique(knots, return_counts=True)
-    sel = (mult >= p) & (kv > a) & (kv < b)
-    if not (sel.any() or periodic):
+    inner = S.creases(axis)
+    if not (inner.size or periodic):
         return np.zeros(0), np.zeros(0)
     P = np.moveaxis(S.poles, axis, 0)                            # (rows across the crease, along it, 3)
     w = np.ones(P.shape[:2]) if S.weights is None else np.moveaxis(S.weights, axis, 0)
@@ -120,7 +122,8 @@ def crease_jumps(S: Surface, axis: int) -> tuple:
     D, kd = _deriv_net(H, knots, p, 0)
     q = p - 1
     where, left, right, row = [], [], [], []
-    for x, m in zip(kv[sel], mult[sel]):
+    for x in inner:
+        m = int(np.count_nonzero(knots == x))
         r = int(np.searchsorted(kd, x, side="left"))
         where.append(x)
         left.append(r - 1)
@@ -818,8 +821,9 @@ def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, ta
     unless that one is already within 2 % of its own node maximum or its node maximum (a sampled
     distance of the fit) is already at least ``cutoff`` (another candidate's bound: this one cannot
     win), from S's side (certify)."""
+    rnd = ROUND_ULPS * np.finfo(float).eps * max(float(np.abs(S.poles).max()), float(np.abs(R.poles).max()))
     rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
-    if rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff:
-        return rev
-    fwd = certify(S, pairing, bd, R, target_u, target_v, rival=min(rev.bound, cutoff))
-    return fwd if fwd.bound < rev.bound else rev
+    if not (rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff):
+        fwd = certify(S, pairing, bd, R, target_u, target_v, rival=min(rev.bound, cutoff))
+        rev = fwd if fwd.bound < rev.bound else rev
+    return replace(rev, bound=rev.bound + rnd, rounding=rnd)

@@ -25,13 +25,21 @@ Every error a user can cause ends in one line on stderr and exit code 2.
 
 from __future__ import annotations
 
-import argparse
-import os
+import signal
 import sys
-import time
 
-from . import __version__
-from .errors import RuledError
+# Ctrl-C while the command line starts: noted, acted on (exit 130, quietly) once main() runs
+_SIGINT = []
+if (__name__ == "__main__" or (sys.argv and sys.argv[0].replace("\\", "/").split("/")[-1] in ("ruled", "ruled.exe"))) \
+        and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+    signal.signal(signal.SIGINT, lambda *_: _SIGINT.append("early"))
+
+import argparse  # noqa: E402
+import os  # noqa: E402
+import time  # noqa: E402
+
+from . import __version__  # noqa: E402
+from .errors import RuledError  # noqa: E402
 
 # the engine's matrices are small: a multi-threaded BLAS only spins (measured: twice the CPU time of
 # a fit, and slower); set before numpy loads (the imports above do not load it), in the command
@@ -400,7 +408,8 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     t_meas = time.perf_counter() - t2
     rep = report_dict(res, input_path=input_path, face=face_index, method=method,
                       hausdorff={"max": h.max, "mean": h.mean, "input_to_result": h.max_a_to_b,
-                                 "result_to_input": h.max_b_to_a, "samples": h.samples},
+                                 "result_to_input": h.max_b_to_a, "samples": h.samples,
+                                 "resolution": h.resolution},
                       timings={"read": t_read, "fit": t_fit, "build_and_write": t_write,
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
     rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
@@ -784,6 +793,50 @@ def cmd_batch(args) -> int:
 
 
 def main(argv=None) -> int:
+    """The command line: exit 0 on success (and when the reader of the output closes the pipe early),
+    2 on any error a user can cause (one line), 130 on Ctrl-C at any moment, quietly."""
+    def on_sigint(*_):
+        _SIGINT.append("now")
+        raise KeyboardInterrupt
+
+    import threading
+    before = signal.getsignal(signal.SIGINT)
+    ours = threading.current_thread() is threading.main_thread() and before not in (signal.SIG_IGN, None)
+    try:
+        if ours:
+            signal.signal(signal.SIGINT, on_sigint)
+        if _SIGINT:
+            raise KeyboardInterrupt
+        return _main(argv)
+    except KeyboardInterrupt:
+        return _interrupted()
+    except BrokenPipeError:
+        # the reader (e.g. `| head -1`) has what it wanted: no traceback, and no second error when
+        # Python flushes stdout at exit
+        _quietly(lambda: os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno()))
+        return 0
+    except Exception:
+        if _SIGINT:             # an interrupt inside a C extension's import surfaces as another error
+            return _interrupted()
+        raise
+    finally:
+        if ours:
+            signal.signal(signal.SIGINT, before if before is not None else signal.default_int_handler)
+
+
+def _interrupted() -> int:
+    _quietly(lambda: print("\nruled: interrupted", file=sys.stderr))
+    return 130
+
+
+def _quietly(action) -> None:
+    try:
+        action()
+    except (OSError, KeyboardInterrupt):
+        pass
+
+
+def _main(argv=None) -> int:
     args = _parser().parse_args(_argv_with_negative_values(sys.argv[1:] if argv is None else list(argv)))
     try:
         if isinstance(getattr(args, "face", None), int) and isinstance(getattr(args, "input", None), str):
@@ -794,9 +847,6 @@ def main(argv=None) -> int:
     except RuledError as exc:
         print(f"ruled: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("\nruled: interrupted", file=sys.stderr)
-        return 130
     except MemoryError:
         print("ruled: error: out of memory; use fewer --samples", file=sys.stderr)
         return 2

@@ -90,7 +90,19 @@ class CoonsMap:
     curves: list = field(default_factory=list)
     flip: bool = False
     name: str = "face's own parametrization"
-    refine_hint: str = "the face's boundary is too wiggly to parametrize; pick other rails (--rails)"
+
+    @property
+    def refine_hint(self) -> str:
+        """Why the face's own parametrization may not follow the surface, in the user's terms."""
+        S = self.region.surface
+        cu, cv = S.creases(0), S.creases(1)
+        if cu.size or cv.size:
+            where = ", ".join([f"u = {x:.6g}" for x in cu[:3]] + [f"v = {x:.6g}" for x in cv[:3]])
+            more = " ..." if cu.size > 3 or cv.size > 3 else ""
+            return (f"the surface has creases (knots where it is only C0: {where}{more}) that cross the face's "
+                    f"curved sides, and a smooth parametrization of the face cannot follow them; split the "
+                    f"face along its creases, or pick rails that run along them (--rails)")
+        return "the face's boundary is too wiggly to parametrize; pick other rails (--rails)"
 
     def __post_init__(self):
         pcs = self.sides.pieces

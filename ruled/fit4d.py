@@ -154,6 +154,66 @@ def refine_lifts(model, eA: np.ndarray, eB: np.ndarray, step: float, iters: int 
     return eA, eB, f
 
 
+def _reach(So: Surface, v: float, inward: float, grid: int = 1024):
+    """The largest lift along the boundary v that keeps the lifted boundary C + e n regular: half of
+    |C'| / |n'| (n' the normal's turning rate, by central differences), so that an offset never reaches
+    a focal point of the boundary, where it would fold into a cusp.  Tabulated, then made continuous (a
+    moving maximum of the turning rate, then a moving average: the rate jumps at knots where S is only
+    C1, and a cap that jumps would tear the lifted boundary).  Returns reach(u)."""
+    from scipy.ndimage import maximum_filter1d, uniform_filter1d
+    u0, u1 = So.domain[:2]
+    L = u1 - u0
+    u = np.linspace(u0, u1, grid + 1)
+    d = 0.25 * L / grid
+    lo, hi = np.maximum(u - d, u0), np.minimum(u + d, u1)
+    dn = (unit_normals(So, hi, v, inward) - unit_normals(So, lo, v, inward)) / (hi - lo)[:, None]
+    dc = np.linalg.norm(So.evaluate(u, np.full(u.shape, v), 1).Su, axis=1)
+    rate = np.linalg.norm(dn, axis=1) / np.maximum(0.5 * dc, 1e-300 * L)
+    mode = "wrap" if So.periodic_u else "nearest"
+    rate = uniform_filter1d(maximum_filter1d(rate, 9, mode=mode), 9, mode=mode)
+
+    def reach(x):
+        x = np.asarray(x, float)
+        if So.periodic_u:
+            x = u0 + np.mod(x - u0, L)
+        return 1.0 / np.maximum(np.interp(x, u, rate), 1e-300)
+    return reach
+
+
+def _saturated(e: np.ndarray, cap: np.ndarray) -> np.ndarray:
+    """e, smoothly kept below cap in size: e / sqrt(1 + (e / cap)^2) (e itself where |e| << cap)."""
+    return e / np.sqrt(1.0 + (e / cap) ** 2)
+
+
+def _crease_taper(So: Surface, v: float, inward: float, lift: float, tol: float, width: float):
+    """w(u) in [0, 1]: 0 at every crease of the boundary v (a knot of So where it is only C0) across which
+    the normal turns enough that a lift of this size would tear the lifted boundary apart (by more than
+    tol), rising smoothly (3x^2 - 2x^3) to 1 within width; 1 elsewhere.  The lifted boundary is then
+    continuous (a kink at the crease, which the boundary fit's knots of full multiplicity follow) instead
+    of a jump that a spline can only chase with steep, badly bounded pieces (issue 22)."""
+    u0, u1 = So.domain[:2]
+    L = u1 - u0
+    uc = So.creases(0)
+    if So.periodic_u:
+        uc = np.concatenate([uc, [u0]])
+    if uc.size:
+        eps = 1e-9 * L
+        n_lo = unit_normals(So, np.where(uc - eps < u0, uc - eps + L, uc - eps), v, inward)
+        n_hi = unit_normals(So, uc + eps, v, inward)
+        uc = uc[lift * np.linalg.norm(n_hi - n_lo, axis=1) > tol]
+
+    def w(u):
+        u = np.asarray(u, float)
+        if uc.size == 0:
+            return np.ones(u.shape)
+        d = np.abs(u[:, None] - uc[None, :])
+        if So.periodic_u:
+            d = np.minimum(d, L - np.mod(d, L))
+        x = np.clip(d.min(axis=1) / width, 0.0, 1.0)
+        return x * x * (3.0 - 2.0 * x)
+    return w
+
+
 def refine_rulings(So: Surface, sig: np.ndarray, dlt: np.ndarray, eA: np.ndarray, eB: np.ndarray, closed: bool,
                    step: float, tau: float, rounds: int = 14):
     """Continuous refinement of a 4D path (beyond the paper, like the 2D refinement): for every
@@ -231,11 +291,17 @@ def _rebuild(So: Surface, path: np.ndarray, smp, n: int, closed: bool, tol: floa
         ga = _smooth_lift(sig, eA, closed, nc)
         gb = _smooth_lift(sig, eB, closed, nc)
         s0 = pairing.sigma0
+        big = max(float(np.abs(eA).max()), float(np.abs(eB).max()))
+        wa = _crease_taper(So, v0, v1 - v0, big, tol, h * L)
+        wb = _crease_taper(So, v1, v0 - v1, big, tol, h * L)
+
+        ra, rb = _reach(So, v0, v1 - v0), _reach(So, v1, v0 - v1)
 
         def lift(s, ua, ub):  # s: the pairing's parameter, sigma = sigma0 + s
             na = unit_normals(So, ua, v0, v1 - v0)
             nb = unit_normals(So, ub, v1, v0 - v1)
-            return ga(s0 + s)[:, None] * na, gb(s0 + s)[:, None] * nb
+            return (_saturated(ga(s0 + s) * wa(ua), ra(ua)))[:, None] * na, \
+                (_saturated(gb(s0 + s) * wb(ub), rb(ub)))[:, None] * nb
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
     bd = fit_boundaries(C0, C1, u0, L, pairing, tol, lift=lift)

@@ -11,6 +11,7 @@ own non-periodic form of a periodic surface delivers it (then it is evaluated as
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -144,6 +145,8 @@ class Hausdorff:
     max_b_to_a: float
     samples: int
     a_to_b: tuple = ()
+    resolution: Optional[float] = None   # the largest gap between neighbouring samples: the true distance
+                                         # is at most max + resolution (None where not worked out)
 
 
 class PolygonClassifier:

@@ -62,7 +62,9 @@ class MachineOptions:
     max_points: int = 50000
     tip: str = "auto"                       # flank: the tool tip at the rulings' first end, second, or auto (lower z)
 
-    def checked(self) -> "MachineOptions":
+    def __post_init__(self):
+        """Validates every option on construction (one BadInputError line naming it) and normalises them in
+        place."""
         def size(name, x, zero_ok=False, what="a distance in model units"):
             return None if x is None else positive(name, x, what, zero_ok)
 
@@ -80,15 +82,28 @@ class MachineOptions:
         r = size("--tool-radius", self.tool_radius)
         if self.mode == "flank" and r is None:
             raise BadInputError("flank milling needs the tool radius (--tool-radius R)")
-        taper = float(self.taper_deg)
+        try:
+            taper = float(self.taper_deg)
+        except (TypeError, ValueError):
+            taper = math.nan
         if not (0.0 <= taper < 45.0):
-            raise BadInputError(f"--taper must be from 0 to 45 degrees (the tool's half angle), not {taper:g}")
+            raise BadInputError(f"--taper must be from 0 to 45 degrees (the tool's half angle), not {self.taper_deg!r}")
         feed = size("--feed", self.feed, what="model units per minute")
         if self.tip not in ("auto", "first", "second"):
             raise BadInputError(f"--tip is auto, first or second, not {self.tip!r}")
-        return MachineOptions(self.mode, size("--chord-tol", self.chord_tol), planes, _axis_spec(self.axis),
-                              size("--margin", self.margin), size("--kerf", self.kerf, True), r, taper,
-                              size("--lead", self.lead, True), feed, int(self.max_points), self.tip)
+        if isinstance(self.max_points, bool) or not isinstance(self.max_points, (int, np.integer)) \
+                or not 100 <= self.max_points <= 10 ** 8:
+            raise BadInputError(f"max_points {self.max_points!r} must be a whole number from 100 to 100000000")
+        values = dict(chord_tol=size("--chord-tol", self.chord_tol), planes=planes, axis=_axis_spec(self.axis),
+                      margin=size("--margin", self.margin), kerf=size("--kerf", self.kerf, True), tool_radius=r,
+                      taper_deg=taper, lead=size("--lead", self.lead, True), feed=feed,
+                      max_points=int(self.max_points))
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+
+    def checked(self) -> "MachineOptions":
+        """The options (validated on construction; kept for the callers that say so)."""
+        return self
 
 
 def _axis_spec(axis):

@@ -30,6 +30,55 @@ def _as_f64(a) -> np.ndarray:
     return np.ascontiguousarray(np.asarray(a, dtype=np.float64))
 
 
+MAX_COORD = 1e15           # beyond this a coordinate's unit is below double precision's resolution
+MAX_WEIGHT_RATIO = 1e6     # a rational surface whose weights span more than this is degenerate
+
+
+def real_array(a, name: str, limit: float = np.inf) -> np.ndarray:
+    """a as finite float64 numbers, or the one-line refusal naming the field: complex values, values
+    that are not numbers, NaN or infinite values, or values beyond limit in size."""
+    arr = np.asarray(a)
+    if np.iscomplexobj(arr):
+        raise BadInputError(f"{name} must be real numbers, not complex ones")
+    try:
+        out = np.ascontiguousarray(arr, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise BadInputError(f"{name} must be numbers") from None
+    if not np.isfinite(out).all():
+        raise BadInputError(f"{name} contain NaN or infinite values; repair the model")
+    if out.size and np.abs(out).max() > limit:
+        raise BadInputError(f"{name} reach {np.abs(out).max():.3g}, beyond {limit:.0e}: double precision cannot "
+                            f"resolve the model there; scale the model down or move it nearer the origin")
+    return out
+
+
+def whole_degree(d, name: str) -> int:
+    """d as an int from 1 to 25 (OCCT's largest degree), or the refusal naming the field."""
+    try:
+        ok = float(d) == int(d) and not isinstance(d, (bool, np.bool_))
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not 1 <= int(d) <= 25:
+        raise BadInputError(f"{name} degree must be a whole number from 1 to 25, not {d!r}")
+    return int(d)
+
+
+def positive_weights(w, shape, name: str) -> np.ndarray:
+    """w as finite positive float64 weights of the given shape whose largest / smallest ratio is at most
+    MAX_WEIGHT_RATIO, or the refusal naming the field."""
+    w = real_array(w, f"{name} weights")
+    if w.shape != tuple(shape):
+        raise BadInputError(f"{name} weights must have shape {tuple(shape)}, got {w.shape}")
+    if np.any(w <= 0):
+        raise BadInputError(f"{name} weights must be positive (the smallest is {w.min():.3g})")
+    ratio = w.max() / w.min()
+    if not ratio <= MAX_WEIGHT_RATIO:
+        raise BadInputError(f"{name} weights range over a ratio of {ratio:.2g} (more than {MAX_WEIGHT_RATIO:.0e}): "
+                            f"the surface is degenerate there and no error can be certified; rebuild it with "
+                            f"moderate weights")
+    return w
+
+
 def find_spans(knots: np.ndarray, degree: int, n_poles: int, x: np.ndarray) -> np.ndarray:
     """Knot span index ``i`` with ``knots[i] <= x < knots[i+1]``, clipped to ``[p, n-1]``.
 
@@ -152,14 +201,16 @@ class Curve:
     _tab_cache: np.ndarray = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
-        P = _as_f64(self.poles)
+        P = real_array(self.poles, "curve poles", MAX_COORD)
         if P.ndim == 1:
             P = P[:, None]
+        if P.ndim != 2:
+            raise BadInputError(f"curve poles must have shape (n, dim), got {P.shape}")
         object.__setattr__(self, "poles", P)
-        object.__setattr__(self, "knots", _as_f64(self.knots))
-        object.__setattr__(self, "degree", int(self.degree))
+        object.__setattr__(self, "knots", real_array(self.knots, "curve knots"))
+        object.__setattr__(self, "degree", whole_degree(self.degree, "curve"))
         if self.weights is not None:
-            object.__setattr__(self, "weights", _as_f64(self.weights))
+            object.__setattr__(self, "weights", positive_weights(self.weights, P.shape[:1], "curve"))
         _check_knots(self.knots, self.degree, self.poles.shape[0], "curve")
         w = np.ones(P.shape[0]) if self.weights is None else self.weights
         object.__setattr__(self, "_hom", np.ascontiguousarray(np.concatenate([P * w[:, None], w[:, None]], axis=1)))
@@ -249,20 +300,16 @@ class Surface:
     _tabs: tuple = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
-        poles = _as_f64(self.poles)
+        poles = real_array(self.poles, "surface poles", MAX_COORD)
         if poles.ndim != 3 or poles.shape[2] != 3:
             raise BadInputError(f"surface poles must have shape (nu, nv, 3), got {poles.shape}")
         object.__setattr__(self, "poles", poles)
-        object.__setattr__(self, "knots_u", _as_f64(self.knots_u))
-        object.__setattr__(self, "knots_v", _as_f64(self.knots_v))
-        object.__setattr__(self, "degree_u", int(self.degree_u))
-        object.__setattr__(self, "degree_v", int(self.degree_v))
+        object.__setattr__(self, "knots_u", real_array(self.knots_u, "surface u knots"))
+        object.__setattr__(self, "knots_v", real_array(self.knots_v, "surface v knots"))
+        object.__setattr__(self, "degree_u", whole_degree(self.degree_u, "surface u"))
+        object.__setattr__(self, "degree_v", whole_degree(self.degree_v, "surface v"))
         if self.weights is not None:
-            w = _as_f64(self.weights)
-            if w.shape != poles.shape[:2]:
-                raise BadInputError(f"surface weights must have shape {poles.shape[:2]}, got {w.shape}")
-            if np.any(w <= 0):
-                raise BadInputError("surface weights must be positive")
+            w = positive_weights(self.weights, poles.shape[:2], "surface")
             if np.all(w == w.flat[0]):
                 w = None
             object.__setattr__(self, "weights", w)
@@ -309,6 +356,14 @@ class Surface:
         a, b = k[p], k[-p - 1]
         kk = np.unique(k)
         return kk[(kk > a) & (kk < b)]
+
+    def creases(self, axis: int) -> np.ndarray:
+        """The knot values strictly inside the domain along axis (0: u, 1: v) where the surface is only C0
+        across (multiplicity >= degree): its creases, if the poles make them."""
+        knots, p = (self.knots_u, self.degree_u) if axis == 0 else (self.knots_v, self.degree_v)
+        a, b = (self.domain[0], self.domain[1]) if axis == 0 else (self.domain[2], self.domain[3])
+        kv, mult = np.unique(knots, return_counts=True)
+        return kv[(mult >= p) & (kv > a) & (kv < b)]
 
     # ------------------------------------------------------------------ evaluation
     def evaluate(self, u, v, nder: int = 0) -> Derivs:

@@ -53,27 +53,39 @@ class FitOptions:
     metric: Metric = Metric.LSAD
     memory_cap: Optional[float] = None
 
-    def checked(self) -> "FitOptions":
-        if not isinstance(self.samples, (int, np.integer)) or self.samples < 3:
-            raise BadInputError(f"--samples {self.samples} is too small; use at least 3 (40 is a good start)")
+    def __post_init__(self):
+        """Validates every option on construction (one BadInputError line naming it) and normalises the
+        enumerations and whole numbers in place."""
+        def whole(name, x, lo, hi, what):
+            if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)) or not lo <= x <= hi:
+                raise BadInputError(f"{name} {x!r} {what}")
+            return int(x)
+
+        put = object.__setattr__
+        put(self, "samples", whole("--samples", self.samples, 3, np.inf,
+                                   "must be a whole number of at least 3 (40 is a good start)"))
+        put(self, "points_per_ruling", whole("points_per_ruling", self.points_per_ruling, 2, 1000,
+                                             "must be a whole number of points from 2 to 1000 (9 is the default)"))
         if self.max_error is not None:
-            positive("--max-error", self.max_error)
-        if self.elevations is not None and (not isinstance(self.elevations, (int, np.integer))
-                                            or not 0 <= self.elevations <= 200):
-            raise BadInputError(f"--elevations {self.elevations} must be a whole number of levels from 0 to 200 "
-                                f"(10 gives 21 levels)")
+            put(self, "max_error", positive("--max-error", self.max_error))
+        if self.elevations is not None:
+            put(self, "elevations", whole("--elevations", self.elevations, 0, 200,
+                                          "must be a whole number of levels from 0 to 200 (10 gives 21 levels)"))
         if self.step is not None:
-            positive("--step", self.step)
+            put(self, "step", positive("--step", self.step))
         if self.memory_cap is not None:
-            positive("--memory-cap", self.memory_cap / 2.0 ** 20, "a size in MiB")
+            put(self, "memory_cap", positive("--memory-cap", self.memory_cap / 2.0 ** 20, "a size in MiB") * 2.0 ** 20)
         try:
-            method, metric = Method(self.method), Metric(self.metric)
-            objective, direction = Objective(self.objective), Direction(self.direction)
+            for name, kind in (("method", Method), ("metric", Metric), ("objective", Objective),
+                               ("direction", Direction)):
+                put(self, name, kind(getattr(self, name)))
         except ValueError as exc:
             raise BadInputError(f"{exc}; see 'ruled fit --help'") from None
-        return FitOptions(int(self.samples), objective, self.max_error, direction, self.refine,
-                          self.points_per_ruling, method, None if self.elevations is None else int(self.elevations),
-                          self.step, metric, self.memory_cap)
+        put(self, "refine", bool(self.refine))
+
+    def checked(self) -> "FitOptions":
+        """The options (validated on construction; kept for the callers that say so)."""
+        return self
 
 
 __all__ = ["Direction", "FitOptions", "Method", "Metric", "Objective"]

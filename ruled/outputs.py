@@ -6,8 +6,19 @@ processes writing the same output never interleave (each writes its own temporar
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import threading
+
+from .errors import RuledError
+
+_WHY = {errno.ENOSPC: "the disk is full; free some space or write elsewhere",
+        errno.EDQUOT: "the disk quota is used up; free some space or write elsewhere",
+        errno.EFBIG: "the file would be larger than this file system allows; write elsewhere",
+        errno.EROFS: "the file system is read-only; write elsewhere",
+        errno.EACCES: "permission denied; write to a folder you own",
+        errno.EPERM: "permission denied; write to a folder you own",
+        errno.EIO: "the disk reported an input/output error; check it, or write elsewhere"}
 
 
 @contextlib.contextmanager
@@ -20,9 +31,11 @@ def atomic(path: str):
     try:
         yield tmp
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
+        if isinstance(exc, OSError) and exc.errno in _WHY:
+            raise RuledError(f"cannot write {path}: {_WHY[exc.errno]}") from None
         raise
 
 

@@ -40,7 +40,8 @@ class SplitOptions:
     levels: int = 2            # 5D / 7D: levels -levels..levels (2: the paper's 5)
     step: Optional[float] = None   # 5D / 7D: the lift per level (default: the strip's bound / (2 levels + 1))
 
-    def checked(self) -> "SplitOptions":
+    def __post_init__(self):
+        """Validates every option on construction (one BadInputError line naming it)."""
         if not isinstance(self.samples, (int, np.integer)) or self.samples < 4:
             raise BadInputError(f"--samples {self.samples} is too small for a split; use at least 4 (30 is the "
                                 f"paper's)")
@@ -58,6 +59,13 @@ class SplitOptions:
             positive("--step", self.step)
         if not isinstance(self.max_strips, (int, np.integer)) or self.max_strips < 1:
             raise BadInputError(f"--max-strips {self.max_strips} must be at least 1")
+        if not isinstance(self.fit, FitOptions):
+            raise BadInputError("the split's fit options must be a FitOptions")
+        if self.memory_cap is not None:
+            positive("--memory-cap", self.memory_cap / 2.0 ** 20, "a size in MiB")
+
+    def checked(self) -> "SplitOptions":
+        """The options, refused with the estimate when the split's tables would not fit in memory."""
         m = 2 * self.levels + 1
         check_memory(self.samples, self.interior, m if self.dims == 7 else 1, m if self.dims == 7 else 1,
                      1 if self.dims == 4 else m, self.memory_cap)

@@ -312,6 +312,7 @@ def _design(knots, p, n_unique, s, closed):
 # the two boundaries' knots mapped through the pairing closer than this (in s) become one break: a
 # cluster of knots a few 1e-6 apart makes a span whose derivative bounds (and the certificate) explode
 KNOT_MERGE = 1e-4
+MIN_SPAN = 1.0 / 640       # the smallest span the boundary fit's refinement makes (a quarter of 1 / max_poles)
 
 
 def _merge(breaks, mult, tol=1e-7):
@@ -394,6 +395,11 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
             break
         span = np.searchsorted(edges, schk, side="right") - 1
         bad = np.unique(span[err > tol])
+        # never below MIN_SPAN of the range: halving a span again and again at a kink of the target
+        # makes ill-conditioned poles whose derivative bounds ruin the certificate (issue 22)
+        bad = bad[edges[bad + 1] - edges[bad] >= 2.0 * MIN_SPAN]
+        if bad.size == 0:
+            break
         mids = 0.5 * (edges[bad] + edges[bad + 1])
         br, kk = _merge(np.concatenate([br, mids]), np.concatenate([kk, np.ones(mids.size, int)]))
     poles_A, poles_B = sol[:, :3], sol[:, 3:]

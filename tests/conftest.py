@@ -59,8 +59,16 @@ def run_freecadcmd(script: str, tmp_path, timeout: int = 600, env: dict = None):
 FUZZ = {}
 
 
-def pytest_collection_finish(session):
-    if any("test_fuzz.py" in item.nodeid for item in session.items) and "proc" not in FUZZ:
+def pytest_collection_modifyitems(session, config, items):
+    """The fuzz batches run in the background on the core the suite leaves idle (the suite runs on one):
+    their checks come last, so that the batches have the whole suite's time."""
+    FUZZ["wanted"] = any("test_fuzz.py" in item.nodeid for item in items)
+    items.sort(key=lambda item: "test_fuzz.py" in item.nodeid)        # stable: the rest keep their order
+
+
+def pytest_runtest_setup(item):
+    """Start the fuzz batches at the first test past the batch tests (which use both cores)."""
+    if FUZZ.get("wanted") and "proc" not in FUZZ and "test_batch.py" not in item.nodeid:
         import subprocess
         import tempfile
         FUZZ["dir"] = tempfile.mkdtemp(prefix="ruled-fuzz-")

@@ -1,7 +1,8 @@
-"""Random B-spline faces for the fuzz tests, built with OCCT alone (issue 19, point 5).
+"""Random B-spline faces for the fuzz and property tests, built with OCCT alone (issues 19 and 22).
 
 Rational and periodic surfaces of degrees 1-5 with 2-12 poles per direction (at least degree + 1), knots
-of every multiplicity (creases included), weights 0.2-5, scales 1e-4-1e4, offsets up to 1e5, collapsed
+of every multiplicity (creases across and along the rulings included), weights 0.2-5 and, on some, over a
+ratio of up to 1e5, tiny closed faces (1e-3.5 to 1e-2 across), scales 1e-4-1e4, offsets up to 1e5, collapsed
 rows of poles (a boundary shrunk to a point), and faces trimmed to a part of their surface (a smaller
 rectangle, or a side that waves): the kinds of input a CAD file can hold."""
 
@@ -54,11 +55,15 @@ def _direction(rng, periodic_ok: bool):
 
 def random_face(rng):
     """One random face and a short description of it."""
+    tiny_closed = rng.random() < 0.1                      # a closed face a few thousandths across
     pu, nu, peru = _direction(rng, True)
+    if tiny_closed:
+        pu, peru = min(pu, 4), True
+        nu = max(nu, pu + 1)
     pv, nv, perv = _direction(rng, not peru)
     ku, mu = _knots(rng, nu, pu, peru)
     kv, mv = _knots(rng, nv, pv, perv)
-    scale = 10.0 ** rng.uniform(-4, 4)
+    scale = 10.0 ** rng.uniform(-3.5, -2) if tiny_closed else 10.0 ** rng.uniform(-4, 4)
     offset = rng.choice([0.0, 1e3, 1e5]) * rng.standard_normal(3) / np.sqrt(3)
     # a gently curved sheet with noise, so that faces range from nearly ruled to far from it
     s, t = np.meshgrid(np.linspace(0, 1, nu), np.linspace(0, 1, nv), indexing="ij")
@@ -81,7 +86,11 @@ def random_face(rng):
             what.append("collapsed v-max")
     poles = poles * scale + offset
     rational = rng.random() < 0.5
-    weights = rng.uniform(0.2, 5.0, (nu, nv)) if rational else np.ones((nu, nv))
+    extreme = rational and rng.random() < 0.3             # weights over a ratio of up to 1e5
+    weights = (10.0 ** rng.uniform(-2.5, 2.5, (nu, nv)) if extreme else rng.uniform(0.2, 5.0, (nu, nv))) \
+        if rational else np.ones((nu, nv))
+    what += ["extreme weights"] if extreme else []
+    what += ["tiny closed"] if tiny_closed else []
     P = TColgp_Array2OfPnt(1, nu, 1, nv)
     W = TColStd_Array2OfReal(1, nu, 1, nv)
     for i in range(nu):
@@ -123,7 +132,7 @@ def random_faces(seed: int, count: int) -> list:
 
 
 # the fuzz batches: seed and number of faces per method
-COUNTS = {"2d": (1902, 200), "4d": (1904, 30)}
+COUNTS = {"2d": (2202, 300), "4d": (2204, 50)}
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 1 s)
 
 

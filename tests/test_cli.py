@@ -300,3 +300,29 @@ def test_a_hopeless_face_says_so_at_once_and_stays_compact(tmp_path):
     assert nv == 2 and nu <= 40, rep["result"]["poles"]
     assert rep["warnings"] == [first.split(": ", 3)[3]]
     assert rep["hausdorff"]["max"] <= rep["error_bound"] and rep["hausdorff"]["max"] >= 0.1 * 133
+
+
+@pytest.mark.parametrize("delay", [0.3, 0.6, 1.0, 1.6])
+def test_ctrl_c_at_any_moment_of_start_up_ends_quietly_with_130(delay):
+    """SIGINT while Python, numpy, OCCT and the file load: exit 130 and one line, never a traceback
+    (an interrupt inside a C extension's initialisation surfaces as an ImportError: still 130)."""
+    import signal
+    import time
+    p = subprocess.Popen([sys.executable, "-m", "ruled.cli", "faces", data_file("kj66_impeller.step")],
+                         cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                         env={**os.environ, "PYTHONPATH": ROOT},
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    time.sleep(delay)
+    p.send_signal(signal.SIGINT)
+    err = p.communicate(timeout=60)[1]
+    if p.returncode == 0:
+        pytest.skip(f"the listing finished within {delay} s, before the interrupt")
+    assert p.returncode == 130 and err.strip() == "ruled: interrupted", (p.returncode, err)
+
+
+def test_a_closed_pipe_ends_quietly_with_0():
+    cmd = f"set -o pipefail; '{sys.executable}' -m ruled.cli faces '{data_file('kj66_impeller.step')}' | head -1"
+    out = subprocess.run(["bash", "-c", cmd], cwd=ROOT, capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "PYTHONPATH": ROOT})
+    assert out.returncode == 0 and out.stderr == "", (out.returncode, out.stderr)
+    assert len(out.stdout.splitlines()) == 1 and "bspline" in out.stdout

@@ -81,3 +81,27 @@ def test_the_measure_finds_the_nearest_point_where_the_face_folds_at_a_crease():
     S = Surface(P, np.array(ku), np.array([0, 0, 0.67737, 0.67737]), 2, 1)
     h = hausdorff(container_to_face(S), container_to_face(S), 16)
     assert h.max <= 1e-9 * S.diagonal(), h
+
+
+def test_the_measure_states_its_sampling_error_and_keeps_within_it():
+    """Issue 22, point 2: the measure is a sampled maximum, so it can only miss a peak between its
+    samples, and by at most its stated resolution (the largest gap between neighbouring samples: the
+    distance is 1-Lipschitz).  A plane against a sharp bump whose top falls between the samples."""
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.measure import hausdorff
+    k = [0, 0, 0, 0, 1, 1, 1, 1]
+    x, y = np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 4), indexing="ij")
+    plane = Surface(np.stack([x, y, 0 * x], 2), k, k, 3, 3)
+    n = 15
+    kn = np.concatenate([[0] * 4, np.linspace(0, 1, n - 2)[1:-1], [1] * 4])
+    X, Y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+    Z = np.zeros((n, n))
+    Z[7, 7] = 0.05
+    bump = Surface(np.stack([X, Y, Z], 2), kn, kn, 3, 3)
+    U, V = np.meshgrid(np.linspace(0, 1, 2001), np.linspace(0, 1, 2001), indexing="ij")
+    true = float(bump(U.ravel(), V.ravel())[:, 2].max())     # the bump's top over the plane
+    for m in (8, 12, 20):
+        h = hausdorff(container_to_face(plane), container_to_face(bump), m)
+        assert h.max <= true + 1e-12 and true <= h.max + h.resolution, (m, h, true)
+        # about a cell's diagonal (the bump's clamped parametrization stretches its end cells), not loose
+        assert np.sqrt(2) / (m - 1) <= h.resolution <= 2 * np.sqrt(2) / (m - 1)

@@ -4,7 +4,7 @@ samples are points of each face as bounded by its edges, and distances are to th
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from OCP.BRep import BRep_Tool
@@ -61,21 +61,51 @@ def face_points(face, n: int, cls=None) -> np.ndarray:
     return np.concatenate([pts, edge_points(face, n)])
 
 
-def interior_grid(face, n: int, cls=None):
-    """(points (N, 3), parameters (N, 2)) of a (u, v) grid of the face's bounds inside the face, about
-    n x n of them (the grid is made denser for a trimmed face); cls: the face's classifier."""
+def _grid_layout(face, n: int, cls=None):
+    """(surface, us, vs, inside (m, m)) of the (u, v) grid of the face's bounds that puts about n x n
+    points inside the face (denser for a trimmed face); cls: the face's classifier."""
     u0, u1, v0, v1 = face_bounds(face)
-    surf = BRep_Tool.Surface_s(face)
     m0 = 24
     cls = _classifier(face) if cls is None else cls
     frac = float(cls.grid(np.linspace(u0, u1, m0), np.linspace(v0, v1, m0)).mean())
     m = grid_size(n, frac)
     us, vs = np.linspace(u0, u1, m), np.linspace(v0, v1, m)
     keep = np.ones((m, m), bool) if m == n else cls.grid(us, vs)
+    return BRep_Tool.Surface_s(face), us, vs, keep
+
+
+def interior_grid(face, n: int, cls=None):
+    """(points (N, 3), parameters (N, 2)) of a (u, v) grid of the face's bounds inside the face, about
+    n x n of them (the grid is made denser for a trimmed face); cls: the face's classifier."""
+    surf, us, vs, keep = _grid_layout(face, n, cls)
     iu, iv = np.nonzero(keep)
     uv = np.stack([us[iu], vs[iv]], axis=1)
     pts = np.array([_p3(surf.Value(float(u), float(v))) for u, v in uv]).reshape(-1, 3)
     return pts, uv
+
+
+def sampling_resolution(face, n: int, cls=None) -> float:
+    """How far a point of the face can be from the nearest of face_points(face, n): the largest
+    diagonal of a grid cell with a corner inside the face, or chord between neighbouring edge samples.
+    The distance to anything changes by at most the move (it is 1-Lipschitz), so a sampled maximum is at
+    most this much below the true one."""
+    surf, us, vs, keep = _grid_layout(face, n, cls)
+    cells = keep[:-1, :-1] | keep[1:, :-1] | keep[:-1, 1:] | keep[1:, 1:]
+    need = np.zeros(keep.shape, bool)
+    for di in (0, 1):
+        for dj in (0, 1):
+            need[di:di + cells.shape[0], dj:dj + cells.shape[1]] |= cells
+    P = np.full(keep.shape + (3,), np.nan)
+    for i, j in zip(*np.nonzero(need)):
+        P[i, j] = _p3(surf.Value(float(us[i]), float(vs[j])))
+    d1 = np.linalg.norm(P[1:, 1:] - P[:-1, :-1], axis=2)
+    d2 = np.linalg.norm(P[1:, :-1] - P[:-1, 1:], axis=2)
+    worst = float(np.max(np.where(cells, np.maximum(d1, d2), 0.0), initial=0.0))
+    for e in _face_edges(face):
+        c = BRepAdaptor_Curve(e)
+        E = np.array([_p3(c.Value(float(t))) for t in np.linspace(c.FirstParameter(), c.LastParameter(), n)])
+        worst = max(worst, float(np.linalg.norm(np.diff(E, axis=0), axis=1).max(initial=0.0)))
+    return worst
 
 
 def edge_points(face, n: int) -> np.ndarray:
@@ -368,7 +398,9 @@ def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     """Two-sided Hausdorff distance between two faces as bounded by their edges (about n x n samples
     of each plus n along every edge, projected on the other)."""
     to_a, to_b = _Projector(face_a), _Projector(face_b)
-    return two_sided(face_points(face_a, n, to_a.inside), face_points(face_b, n, to_b.inside), to_a, to_b)
+    h = two_sided(face_points(face_a, n, to_a.inside), face_points(face_b, n, to_b.inside), to_a, to_b)
+    res = max(sampling_resolution(face_a, n, to_a.inside), sampling_resolution(face_b, n, to_b.inside))
+    return replace(h, resolution=res)
 
 
 def screened(proj, X: np.ndarray, cap: int = 400) -> np.ndarray:
