@@ -23,7 +23,7 @@ import numpy as np
 
 from . import kernels, kernels_cone
 from .distance import to_polyline
-from .errors import BadInputError, positive
+from .errors import BadInputError, ToleranceError, positive
 
 _NOT, _NOP, _NOQ = np.zeros(2), np.zeros((2, 2)), np.zeros((3, 2))     # unused arguments of the kernel
 
@@ -522,9 +522,9 @@ def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progr
                 return None
             a, b = tr0.d(state[0])[0], tr1.d(state[1])[0]
             turn = float(np.degrees(np.arctan2(abs(_cross(a, b)), a @ b)))
-            raise BadInputError(f"no fat conic arc within {tol:g} from v = {state[0]:.6g}, {state[1]:.6g}: the two "
-                                f"boundaries' tangents differ by {turn:.1f} deg there (the surface twists, or has a "
-                                f"corner); raise the tolerance or split the face there")
+            raise ToleranceError(f"no fat conic arc within {tol:g} from v = {state[0]:.6g}, {state[1]:.6g}: the two "
+                                 f"boundaries' tangents differ by {turn:.1f} deg there (the surface twists, or has a "
+                                 f"corner)")
         arc, state = got
         arcs.append(arc)
         if even and max(arc.v[1] - arc.v[0], arc.vb[1] - arc.vb[0]) < 0.98 * delta and min(state[:2]) < 1.0:

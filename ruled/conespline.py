@@ -23,7 +23,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .cone import FatArc, fit_fat_conic, generators_concurrent, patch_surface, trim_arc
-from .errors import BadInputError, positive
+from .errors import BadInputError, ToleranceError, positive
 from .nurbs import Curve, Surface
 
 Progress = Optional[Callable[[str, float], None]]
@@ -449,10 +449,11 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches) + slack, _g1(patches), notes=notes)
     res.timings["fit"] = time.perf_counter() - t0
     if res.max_g1_deg > G1_DEG and not allow_creases:
-        raise BadInputError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "
-                            f"{res.max_g1_deg:.3g} deg (the surface twists so much that patches collapse to triangles "
-                            f"and the §5 extension cannot be used); raise the tolerance, or pass --allow-creases to "
-                            f"keep the creases")
+        err = ToleranceError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "
+                             f"{res.max_g1_deg:.3g} deg (the surface twists so much that patches collapse to triangles "
+                             f"and the §5 extension cannot be used)")
+        err.creases_help = True
+        raise err
     return res
 
 
@@ -464,9 +465,68 @@ def cone_spline_of_curves(C0: Curve, C1: Curve, tol: float, step: float = 0.1, *
     return cone_spline(f0, df0, f1, df1, tol, step, breaks=np.union1d(br0, br1), **kw)
 
 
+SEARCH_FACTOR = 3.0          # the tolerances tried after a refusal: tol / 3, tol x 3, x 9, ... up to the face's size
+SEARCH_HALVINGS = 3          # a larger one that works is narrowed down (geometric bisection) this many times
+
+
 def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, direction: str = "auto",
-                           progress: Progress = None, **kw) -> ConeSpline:
-    """Cone spline of a ruled B-spline surface (linear in u or v; k + 1 rows of poles: k strips)."""
+                           progress: Progress = None, search: bool = True, **kw) -> ConeSpline:
+    """Cone spline of a ruled B-spline surface (linear in u or v; k + 1 rows of poles: k strips).
+
+    Refused within tol (ToleranceError), it says what would work: tol / 3 (the arcs then fall
+    differently: a refusal is not always cured by a larger tolerance), then tol x 3, x 9, ... up to the
+    surface's size; a larger tolerance that works is narrowed down.  The refusal names the tolerance
+    found (every one named was tried), or says that none up to the face's size works and to split the
+    face.  search=False: only tol."""
+    try:
+        return _cone_spline_of_surface(S, tol, step, direction, progress, **kw)
+    except ToleranceError as exc:
+        if not search:
+            raise
+        why = str(exc)
+        creases = ", or pass --allow-creases to keep the creases" if getattr(exc, "creases_help", False) else ""
+
+    def works(t: float) -> bool:
+        if progress is not None:
+            progress(f"refused within {tol:.3g}: trying {t:.3g}", 0.0)
+        try:
+            _cone_spline_of_surface(S, t, step, direction, None, **kw)
+            return True
+        except ToleranceError:
+            return False
+
+    def rounded(t: float) -> float:      # the value the message prints is the value tried
+        return float(f"{t:.3g}")
+
+    tighter = rounded(tol / SEARCH_FACTOR)
+    if works(tighter):
+        raise ToleranceError(f"{why}; a tighter tolerance works (the patches then fall differently): "
+                             f"--tol {tighter:g}{creases}")
+    size = S.diagonal()
+    lo, hi, t = tol, None, tol
+    while hi is None and t < size:
+        t = rounded(min(t * SEARCH_FACTOR, size))
+        if works(t):
+            hi = t
+        else:
+            lo = t
+    if hi is None:
+        raise ToleranceError(f"{why}; no tolerance up to the face's size ({size:.3g}) gives a cone spline: split "
+                             f"the face where the surface twists (ruled split){creases}")
+    for _ in range(SEARCH_HALVINGS):
+        mid = rounded(float(np.sqrt(lo * hi)))
+        if not lo < mid < hi:
+            break
+        if works(mid):
+            hi = mid
+        else:
+            lo = mid
+    raise ToleranceError(f"{why}; the smallest tolerance above it that works is about {hi:g} (tried: --tol "
+                         f"{hi:g}){creases}")
+
+
+def _cone_spline_of_surface(S: Surface, tol: float, step: float, direction: str, progress: Progress,
+                            **kw) -> ConeSpline:
     name, strips = ruled_boundaries(S, direction)
     out = None
     for i, (C0, C1) in enumerate(strips):

@@ -284,8 +284,6 @@ def domain_pieces(D: Curve, S: Surface) -> list[Piece]:
     the surface's parameter domain."""
     if D.poles.shape[1] != 2:
         raise BadInputError("the domain curve must have 2D (u, v) points")
-    if D.weights is not None and np.any(D.weights <= 0):
-        raise BadInputError("the domain curve has non-positive weights; give positive weights")
     lo, hi = D.domain
     br = np.unique(D.knots[(D.knots > lo) & (D.knots < hi)])
     edges = np.concatenate([[lo], br, [hi]])

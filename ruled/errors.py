@@ -29,6 +29,12 @@ class DegenerateFaceError(BadInputError):
     kind = "degenerate face"
 
 
+class ToleranceError(BadInputError):
+    """The input cannot be met within the requested tolerance (a larger one may, or may not, do)."""
+
+    kind = "not within tolerance"
+
+
 class InfeasibleError(RuledError):
     """No solution satisfies the requested constraint."""
 

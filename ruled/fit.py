@@ -12,7 +12,7 @@ from . import dp
 from .blas import one_thread
 from .certify import Certificate, certified_bound
 from .distance import ruling_distances
-from .errors import BadInputError, DegenerateFaceError, TooBigError
+from .errors import DegenerateFaceError, TooBigError
 from .options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
 from .nurbs import Surface
 from .reparam import (MAX_DELTA_COEFS, Boundaries, Pairing, delta_coefs, exact_boundaries, fit_boundaries,
@@ -335,8 +335,6 @@ def fit_surface(S: Surface, options: FitOptions = FitOptions(), progress: Progre
         return fit_surface_4d(S, opts, progress)
     t0 = time.perf_counter()
     diag = S.diagonal()
-    if not np.isfinite(S.poles).all():
-        raise BadInputError("the surface has non-finite poles; repair the face")
     if surface_area(S) <= 1e-12 * max(diag, 1e-300) ** 2 or diag == 0:
         raise DegenerateFaceError("the face has zero area; pick a proper face (see 'ruled faces')")
     dirs = ["v", "u"] if opts.direction == Direction.AUTO else [opts.direction.value]

@@ -48,8 +48,6 @@ class Region:
         for c in self.loop:
             if not isinstance(c, Curve) or c.poles.shape[1] != 2:
                 raise BadInputError("the face's boundary must be given as 2D (u, v) curves")
-            if not np.isfinite(c.poles).all():
-                raise BadInputError("the face's boundary has non-finite points; repair the face")
         n = len(self.loop)
         object.__setattr__(self, "seams", tuple(bool(x) for x in self.seams) or (False,) * n)
         object.__setattr__(self, "degenerate", tuple(bool(x) for x in self.degenerate) or (False,) * n)

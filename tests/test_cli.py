@@ -203,8 +203,8 @@ def test_fit_4d_on_an_exactly_ruled_face_keeps_the_exact_2d_result(tmp_path):
     assert rep["hausdorff"]["max"] <= 1e-9 and rep["hausdorff"]["max"] <= rep["error_bound"]
 
 
-@pytest.mark.parametrize("case", ["input", "input-respelled", "folder", "device", "twice", "read-only", "measure",
-                                  "memory-cap"])
+@pytest.mark.parametrize("case", ["input", "input-respelled", "report-input", "folder", "device", "twice",
+                                  "read-only", "measure", "memory-cap"])
 def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
     """Outputs checked before the face is read: never the input (however spelled), never one file for two
     outputs, a folder or a device named as such, a read-only folder; impossible measures and memory caps
@@ -219,6 +219,7 @@ def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
     args, needle = {
         "input": (["-o", src], "is the input file: writing it would destroy the input"),
         "input-respelled": (["-o", str(tmp_path / "x" / ".." / "in.step")], "is the input file"),
+        "report-input": (["-o", str(tmp_path / "a.step"), "--report", src], "is the input file"),
         "folder": (["-o", str(tmp_path)], "it is a folder; give a file name"),
         "device": (["-o", "/dev/full"], "it is not a regular file (a device?)"),
         "twice": (["-o", str(tmp_path / "a.step"), "--report", str(tmp_path / "a.step")], "is given for two outputs"),
@@ -227,10 +228,11 @@ def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
         "memory-cap": (["-o", str(tmp_path / "a.step"), "--memory-cap", "inf"],
                        "--memory-cap must be a positive finite number (a size in MiB), not inf"),
     }[case]
+    if case == "read-only" and os.geteuid() == 0:
+        os.chmod(ro, 0o700)
+        pytest.skip("root writes into read-only folders")
     r = ruled("fit", src, "--face", "6", *args, cwd=str(tmp_path), timeout=120)
     os.chmod(ro, 0o700)
-    if case == "read-only" and os.geteuid() == 0:
-        pytest.skip("root writes into read-only folders")
     assert r.returncode == 2 and needle in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert os.path.getsize(src) == before and not os.path.exists(tmp_path / "a.step")
 

@@ -393,3 +393,52 @@ def test_boundaries_in_parallel_planes_to_the_models_tolerance_are_planar():
         return w0(v), w1(v)
     d1, d2 = _measured(cone_faces(res), ends)
     assert max(d1, d2) <= res.bound <= 1e-3 + 10 * eps, (d1, d2, res.bound)
+
+
+def _cornered():
+    """A ruled surface between two boundaries in parallel planes, the upper one with a corner of 17 deg
+    in its middle (a knot of full multiplicity)."""
+    from ruled.nurbs import Surface
+    x = np.linspace(0, 10, 7)
+    lo = np.column_stack([x, 0.02 * (x - 5) ** 2, np.zeros(7)])
+    hi = np.column_stack([x, 0.02 * (x - 5) ** 2 + 0.15 * np.abs(x - 5), np.full(7, 4.0)])
+    return Surface(np.stack([lo, hi], axis=1), [0, 0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1, 1], [0, 0, 1, 1], 3, 1)
+
+
+def test_a_refusal_names_a_tolerance_that_works_and_it_does():
+    """Issue 21: a cone spline refused within a tolerance says what would work, found by trying (a
+    refusal is not always cured by a larger tolerance, nor by a smaller one: the arcs fall differently);
+    the tolerance it names then gives a cone spline within it, measured by OCCT."""
+    import re
+
+    from ruled.conespline import cone_spline_of_surface
+    from ruled.errors import ToleranceError
+    from ruled.occ.convert import container_to_face
+    S = _cornered()
+    with pytest.raises(ToleranceError) as err:
+        cone_spline_of_surface(S, 0.2)
+    msg = str(err.value)
+    assert msg.startswith("no fat conic arc within 0.2 from v = ") and "tangents differ by 13.3 deg" in msg, msg
+    t = float(re.search(r"--tol ([0-9.e+-]+)\)?$", msg).group(1))
+    res = cone_spline_of_surface(S, t, search=False)
+    assert res.bound <= t
+    faces = cone_faces(res)
+    to_patches = FaceSet(faces)
+    d = max(to_patches.distance(x) for x in sample_faces([container_to_face(S)], 16))
+    assert d <= t, (d, t)
+    print(f"refused within 0.2; named {t}: {len(res.patches)} patches, bound {res.bound:.4g}, measured {d:.4g}")
+
+
+def test_a_twisted_blade_is_refused_with_the_twist_and_no_tolerance_that_works():
+    """kj66 face 6 fitted, at 5x the fit's measured error (0.0073): the patches would meet at 180 deg; no
+    tolerance up to the face's size gives a cone spline (all tried), and the refusal says so."""
+    from ruled.occ.conespline import cone_of_face
+    from ruled.occ.io import get_face
+    from conftest import data_file
+    with pytest.raises(BadInputError) as err:
+        cone_of_face(get_face(data_file("kj66_impeller.step"), 6), 0.0073, fit=True, measure_samples=None)
+    assert str(err.value) == (
+        "the cone spline would not be tangent continuous: neighbouring patches meet at up to 180 deg (the surface "
+        "twists so much that patches collapse to triangles and the §5 extension cannot be used); no tolerance up "
+        "to the face's size (17.9) gives a cone spline: split the face where the surface twists (ruled split), or "
+        "pass --allow-creases to keep the creases")

@@ -78,7 +78,7 @@ def test_span_tolerance_is_eps_over_the_derivative_bounds():
 
 def test_bad_domain_curves_are_refused():
     S = random_surface(np.random.default_rng(4))
-    with pytest.raises(BadInputError, match="positive weights"):
+    with pytest.raises(BadInputError, match=r"^curve weights must be positive \(the smallest is -2\)$"):
         domain_pieces(Curve(np.zeros((3, 2)) + 0.5, [0, 0, 0, 1, 1, 1], 2, weights=[1, -2, 1]), S)
     with pytest.raises(BadInputError, match="2D"):
         domain_pieces(Curve(np.zeros((3, 3)) + 0.5, [0, 0, 0, 1, 1, 1], 2), S)
