@@ -43,11 +43,16 @@ class Region:
     closed: tuple = (False, False)   # the surface closes on itself across its u (v) domain: wrap, not clip
 
     def __post_init__(self):
+        if not isinstance(self.surface, Surface):
+            raise BadInputError(f"a region's surface must be a Surface, not {type(self.surface).__name__}")
         if len(self.loop) == 0:
             raise BadInputError("the face has no edges; pick a face bounded by a wire (see 'ruled faces')")
-        for c in self.loop:
+        for c in list(self.loop) + [c for h in self.holes for c in h]:
             if not isinstance(c, Curve) or c.poles.shape[1] != 2:
                 raise BadInputError("the face's boundary must be given as 2D (u, v) curves")
+        for c in self.edges3d:
+            if c is not None and (not isinstance(c, Curve) or c.poles.shape[1] != 3):
+                raise BadInputError("the face's 3D edges must be given as 3D curves (or None where unknown)")
         n = len(self.loop)
         object.__setattr__(self, "seams", tuple(bool(x) for x in self.seams) or (False,) * n)
         object.__setattr__(self, "degenerate", tuple(bool(x) for x in self.degenerate) or (False,) * n)

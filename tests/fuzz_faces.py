@@ -12,17 +12,11 @@ import numpy as np
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.Geom import Geom_BSplineSurface
 from OCP.TColgp import TColgp_Array2OfPnt
-from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal
+from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array2OfReal
 from OCP.gp import gp_Pnt
 
+from ruled.occ.convert import occ_array
 from trimmed_faces import curve2d, face_from_loops, graph2d
-
-
-def _arr(vals, cls=TColStd_Array1OfReal):
-    a = cls(1, len(vals))
-    for i, x in enumerate(vals):
-        a.SetValue(i + 1, x)
-    return a
 
 
 def _knots(rng, n: int, p: int, periodic: bool):
@@ -98,7 +92,8 @@ def random_face(rng):
             P.SetValue(i + 1, j + 1, gp_Pnt(*map(float, poles[i, j])))
             W.SetValue(i + 1, j + 1, float(weights[i, j]))
     ints = TColStd_Array1OfInteger
-    bs = Geom_BSplineSurface(P, W, _arr(ku), _arr(kv), _arr(mu, ints), _arr(mv, ints), pu, pv, peru, perv)
+    bs = Geom_BSplineSurface(P, W, occ_array(ku), occ_array(kv), occ_array(mu, ints), occ_array(mv, ints), pu, pv,
+                             peru, perv)
     u0, u1, v0, v1 = bs.Bounds()
     trim = rng.random()
     if trim < 0.15 and not (peru or perv):                  # a smaller rectangle of the surface

@@ -89,10 +89,18 @@ def test_whole_float_degrees_and_moderate_weights_are_accepted_and_evaluate_as_g
     assert np.allclose(S(0.5, 0.5)[0], expect, atol=1e-14)
 
 
-def test_a_region_refuses_a_boundary_that_is_not_2d():
-    with pytest.raises(BadInputError) as err:
-        Region(_surface(), (_curve(poles=[[0, 0, 0], [1, 0, 0], [1, 1, 0]]),))
-    assert str(err.value) == "the face's boundary must be given as 2D (u, v) curves"
+def test_a_region_refuses_fields_of_the_wrong_kind():
+    curve3 = _curve(poles=[[0, 0, 0], [1, 0, 0], [1, 1, 0]])
+    cases = [(lambda: Region(_surface(), (curve3,)), "the face's boundary must be given as 2D (u, v) curves"),
+             (lambda: Region(_surface(), (_curve(),), holes=((curve3,),)),
+              "the face's boundary must be given as 2D (u, v) curves"),
+             (lambda: Region(_surface(), (_curve(),), edges3d=(_curve(),)),
+              "the face's 3D edges must be given as 3D curves (or None where unknown)"),
+             (lambda: Region(np.zeros((3, 3, 3)), (_curve(),)), "a region's surface must be a Surface, not ndarray")]
+    for make, message in cases:
+        with pytest.raises(BadInputError) as err:
+            make()
+        assert str(err.value) == message
 
 
 OPTIONS = [

@@ -28,12 +28,7 @@ def bspline_surface(poles, uknots, umults, vknots, vmults, pu, pv, uperiodic=Fal
     for i in range(nu):
         for j in range(nv):
             P.SetValue(i + 1, j + 1, gp_Pnt(*poles[i, j]))
-
-    def arr(vals, cls=TColStd_Array1OfReal):
-        a = cls(1, len(vals))
-        for i, x in enumerate(vals):
-            a.SetValue(i + 1, x)
-        return a
+    from ruled.occ.convert import occ_array as arr
     return Geom_BSplineSurface(P, arr(uknots), arr(vknots), arr(umults, TColStd_Array1OfInteger),
                                arr(vmults, TColStd_Array1OfInteger), pu, pv, uperiodic, False)
 

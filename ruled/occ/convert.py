@@ -40,7 +40,8 @@ SURFACE_TYPE_NAMES = {
 }
 
 
-def _arr1(values, cls=TColStd_Array1OfReal):
+def occ_array(values, cls=TColStd_Array1OfReal):
+    """values as an OCCT 1-based array of reals (or of integers, cls=TColStd_Array1OfInteger)."""
     a = cls(1, len(values))
     for i, x in enumerate(values):
         a.SetValue(i + 1, float(x) if cls is TColStd_Array1OfReal else int(x))
@@ -185,8 +186,8 @@ def container_to_bspline(s: Surface) -> Geom_BSplineSurface:
             P.SetValue(i + 1, j + 1, gp_Pnt(*map(float, poles[i, j])))
             W.SetValue(i + 1, j + 1, 1.0 if weights is None else float(weights[i, j]))
     ints = TColStd_Array1OfInteger
-    return Geom_BSplineSurface(P, W, _arr1(f["uknots"]), _arr1(f["vknots"]), _arr1(f["umults"], ints),
-                               _arr1(f["vmults"], ints), f["udegree"], f["vdegree"], f["uperiodic"], f["vperiodic"])
+    return Geom_BSplineSurface(P, W, occ_array(f["uknots"]), occ_array(f["vknots"]), occ_array(f["umults"], ints),
+                               occ_array(f["vmults"], ints), f["udegree"], f["vdegree"], f["uperiodic"], f["vperiodic"])
 
 
 def container_to_face(s: Surface) -> TopoDS_Face:
@@ -206,8 +207,10 @@ def curve_to_bspline(c: Curve) -> Geom_BSplineCurve:
     for i in range(n):
         P.SetValue(i + 1, gp_Pnt(*map(float, c.poles[i, :3])))
     if c.weights is None:
-        return Geom_BSplineCurve(P, _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
-    return Geom_BSplineCurve(P, _arr1(c.weights), _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
+        return Geom_BSplineCurve(P, occ_array(k), occ_array(m, TColStd_Array1OfInteger), c.degree,
+                                 False)
+    return Geom_BSplineCurve(P, occ_array(c.weights), occ_array(k), occ_array(m, TColStd_Array1OfInteger),
+                             c.degree, False)
 
 
 def curve2d_to_bspline(c: Curve) -> Geom2d_BSplineCurve:
@@ -218,8 +221,10 @@ def curve2d_to_bspline(c: Curve) -> Geom2d_BSplineCurve:
     for i in range(n):
         P.SetValue(i + 1, gp_Pnt2d(float(c.poles[i, 0]), float(c.poles[i, 1])))
     if c.weights is None:
-        return Geom2d_BSplineCurve(P, _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
-    return Geom2d_BSplineCurve(P, _arr1(c.weights), _arr1(k), _arr1(m, TColStd_Array1OfInteger), c.degree, False)
+        return Geom2d_BSplineCurve(P, occ_array(k), occ_array(m, TColStd_Array1OfInteger), c.degree,
+                                   False)
+    return Geom2d_BSplineCurve(P, occ_array(c.weights), occ_array(k), occ_array(m, TColStd_Array1OfInteger),
+                               c.degree, False)
 
 
 def edge_on_face(curve: Curve, pcurve: Curve, face: TopoDS_Face, tol: float = 1e-7):
