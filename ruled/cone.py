@@ -533,9 +533,15 @@ def _sequential(tr0, tr1, tol, delta0, target, args, search, ks, max_arcs, progr
             return None
         if progress is not None:
             progress("fitting fat conic arcs", min(state[0], state[1]))
-        if len(arcs) > max_arcs:
-            raise BadInputError(f"more than {max_arcs} arcs needed; raise the tolerance")
+        covered = min(state[0], state[1])
+        projected = len(arcs) / max(covered, 1e-12)
+        if len(arcs) > max_arcs or (len(arcs) >= EARLY_ARCS and projected > 1.5 * max_arcs and covered < 1.0):
+            raise ToleranceError(f"more than {max_arcs} fat conic arcs would be needed within {tol:g} ({len(arcs)} "
+                                 f"arcs cover {covered:.1%} of the boundaries)")
     return arcs
+
+
+EARLY_ARCS = 200        # after this many arcs, a pass whose pace projects past 1.5 x max_arcs stops at once
 
 
 def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.0, h1: float = 1.0,

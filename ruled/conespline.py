@@ -466,7 +466,8 @@ def cone_spline_of_curves(C0: Curve, C1: Curve, tol: float, step: float = 0.1, *
 
 
 SEARCH_FACTOR = 3.0          # the tolerances tried after a refusal: tol / 3, tol x 3, x 9, ... up to the face's size
-SEARCH_HALVINGS = 3          # a larger one that works is narrowed down (geometric bisection) this many times
+SEARCH_HALVINGS = 3          # a larger one that works is narrowed down (geometric bisection) this many times,
+SEARCH_SECONDS = 15.0        # while the search has taken less than this
 
 
 def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, direction: str = "auto",
@@ -498,6 +499,7 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
     def rounded(t: float) -> float:      # the value the message prints is the value tried
         return float(f"{t:.3g}")
 
+    t_search = time.perf_counter()
     tighter = rounded(tol / SEARCH_FACTOR)
     if works(tighter):
         raise ToleranceError(f"{why}; a tighter tolerance works (the patches then fall differently): "
@@ -514,6 +516,8 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
         raise ToleranceError(f"{why}; no tolerance up to the face's size ({size:.3g}) gives a cone spline: split "
                              f"the face where the surface twists (ruled split){creases}")
     for _ in range(SEARCH_HALVINGS):
+        if time.perf_counter() - t_search > SEARCH_SECONDS:     # narrowing down is a nicety: not minutes of it
+            break
         mid = rounded(float(np.sqrt(lo * hi)))
         if not lo < mid < hi:
             break

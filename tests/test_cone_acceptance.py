@@ -442,3 +442,25 @@ def test_a_twisted_blade_is_refused_with_the_twist_and_no_tolerance_that_works()
         "twists so much that patches collapse to triangles and the §5 extension cannot be used); no tolerance up "
         "to the face's size (17.9) gives a cone spline: split the face where the surface twists (ruled split), or "
         "pass --allow-creases to keep the creases")
+
+
+def test_a_tolerance_needing_too_many_arcs_is_refused_as_soon_as_the_pace_shows_it():
+    """A bulging boundary at 1e-4: the pass took 10,000 arcs (two minutes) before refusing; its pace after
+    200 arcs projects past 15,000, and it stops there with the figures."""
+    import re
+
+    from ruled.conespline import cone_spline_of_surface
+    from ruled.errors import ToleranceError
+    from ruled.nurbs import Surface
+
+    def arc(r, z, bulge):
+        a = np.radians(np.linspace(0, 90, 6))
+        rr = r * (1 + bulge * np.sin(2 * a))
+        return np.column_stack([rr * np.cos(a), rr * np.sin(a), np.full(6, z)])
+    S = Surface(np.stack([arc(10, 0, 0.0), arc(6, 8, 0.15)], axis=1), [0, 0, 0, 0, 1 / 3, 2 / 3, 1, 1, 1, 1],
+                [0, 0, 1, 1], 3, 1)
+    with pytest.raises(ToleranceError) as err:
+        cone_spline_of_surface(S, 1e-4, search=False)
+    m = re.fullmatch(r"more than 10000 fat conic arcs would be needed within 0.0001 \(200 arcs cover ([0-9.]+)% of "
+                     r"the boundaries\)", str(err.value))
+    assert m and float(m.group(1)) < 100 * 200 / 15000, str(err.value)
