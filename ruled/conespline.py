@@ -449,11 +449,9 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches) + slack, _g1(patches), notes=notes)
     res.timings["fit"] = time.perf_counter() - t0
     if res.max_g1_deg > G1_DEG and not allow_creases:
-        err = ToleranceError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "
-                             f"{res.max_g1_deg:.3g} deg (the surface twists so much that patches collapse to triangles "
-                             f"and the §5 extension cannot be used)")
-        err.creases_help = True
-        raise err
+        raise ToleranceError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "
+                             f"{res.max_g1_deg:.3g} deg (the surface twists so much that patches collapse to "
+                             f"triangles and the §5 extension cannot be used)", creases_help=True)
     return res
 
 
@@ -485,7 +483,7 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
         if not search:
             raise
         why = str(exc)
-        creases = ", or pass --allow-creases to keep the creases" if getattr(exc, "creases_help", False) else ""
+        creases = ", or pass --allow-creases to keep the creases" if exc.creases_help else ""
 
     def works(t: float) -> bool:
         if progress is not None:

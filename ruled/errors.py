@@ -30,9 +30,14 @@ class DegenerateFaceError(BadInputError):
 
 
 class ToleranceError(BadInputError):
-    """The input cannot be met within the requested tolerance (a larger one may, or may not, do)."""
+    """The input cannot be met within the requested tolerance (a larger one may, or may not, do);
+    creases_help: keeping creases (--allow-creases) would accept the result instead."""
 
     kind = "not within tolerance"
+
+    def __init__(self, message: str, creases_help: bool = False):
+        super().__init__(message)
+        self.creases_help = creases_help
 
 
 class InfeasibleError(RuledError):
@@ -66,3 +71,12 @@ def positive(name: str, value, what: str = "a distance in model units", zero_ok:
         raise BadInputError(f"{name} must be {'zero or ' if zero_ok else ''}a positive finite number ({what}), "
                             f"not {x:g}")
     return x
+
+
+def whole(name: str, value, lo: float, hi: float, what: str) -> int:
+    """value as an int in [lo, hi], or the one wording every option uses for a count:
+    '<name> <value> <what>' (booleans and fractions are not counts)."""
+    import numbers
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= value <= hi:
+        raise BadInputError(f"{name} {value!r} {what}")
+    return int(value)

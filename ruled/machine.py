@@ -34,7 +34,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from .errors import BadInputError, positive
+from .errors import BadInputError, positive, whole
 from .nurbs import Surface
 
 Progress = Optional[Callable[[str, float], None]]
@@ -91,13 +91,11 @@ class MachineOptions:
         feed = size("--feed", self.feed, what="model units per minute")
         if self.tip not in ("auto", "first", "second"):
             raise BadInputError(f"--tip is auto, first or second, not {self.tip!r}")
-        if isinstance(self.max_points, bool) or not isinstance(self.max_points, (int, np.integer)) \
-                or not 100 <= self.max_points <= 10 ** 8:
-            raise BadInputError(f"max_points {self.max_points!r} must be a whole number from 100 to 100000000")
+        max_points = whole("max_points", self.max_points, 100, 10 ** 8, "must be a whole number from 100 to 100000000")
         values = dict(chord_tol=size("--chord-tol", self.chord_tol), planes=planes, axis=_axis_spec(self.axis),
                       margin=size("--margin", self.margin), kerf=size("--kerf", self.kerf, True), tool_radius=r,
                       taper_deg=taper, lead=size("--lead", self.lead, True), feed=feed,
-                      max_points=int(self.max_points))
+                      max_points=max_points)
         for name, value in values.items():
             object.__setattr__(self, name, value)
 

@@ -8,7 +8,7 @@ from typing import Optional
 
 import numpy as np
 
-from .errors import BadInputError, positive
+from .errors import BadInputError, positive, whole
 
 
 class Objective(str, Enum):
@@ -56,11 +56,6 @@ class FitOptions:
     def __post_init__(self):
         """Validates every option on construction (one BadInputError line naming it) and normalises the
         enumerations and whole numbers in place."""
-        def whole(name, x, lo, hi, what):
-            if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)) or not lo <= x <= hi:
-                raise BadInputError(f"{name} {x!r} {what}")
-            return int(x)
-
         put = object.__setattr__
         put(self, "samples", whole("--samples", self.samples, 3, np.inf,
                                    "must be a whole number of at least 3 (40 is a good start)"))

@@ -19,7 +19,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .errors import BadInputError, InfeasibleError, positive
+from .errors import BadInputError, InfeasibleError, positive, whole
 from .fit import Direction, FitOptions, FitResult, fit_surface
 from .nurbs import Curve, Surface
 from .split import check_memory, row_scores, split_dp, split_tables
@@ -42,23 +42,18 @@ class SplitOptions:
 
     def __post_init__(self):
         """Validates every option on construction (one BadInputError line naming it)."""
-        if not isinstance(self.samples, (int, np.integer)) or self.samples < 4:
-            raise BadInputError(f"--samples {self.samples} is too small for a split; use at least 4 (30 is the "
-                                f"paper's)")
-        if not isinstance(self.interior, (int, np.integer)) or self.interior < 1:
-            raise BadInputError(f"--interior {self.interior} must be a whole number of M-rows, at least 1 (10 is "
-                                f"the paper's)")
+        whole("--samples", self.samples, 4, np.inf, "is too small for a split; use at least 4 (30 is the paper's)")
+        whole("--interior", self.interior, 1, np.inf,
+              "must be a whole number of M-rows, at least 1 (10 is the paper's)")
         if self.objective not in ("sum", "max"):
             raise BadInputError(f"unknown split objective {self.objective!r}: use 'sum' or 'max'")
         if self.dims not in (4, 5, 7):
             raise BadInputError(f"--dims {self.dims}: use 4 (nothing elevated), 5 (M elevated) or 7 (P, Q and M)")
-        if not isinstance(self.levels, (int, np.integer)) or not 1 <= self.levels <= 6:
-            raise BadInputError(f"--elevations {self.levels} must be a whole number from 1 to 6 (levels on each side "
-                                f"of the surface; 2 gives the paper's 5)")
+        whole("--elevations", self.levels, 1, 6, "must be a whole number from 1 to 6 (levels on each side of the "
+              "surface; 2 gives the paper's 5)")
         if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
             positive("--step", self.step)
-        if not isinstance(self.max_strips, (int, np.integer)) or self.max_strips < 1:
-            raise BadInputError(f"--max-strips {self.max_strips} must be at least 1")
+        whole("--max-strips", self.max_strips, 1, np.inf, "must be at least 1")
         if not isinstance(self.fit, FitOptions):
             raise BadInputError("the split's fit options must be a FitOptions")
         if self.memory_cap is not None:

@@ -57,8 +57,33 @@ def face_points(face, n: int, cls=None) -> np.ndarray:
     """About n x n points of the face as bounded by its edges: a (u, v) grid of its bounds, as dense
     as it takes for about n * n of its points to fall inside, kept where they are inside; and n points
     along every edge (OCCT evaluation throughout).  cls: the face's classifier, when one exists."""
-    pts, _ = interior_grid(face, n, cls)
-    return np.concatenate([pts, edge_points(face, n)])
+    return face_samples(face, n, cls)[0]
+
+
+def face_samples(face, n: int, cls=None, resolution: bool = False):
+    """(face_points(face, n, cls), how far a point of the face can be from the nearest of them, or None
+    unless resolution): the largest diagonal of a grid cell with a corner inside the face, or chord
+    between neighbouring edge samples.  The distance to anything changes by at most the move (it is
+    1-Lipschitz), so a sampled maximum is at most this much below the true one."""
+    surf, us, vs, keep = _grid_layout(face, n, cls)
+    need = keep
+    if resolution:
+        cells = keep[:-1, :-1] | keep[1:, :-1] | keep[:-1, 1:] | keep[1:, 1:]
+        need = keep.copy()
+        for di in (0, 1):
+            for dj in (0, 1):
+                need[di:di + cells.shape[0], dj:dj + cells.shape[1]] |= cells
+    P = _grid_points(surf, us, vs, need)
+    edges = _edge_polylines(face, n)
+    pts = np.concatenate([P[keep].reshape(-1, 3)] + edges)
+    if not resolution:
+        return pts, None
+    d1 = np.linalg.norm(P[1:, 1:] - P[:-1, :-1], axis=2)
+    d2 = np.linalg.norm(P[1:, :-1] - P[:-1, 1:], axis=2)
+    worst = float(np.max(np.where(cells, np.maximum(d1, d2), 0.0), initial=0.0))
+    for E in edges:
+        worst = max(worst, float(np.linalg.norm(np.diff(E, axis=0), axis=1).max(initial=0.0)))
+    return pts, worst
 
 
 def _grid_layout(face, n: int, cls=None):
@@ -74,47 +99,30 @@ def _grid_layout(face, n: int, cls=None):
     return BRep_Tool.Surface_s(face), us, vs, keep
 
 
+def _grid_points(surf, us, vs, mask) -> np.ndarray:
+    """(m, m, 3): the surface at the grid nodes where mask holds (OCCT), NaN elsewhere."""
+    P = np.full(mask.shape + (3,), np.nan)
+    for i, j in zip(*np.nonzero(mask)):
+        P[i, j] = _p3(surf.Value(float(us[i]), float(vs[j])))
+    return P
+
+
 def interior_grid(face, n: int, cls=None):
     """(points (N, 3), parameters (N, 2)) of a (u, v) grid of the face's bounds inside the face, about
     n x n of them (the grid is made denser for a trimmed face); cls: the face's classifier."""
     surf, us, vs, keep = _grid_layout(face, n, cls)
     iu, iv = np.nonzero(keep)
-    uv = np.stack([us[iu], vs[iv]], axis=1)
-    pts = np.array([_p3(surf.Value(float(u), float(v))) for u, v in uv]).reshape(-1, 3)
-    return pts, uv
+    return _grid_points(surf, us, vs, keep)[keep].reshape(-1, 3), np.stack([us[iu], vs[iv]], axis=1)
 
 
-def sampling_resolution(face, n: int, cls=None) -> float:
-    """How far a point of the face can be from the nearest of face_points(face, n): the largest
-    diagonal of a grid cell with a corner inside the face, or chord between neighbouring edge samples.
-    The distance to anything changes by at most the move (it is 1-Lipschitz), so a sampled maximum is at
-    most this much below the true one."""
-    surf, us, vs, keep = _grid_layout(face, n, cls)
-    cells = keep[:-1, :-1] | keep[1:, :-1] | keep[:-1, 1:] | keep[1:, 1:]
-    need = np.zeros(keep.shape, bool)
-    for di in (0, 1):
-        for dj in (0, 1):
-            need[di:di + cells.shape[0], dj:dj + cells.shape[1]] |= cells
-    P = np.full(keep.shape + (3,), np.nan)
-    for i, j in zip(*np.nonzero(need)):
-        P[i, j] = _p3(surf.Value(float(us[i]), float(vs[j])))
-    d1 = np.linalg.norm(P[1:, 1:] - P[:-1, :-1], axis=2)
-    d2 = np.linalg.norm(P[1:, :-1] - P[:-1, 1:], axis=2)
-    worst = float(np.max(np.where(cells, np.maximum(d1, d2), 0.0), initial=0.0))
+def _edge_polylines(face, n: int) -> list:
+    """n points along each edge of the face (degenerate edges left out), one (n, 3) array per edge."""
+    out = []
     for e in _face_edges(face):
         c = BRepAdaptor_Curve(e)
-        E = np.array([_p3(c.Value(float(t))) for t in np.linspace(c.FirstParameter(), c.LastParameter(), n)])
-        worst = max(worst, float(np.linalg.norm(np.diff(E, axis=0), axis=1).max(initial=0.0)))
-    return worst
-
-
-def edge_points(face, n: int) -> np.ndarray:
-    """n points along every edge of the face (degenerate edges left out)."""
-    pts = []
-    for e in _face_edges(face):
-        c = BRepAdaptor_Curve(e)
-        pts += [_p3(c.Value(float(t))) for t in np.linspace(c.FirstParameter(), c.LastParameter(), n)]
-    return np.array(pts).reshape(-1, 3)
+        out.append(np.array([_p3(c.Value(float(t))) for t in np.linspace(c.FirstParameter(), c.LastParameter(), n)])
+                   .reshape(-1, 3))
+    return out
 
 
 def _boundary_polygon(face, per_edge: int = 256):
@@ -398,9 +406,9 @@ def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     """Two-sided Hausdorff distance between two faces as bounded by their edges (about n x n samples
     of each plus n along every edge, projected on the other)."""
     to_a, to_b = _Projector(face_a), _Projector(face_b)
-    h = two_sided(face_points(face_a, n, to_a.inside), face_points(face_b, n, to_b.inside), to_a, to_b)
-    res = max(sampling_resolution(face_a, n, to_a.inside), sampling_resolution(face_b, n, to_b.inside))
-    return replace(h, resolution=res)
+    pa, ra = face_samples(face_a, n, to_a.inside, resolution=True)
+    pb, rb = face_samples(face_b, n, to_b.inside, resolution=True)
+    return replace(two_sided(pa, pb, to_a, to_b), resolution=max(ra, rb))
 
 
 def screened(proj, X: np.ndarray, cap: int = 400) -> np.ndarray:
