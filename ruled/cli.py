@@ -207,7 +207,9 @@ def _machine_parser(sub) -> None:
     m = sub.add_parser("machine", help="machine data for the ruled fit of a face: synchronized XYUV contours "
                        "(4-axis wire EDM, hot wire) or flank-milling tool axes")
     m.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
-    m.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    m.add_argument("--face", type=_face_or_patches, required=True,
+                   help="face index (0-based, as 'ruled faces' lists); with --ruled also all or K,L-M: ruled "
+                        "patches that follow one another (the patches 'ruled cone' writes), machined as one")
     kind = m.add_mutually_exclusive_group(required=True)
     kind.add_argument("--xyuv", action="store_true", help="XYUV G-code (lower guide XY, upper guide UV) and CSV")
     kind.add_argument("--flank", action="store_true", help="flank-milling CL data: APT GOTO/x,y,z,i,j,k and CSV")
@@ -251,6 +253,22 @@ def _machine_parser(sub) -> None:
     m.add_argument("--plot", help="PNG: the two contours with their synchronisation links")
     m.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
     m.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+def _face_or_patches(text: str):
+    """--face of 'ruled machine': an index, or (for --ruled) 'all' or indices 'K,L-M' in their order."""
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    if text == "all":
+        return text
+    from .batch import parse_faces
+    try:
+        return parse_faces(text)
+    except RuledError:
+        raise argparse.ArgumentTypeError(f"--face {text!r}: give a face index, or with --ruled all or indices "
+                                         f"like 0-6 (patches that follow one another)") from None
 
 
 def _rails(text: str) -> tuple:
@@ -331,8 +349,12 @@ def _with_bar(quiet: bool, face_index: int, work):
     finally:
         bar.done()
     for w in out.warnings:
-        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+        print(f"ruled: warning: {_label(face_index)}: {w}", file=sys.stderr)
     return out
+
+
+def _label(face_index) -> str:
+    return f"face {face_index}" if isinstance(face_index, int) else str(face_index)
 
 
 def cmd_faces(args) -> int:
@@ -669,6 +691,8 @@ def cmd_cone(args) -> int:
                                  f"{m['cone_to_ruled']:.6g}")
     print(f"error bound (eq. 9) {rep['error_bound']:.6g} (tolerance {rep['tol']:.6g}){meas}")
     _print_files(args.output, (("report", args.report), ("plot", args.plot)))
+    print(f"to cut it: ruled machine {args.output} --face all --ruled --xyuv -o "
+          f"{os.path.splitext(args.output)[0]}.ngc (all its patches as one wire path, the taper of each)")
     return 0
 
 
@@ -698,15 +722,19 @@ def run_machine(args) -> dict:
     fit_opts = FitOptions(samples=args.samples, method=args.method).checked()
     csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
     _check_outputs(args.output, csv_path, args.step, args.report, args.plot, inputs=(args.input,))
-    face = get_face(args.input, args.face)
-    fm = _with_bar(args.quiet, args.face, lambda bar: machine_of_face(
-        face, opts, fit_opts, bar, args.measure_samples, 1.0 if args.side == "outside" else -1.0,
-        given=args.ruled, rails=args.rails))
-    title = f"face {args.face} of {os.path.basename(args.input)}"
+    side = 1.0 if args.side == "outside" else -1.0
+    if isinstance(args.face, int):
+        face = get_face(args.input, args.face)
+        fm = _with_bar(args.quiet, args.face, lambda bar: machine_of_face(
+            face, opts, fit_opts, bar, args.measure_samples, side, given=args.ruled, rails=args.rails))
+        what, chosen = f"face {args.face}", args.face
+    else:
+        fm, what, chosen = _machine_patches(args, opts, side)
+    title = f"{what} of {os.path.basename(args.input)}"
     write_machine(fm.path, args.output, title, csv_path, args.units)
     if args.step:
         write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
-    rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face,
+    rep = {"version": __version__, "input": os.path.abspath(args.input), "face": chosen,
            "output": os.path.abspath(args.output), "csv": os.path.abspath(csv_path), **fm.report}
     if args.plot:
         plot_path(fm.path, args.plot, f"{title}: {opts.mode}")
@@ -715,11 +743,47 @@ def run_machine(args) -> dict:
     return rep
 
 
+def _machine_patches(args, opts, side):
+    """'ruled machine --face all|K,L-M --ruled': the patches joined and machined as one."""
+    from .occ.io import read_faces
+    from .occ.machine import machine_of_patches
+    if not args.ruled:
+        raise RuledError(f"--face {_face_text(args.face)} machines several faces as one, which only patches of a "
+                         f"ruled result can be (add --ruled); fit the faces one at a time")
+    faces = read_faces(args.input)
+    idx = list(range(len(faces))) if args.face == "all" else args.face
+    bad = [i for i in idx if i >= len(faces)]
+    if bad:
+        raise RuledError(f"--face {_face_text(args.face)}: {args.input} has {len(faces)} faces (0 to "
+                         f"{len(faces) - 1}); see 'ruled faces {args.input}'")
+    what = f"face {idx[0]}" if len(idx) == 1 else f"faces {_face_text(idx)}"
+    fm = _with_bar(args.quiet, what, lambda bar: machine_of_patches(
+        [faces[i] for i in idx], [f"face {i}" for i in idx], opts, bar, args.measure_samples, side))
+    return fm, what, idx
+
+
+def _face_text(face) -> str:
+    if face == "all":
+        return "all"
+    runs, start = [], face[0]
+    for a, b in zip(face, face[1:] + [None]):
+        if b != a + 1:
+            runs.append(str(start) if start == a else f"{start}-{a}")
+            start = b
+    return ",".join(runs)
+
+
 def cmd_machine(args) -> int:
     rep = run_machine(args)
     m, f = rep["machine"], rep["fit"]
     meas = f" (measured {f['measured']:.6g})" if "measured" in f else ""
-    if args.ruled:
+    if "patches" in rep:
+        print(f"faces {_face_text(rep['face'])}: {len(rep['patches'])} ruled patches machined as one"
+              if len(rep["patches"]) > 1 else f"face {rep['face'][0]}: a ruled result, rulings along {f['direction']}")
+        for p in rep["patches"]:
+            print(f"  {p['face']}: taper {p['taper_min_deg']:.3g} to {p['taper_max_deg']:.3g} deg, twist along the "
+                  f"line {p['twist_deg']:.2g} deg")
+    elif args.ruled:
         print(f"face {rep['face']}: a ruled result, rulings along {f['direction']}")
     else:
         rg = f.get("region")

@@ -139,6 +139,10 @@ class ConeSplineFace:
     fit: Any = None           # the ruled fit when fit=True
     warnings: tuple = ()
 
+    def xyuv(self, **kw) -> "MachineData":
+        """Its patches cut as one wire path (xyuv_patches): the report gives each patch's taper."""
+        return xyuv_patches(self.faces, **kw)
+
 
 def cone_spline_face(face, tol: float, step: float = 0.1, fit: bool = False, direction: str = "auto",
                      measure: bool = True, measure_samples: int = 24, allow_creases: bool = False,
@@ -219,14 +223,19 @@ class MachineData:
         return filename
 
 
-def _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress) -> MachineData:
-    from .occ.machine import machine_of_face
+def _side_sign(side: str) -> float:
     if side not in ("outside", "inside"):
         raise BadInputError(f"side must be 'outside' or 'inside', not {side!r}")
+    return 1.0 if side == "outside" else -1.0
+
+
+def _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress) -> MachineData:
+    from .occ.machine import machine_of_face
+    sign = _side_sign(side)
     src = _face_of(face)
     res = fit.result if isinstance(fit, RuledFit) else fit
     fm = machine_of_face(src, opts, FitOptions(samples=samples, method=method), progress,
-                         measure_samples if measure else None, 1.0 if side == "outside" else -1.0, res)
+                         measure_samples if measure else None, sign, res)
     return MachineData(fm.path, _cq(fm.face), fm.report, fm.fit, fm.surface, tuple(fm.warnings))
 
 
@@ -240,6 +249,22 @@ def xyuv_face(face, chord_tol: Optional[float] = None, planes=None, axis="auto",
     from .machine import MachineOptions
     opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
     return _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress)
+
+
+def xyuv_patches(faces, chord_tol: Optional[float] = None, planes=None, axis="auto", kerf: float = 0.0,
+                 lead: Optional[float] = None, feed: float = 100.0, side: str = "outside", measure: bool = True,
+                 measure_samples: int = 30, progress=None) -> MachineData:
+    """XYUV contours of ruled patches that follow one another (a cone spline's faces, in their order) as
+    one wire path; the report's "patches" gives each patch's taper against the machine axis and its twist
+    (0 on a developable patch).  fit is None: the patches are cut as they are."""
+    from .machine import MachineOptions
+    from .occ.machine import machine_of_patches
+    sign = _side_sign(side)
+    src = [_face_of(f) for f in faces]
+    opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
+    fm = machine_of_patches(src, [f"patch {k}" for k in range(len(src))], opts, progress,
+                            measure_samples if measure else None, sign)
+    return MachineData(fm.path, _cq(fm.face), fm.report, fm.fit, fm.surface, tuple(fm.warnings))
 
 
 def flank_face(face, tool_radius: float, taper: float = 0.0, chord_tol: Optional[float] = None, feed: float = 100.0,

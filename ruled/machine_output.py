@@ -143,7 +143,7 @@ def plot_path(path: MachinePath, filename: str, title: str = "") -> None:
             ax.plot(m[ends, 2], m[ends, 3], ":", color="tab:red")
     ax.set_xlabel("X, U" if path.mode == "xyuv" else "e1")
     ax.set_ylabel("Y, V" if path.mode == "xyuv" else "e2")
-    ax.set_aspect("equal")
+    ax.set_aspect("equal", adjustable="datalim")      # the axes fill the figure, however narrow the part
     ax.legend(loc="best", fontsize=8)
     ax.set_title(title or f"{path.mode}: {len(a)} synchronized points, chord tolerance {path.chord_tol:.3g} "
                  f"(links every {step})", fontsize=9)

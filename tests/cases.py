@@ -133,3 +133,14 @@ def barrel(bulge: float = 0.2, height: float = 2.0) -> Surface:
     1 + bulge/2 at mid height, around the z axis (u: angle, rational circle).  Not ruled."""
     prof = np.array([[1.0, -0.5 * height], [1.0 + bulge, 0.0], [1.0, 0.5 * height]])
     return _revolution(prof, np.ones(3))
+
+
+def bumped_cone() -> Surface:
+    """A quarter of the cone r = 10 - z (45-degree rulings) for z in [0, 3], its two middle rows of
+    poles pushed out by 0.02: not ruled, close to a developable."""
+    th = np.linspace(0, np.pi / 2, 6)
+    rows = []
+    for i, z in enumerate(np.linspace(0, 3, 4)):
+        r = 10 - z + (0.02 if i in (1, 2) else 0.0)
+        rows.append(np.column_stack([r * np.cos(th), r * np.sin(th), np.full_like(th, z)]))
+    return Surface(np.array(rows), [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 0, 1 / 3, 2 / 3, 1, 1, 1, 1], 3, 3)

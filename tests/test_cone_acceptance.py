@@ -296,16 +296,10 @@ def test_twisted_surfaces_are_refused_with_the_reason():
 def test_fit_then_cone_in_one_call():
     """A face that is not ruled (a cone section with a bump): fitted, then cone-splined; every point of
     the face is within the fit's bound plus the cone tolerance of the patches."""
-    from ruled.nurbs import Surface
+    from cases import bumped_cone
     from ruled.occ.conespline import cone_of_face
     from ruled.occ.convert import container_to_face
-    th = np.linspace(0, np.pi / 2, 6)
-    rows = []
-    for i, z in enumerate(np.linspace(0, 3, 4)):
-        r = 10 - z + (0.02 if i in (1, 2) else 0.0)
-        rows.append(np.column_stack([r * np.cos(th), r * np.sin(th), np.full_like(th, z)]))
-    S = Surface(np.array(rows), [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 0, 1 / 3, 2 / 3, 1, 1, 1, 1], 3, 3)
-    face = container_to_face(S)
+    face = container_to_face(bumped_cone())
     with pytest.raises(BadInputError, match="not ruled"):
         cone_of_face(face, 0.01)
     fc = cone_of_face(face, 0.01, fit=True, measure_samples=24)
@@ -327,6 +321,14 @@ def test_cadquery_entry_returns_cadquery_shapes():
     assert sum(f.Area() for f in cs.faces) == pytest.approx(face.Area(), rel=1e-7)   # OCCT integrates to ~1e-9
     with pytest.raises(BadInputError):
         cone_spline_face(face, 0.0)
+    # its patches cut as one wire path: vertical lines on the cylinder of radius 5, no taper, no twist
+    m = cs.xyuv(chord_tol=1e-3, measure_samples=8)
+    assert len(m.report["patches"]) == 3 and m.report["machine"]["axis"] == [0.0, 0.0, 1.0]
+    assert all(p["taper_max_deg"] < 1e-6 and p["twist_deg"] < 1e-6 for p in m.report["patches"])
+    for P in (m.path.lower, m.path.upper):
+        assert np.abs(np.hypot(P[:, 0], P[:, 1]) - 5.0).max() < 1e-9
+    angle = np.unwrap(np.arctan2(m.path.lower[:, 1], m.path.lower[:, 0]))
+    assert abs(abs(angle[-1] - angle[0]) - 2 * np.pi) < 1e-9           # all the way round, once
 
 
 def test_cli_refuses_a_folding_face(tmp_path):

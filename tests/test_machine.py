@@ -267,8 +267,12 @@ def test_xyuv_of_a_ruled_result(tmp_path, hyp_file):
     """A ruled result of Ruled (here 'ruled fit' of the hyperboloid) is machined as it is (--ruled)."""
     fits = str(tmp_path / "fit.step")
     assert main(["fit", hyp_file, "--face", "0", "-o", fits, "--quiet"]) == 0
-    ngc, rep, _ = run_cli(tmp_path, fits, 0, "--xyuv", "--ruled", "--chord-tol", "0.01")
+    ngc, rep, _ = run_cli(tmp_path, fits, "all", "--xyuv", "--ruled", "--chord-tol", "0.01")
     assert rep["fit"]["method"].startswith("given") and rep["cut"]["max"] <= 0.01
+    # one patch; the hyperboloid x^2 + y^2 - z^2 = 10^2 is not developable: along a ruling (45 degrees) from
+    # z = -10 to 10 its tangent plane turns by 2 atan(s / b), s = 10 sqrt 2 from the waist, b = 10
+    assert len(rep["patches"]) == 1
+    assert rep["patches"][0]["twist_deg"] == pytest.approx(2 * math.degrees(math.atan(math.sqrt(2))), abs=1.0)
     parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
     lo, hi = lines_3d(parsed[[k == "cut" for k in kinds]], rep)
     design = container_to_face(hyperboloid(10.0, 10.0, 10.0))
@@ -285,6 +289,101 @@ def test_xyuv_of_a_ruled_result(tmp_path, hyp_file):
     result = get_face(fits, 0)
     assert rebuilt_error(result, result, lo, hi, "v", 30).max <= chord
     assert rep["cut"]["max"] <= chord
+
+
+def test_fit_cone_machine_chain(tmp_path, capsys):
+    """A face that is not ruled, fitted and cone-splined ('ruled cone --fit'), then its patches machined
+    as one wire path ('ruled machine --face all --ruled'): the G-code's lines, rebuilt from the parsed
+    moves, lie within the fit's bound + the cone tolerance + the chord tolerance of the design face
+    (OCCT projection) and cover it; each patch's taper is what the lines show, and a cone patch has no
+    twist along the wire."""
+    from cases import bumped_cone
+    design, cone, cone_rep = (str(tmp_path / n) for n in ("design.step", "cone.step", "cone.json"))
+    face = container_to_face(bumped_cone())
+    write_step(face, design)
+    tol, chord = 0.01, 0.002
+    assert main(["cone", design, "--face", "0", "--fit", "--tol", str(tol), "-o", cone, "--report", cone_rep,
+                 "--quiet"]) == 0
+    with open(cone_rep) as fh:
+        fit_bound = json.load(fh)["fit"]["error_bound"]
+    n_patches = len(faces_of(read_shape(cone)))
+    assert n_patches >= 2
+    ngc, rep, _ = run_cli(tmp_path, cone, "all", "--xyuv", "--ruled", "--axis", "z", "--chord-tol", str(chord))
+    assert rep["face"] == list(range(n_patches)) and len(rep["patches"]) == n_patches
+    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
+    lo, hi = lines_3d(parsed[[k == "cut" for k in kinds]], rep)
+    d = (hi - lo) / np.linalg.norm(hi - lo, axis=1)[:, None]
+    angles = np.degrees(np.arccos(d[:, 2]))
+    lows = [p["taper_min_deg"] for p in rep["patches"]]
+    highs = [p["taper_max_deg"] for p in rep["patches"]]
+    assert min(lows) - 0.05 <= angles.min() and angles.max() <= max(highs) + 0.05
+    assert 44.0 < min(lows) and max(highs) < 46.0            # the cone r = 10 - z: 45 degrees
+    assert max(p["twist_deg"] for p in rep["patches"]) < 1e-5
+    # the lines between the face's heights z = 0 and 3, against the design face; and the face against them
+    s = np.linspace(0, 1, 41)
+    pts = (lo[:, None] + s[None, :, None] * (hi - lo)[:, None]).reshape(-1, 3)
+    pts = pts[(pts[:, 2] >= 0) & (pts[:, 2] <= 3)]
+    bound = fit_bound + tol + chord
+    assert _Projector(face).distances(pts).max() <= bound
+    swept = BRepBuilderAPI_MakeFace(_bilinear(lo, hi), 1e-7).Face()
+    assert _Projector(swept).distances(face_points(face, 20)).max() <= bound
+    # patches that do not follow one another, and several faces without --ruled, are refused in one line
+    capsys.readouterr()
+    for face_arg, extra, needle in (("0,2", ["--ruled"], "face 2 does not start where face 0 ends"),
+                                    ("all", [], "add --ruled")):
+        out = str(tmp_path / "x.ngc")
+        rc = main(["machine", cone, "--face", face_arg, "--xyuv", *extra, "-o", out, "--quiet"])
+        err = capsys.readouterr().err.strip()
+        assert rc == 2 and needle in err and len(err.splitlines()) == 1, err
+        assert not os.path.exists(out)
+
+
+def test_patches_join_exactly_whichever_way_they_run():
+    """Three rational ruled patches in a row, given reversed in u or t: the joined surface is each patch,
+    point for point, and patches that do not meet are refused."""
+    from ruled.chain import join_patches
+    rng = np.random.default_rng(7)
+    ends = [rng.normal(size=(2, 3)) for _ in range(4)]          # the rulings where the patches meet
+    patches, plain = [], []
+    for k in range(3):
+        P = np.stack([ends[k], rng.normal(size=(2, 3)), ends[k + 1]])          # (3, 2, 3): degree 2 along u
+        W = np.array([[1.0, 1.0], [0.6 + k, 0.6 + k], [1.0, 1.0]])
+        R = Surface(P, [0, 0, 0, 1, 1, 1], [0, 0, 1, 1], 2, 1, W)
+        plain.append(R)
+        if k == 1:
+            R = Surface(P[::-1].copy(), [0, 0, 0, 1, 1, 1], [0, 0, 1, 1], 2, 1, W[::-1].copy())     # backwards
+        if k == 2:
+            R = Surface(P[:, ::-1].copy(), [0, 0, 0, 1, 1, 1], [0, 0, 1, 1], 2, 1, W[:, ::-1].copy())  # t flipped
+        patches.append(R)
+    J, sign = join_patches(patches)
+    assert sign == 1.0 and J.domain[:2] == (0.0, 3.0)
+    s, t = np.meshgrid(np.linspace(0, 1, 9), np.linspace(0, 1, 5), indexing="ij")
+    for k, R in enumerate(plain):
+        assert np.abs(J(k + s.ravel(), t.ravel()) - R(s.ravel(), t.ravel())).max() < 1e-12
+    from ruled.errors import BadInputError
+    with pytest.raises(BadInputError, match="patch 1 does not start where patch 0 ends"):
+        join_patches([plain[0], plain[2]])
+
+
+def _bilinear(lo, hi):
+    """The surface the wire sweeps between consecutive lines, as an OCCT degree 1 x 1 B-spline."""
+    from OCP.Geom import Geom_BSplineSurface
+    from OCP.TColgp import TColgp_Array2OfPnt
+    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
+    n = len(lo)
+    P = TColgp_Array2OfPnt(1, n, 1, 2)
+    for i in range(n):
+        P.SetValue(i + 1, 1, gp_Pnt(*lo[i]))
+        P.SetValue(i + 1, 2, gp_Pnt(*hi[i]))
+    ku, mu = TColStd_Array1OfReal(1, n), TColStd_Array1OfInteger(1, n)
+    for i in range(n):
+        ku.SetValue(i + 1, float(i))
+        mu.SetValue(i + 1, 2 if i in (0, n - 1) else 1)
+    kv, mv = TColStd_Array1OfReal(1, 2), TColStd_Array1OfInteger(1, 2)
+    for j in range(2):
+        kv.SetValue(j + 1, float(j))
+        mv.SetValue(j + 1, 2)
+    return Geom_BSplineSurface(P, ku, kv, mu, mv, 1, 1)
 
 
 # ---------------------------------------------------------------------------------------------- flank

@@ -78,6 +78,26 @@ def given_ruled(S):
                         f"is 1): fit it instead (leave out --ruled)")
 
 
+def machine_of_patches(faces: list, names: list, opts: MachineOptions, progress=None,
+                       measure_samples: Optional[int] = 30, side: float = 1.0) -> FaceMachine:
+    """Machine ruled patches that follow one another (a cone spline's, in the order 'ruled cone' writes
+    them) as one: one ruled surface through them all (ruled.chain), one path over it, measured against
+    that surface; the report adds each patch's taper and twist."""
+    from ..chain import join_patches, patch_figures
+    Ss = [face_to_container(f) for f in faces]
+    Rs = [given_ruled(S) for S in Ss]
+    slack = max(conversion_slack(f, S) for f, S in zip(faces, Ss))
+    R, sign = join_patches(Rs, names)
+    joined = container_to_face(R)
+    fm = machine_of_face(joined, opts, progress=progress, measure_samples=measure_samples,
+                         side=side * outward(faces[0]) * sign, given=True)
+    fm.report["fit"]["error_bound"] = slack
+    fm.report["patches"] = [{"face": nm, **f} for nm, f in
+                            zip(names, patch_figures(R, fm.path.frame.axis if fm.path.frame is not None
+                                                     else fm.path.axes.mean(axis=0), len(faces)))]
+    return fm
+
+
 def measure_cut(target, path: MachinePath, n: int = 30) -> dict:
     """What the machine cuts against the target face, with OCCT: n x n samples of the target projected
     onto the surface the lines sweep, and about 3 n^2 points of the lines inside the part projected
