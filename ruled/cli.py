@@ -685,7 +685,9 @@ def cmd_cone(args) -> int:
                    measure_samples=args.measure_samples, quiet=args.quiet)
     kinds = sorted({p["kind"] for p in rep["patch_detail"]})
     print(f"face {rep['face']}: {rep['patches']} {'/'.join(kinds)} patches in {len(rep['pieces'])} piece(s), "
-          f"all developable: {rep['all_developable']}, largest G1 angle {rep['max_g1_angle_deg']:.2g} deg")
+          f"all developable: {rep['all_developable']}, largest G1 angle {rep['max_g1_angle_deg']:.2g} deg"
+          + (f" inside a piece; the pieces meet at creases of up to {rep['max_crease_between_pieces_deg']:.3g} deg"
+             if len(rep["pieces"]) > 1 else ""))
     m = rep["measure"]
     meas = "" if m is None else (f"   measured: design to cone {m['design_to_cone']:.6g}, cone to ruled surface "
                                  f"{m['cone_to_ruled']:.6g}")

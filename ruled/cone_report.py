@@ -33,7 +33,8 @@ def cone_report(res: ConeSpline) -> dict:
                "collapsed_sides": int(sum(np.ptp(a.A, axis=0).max() == 0 or np.ptp(a.B, axis=0).max() == 0
                                           for a in q.arcs))} for q in res.pieces]
     return {"tol": res.tol, "step": res.step, "patches": len(res.patches), "error_bound": res.bound,
-            "max_g1_angle_deg": res.max_g1_deg, "all_developable": all(p.developable for p in res.patches),
+            "max_g1_angle_deg": res.max_g1_deg, "max_crease_between_pieces_deg": res.max_crease_deg,
+            "all_developable": all(p.developable for p in res.patches),
             "pieces": pieces, "patch_detail": patches, "notes": res.notes}
 
 
@@ -46,10 +47,14 @@ def plot(res: ConeSpline, path: str) -> None:
     import matplotlib.pyplot as plt
 
     k = len(res.pieces)
-    fig, axes = plt.subplots(1, k, figsize=(7 * k, 6), squeeze=False)
+    cols = min(k, 3)
+    rows = -(-k // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(6.5 * cols, 5.5 * rows), squeeze=False)
+    for ax in axes.flat[k:]:
+        ax.set_visible(False)
     v = np.linspace(0.0, 1.0, 600)
     t = np.linspace(0.0, 1.0, 80)
-    for ax, q in zip(axes[0], res.pieces):
+    for n, (ax, q) in enumerate(zip(axes.flat, res.pieces)):
         for f, lab in ((q.c0, "extended boundaries"), (q.c1, None)):
             P = f(v)
             ax.plot(P[:, 0], P[:, 1], color="#9ecae1", lw=4, label=lab)
@@ -67,14 +72,16 @@ def plot(res: ConeSpline, path: str) -> None:
             ax.plot([a.A[0, 0], a.A[2, 0]], [a.A[0, 1], a.A[2, 1]], color="#31a354", lw=0.8,
                     label="parallel chords" if i == 0 else None)
             ax.plot([a.B[0, 0], a.B[2, 0]], [a.B[0, 1], a.B[2, 1]], color="#31a354", lw=0.8)
-        ax.set_aspect("equal")
+        ax.set_aspect("equal", adjustable="datalim")
         h0, h1, H0, H1 = (0.0 if abs(x) <= 1e-12 * (abs(q.heights[1] - q.heights[0]) + 1e-300) else x
                           for x in (*q.heights, *q.fit_heights))
-        ax.set_title(f"{len(q.arcs)} fat conic arcs, planes {h0:.4g} .. {h1:.4g} (fitted on {H0:.4g} .. {H1:.4g}), "
+        ax.set_title(f"{'piece %d (v %.3g .. %.3g): ' % (n, *q.v_range) if k > 1 else ''}"
+                     f"{len(q.arcs)} fat conic arcs\nplanes {h0:.4g} .. {h1:.4g} (fitted on {H0:.4g} .. {H1:.4g}), "
                      f"{'the boundaries' if q.planar_boundaries else 'rulings extended'}", fontsize=9)
         ax.set_xlabel("frame x")
         ax.set_ylabel("frame y")
-        ax.legend(loc="best", fontsize=7)
+        if n == 0:
+            ax.legend(loc="best", fontsize=7)
     fig.suptitle(f"cone spline: {len(res.patches)} patches, tolerance {res.tol:g}, bound (eq. 9) {res.bound:.4g}")
     fig.tight_layout()
     from .outputs import atomic

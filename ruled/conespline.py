@@ -80,7 +80,8 @@ class ConeSpline:
     tol: float
     step: float
     bound: float                 # the largest eq. 9 bound
-    max_g1_deg: float            # the largest angle between the normals of neighbouring patches
+    max_g1_deg: float            # the largest angle between the normals of neighbouring patches of a piece
+    max_crease_deg: float = 0.0  # the largest angle where neighbouring pieces (§6) meet
     timings: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
 
@@ -273,13 +274,13 @@ def _patch_info(arc: FatArc, h0, h1, origin, E, piece: int) -> ConePatch:
     return ConePatch(S, arc.w, "cone", apex, None, float(np.degrees(ang)), dev, arc.err, arc.v, arc.vb, piece)
 
 
-def _g1(patches) -> float:
+def _g1(patches, across: bool = False) -> float:
     """The largest angle (degrees) between the normals of neighbouring patches of one piece along their
-    common ruling."""
+    common ruling; across=True: of the last and first patches of neighbouring pieces (the §6 creases)."""
     worst = 0.0
     u = np.linspace(0.0, 1.0, 9)
     for a, b in zip(patches[:-1], patches[1:]):
-        if a.piece != b.piece:
+        if (a.piece != b.piece) != across:
             continue
         na = a.surface.normals(u, np.ones_like(u))
         nb = b.surface.normals(u, np.zeros_like(u))
@@ -380,7 +381,12 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     while queue:                                   # planes per piece; a piece whose fat curve folds is cut there
         a, b = queue.pop(0)
         f0, g0, f1, g1 = _sub(c0, a, b), _sub(dc0, a, b, True), _sub(c1, a, b), _sub(dc1, a, b, True)
-        for ext in (extend, extend / 3, 0.0):          # §5's extension may cross a fan's apex: less
+        # a piece whose fat curve folds on the fit's planes (§5) is cut where it folds (§6) while it can be,
+        # rather than fitted with less extension: without the full extension the patches of a twisted
+        # surface collapse to triangles and meet at creases inside the piece; only a piece that cannot be
+        # cut further (planar boundaries, too short, too many pieces) tries less (a fan's apex)
+        splittable = not planar and b - a >= 1.0 / 128 and len(plan) + len(queue) + 2 <= MAX_PIECES
+        for ext in ((extend,) if splittable else (extend, extend / 3, 0.0)):
             if planar:
                 z = n if (U @ n).mean() > 0 else -n
                 score, at = _fold_score(f0, g0, f1, g1, z, ext, True)
@@ -391,7 +397,7 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
         if score > 0.0:
             plan.append((a, b, z, ext))
             continue
-        if planar or b - a < 1.0 / 128 or len(plan) + len(queue) + 2 > MAX_PIECES:
+        if not splittable:
             where = (f"the two boundaries run against each other there (their tangents "
                      f"{np.degrees(np.arccos(np.clip(score, -1, 1))):.0f} deg apart near v = {a + (b - a) * at:.3g}: "
                      f"the surface twists too much, or a fan of rulings goes through one boundary point)")
@@ -446,7 +452,8 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     if slack > 0.0:
         notes.append(f"the boundaries lie within {dev:.3g} of their parallel planes (taken as the planes): "
                      f"the bound includes the {slack:.3g} between them along the rulings")
-    res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches) + slack, _g1(patches), notes=notes)
+    res = ConeSpline(patches, pieces, tol, step, max(p.bound for p in patches) + slack, _g1(patches),
+                     _g1(patches, across=True), notes=notes)
     res.timings["fit"] = time.perf_counter() - t0
     if res.max_g1_deg > G1_DEG and not allow_creases:
         raise ToleranceError(f"the cone spline would not be tangent continuous: neighbouring patches meet at up to "
@@ -546,6 +553,7 @@ def _cone_spline_of_surface(S: Surface, tol: float, step: float, direction: str,
         out.notes += res.notes
         out.bound = max(out.bound, res.bound)
         out.max_g1_deg = max(out.max_g1_deg, res.max_g1_deg)
+        out.max_crease_deg = max(out.max_crease_deg, res.max_crease_deg)
         out.timings["fit"] += res.timings["fit"]
     if len(strips) > 1:
         out.notes.append(f"the face is {len(strips)} ruled strips (degree 1 with {len(strips) + 1} rows of poles "

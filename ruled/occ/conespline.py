@@ -15,7 +15,7 @@ from OCP.BRepCheck import BRepCheck_Analyzer
 from ..conespline import ConeSpline, Progress, cone_spline_of_surface
 from ..errors import positive
 from .convert import container_to_face, face_surface_type, face_to_container
-from .measure import FaceSet, sample_faces, to_lines
+from .measure import FaceSet, face_points, sample_faces, to_lines
 
 
 @dataclass
@@ -53,6 +53,33 @@ def _ruling_points(res: ConeSpline, n: int) -> np.ndarray:
     return np.concatenate(pts)
 
 
+def _to_ruled(res: ConeSpline, faces, n: int):
+    """Samples of the patches and their exact distances to the ruled surface between the planes: each
+    to its own piece's rulings, then, from the farthest down while above the largest distance found,
+    to the other pieces' too (the nearest point may lie across a piece's end)."""
+    per = [face_points(f, n) for f in faces]
+    pts = np.concatenate(per)
+    own = np.concatenate([np.full(len(c), q.piece) for c, q in zip(per, res.patches)])
+    d = np.empty(len(pts))
+    for k, piece in enumerate(res.pieces):
+        m = own == k
+        if m.any():
+            d[m] = to_lines(pts[m], piece.rulings)
+    if len(res.pieces) > 1:
+        top, order = 0.0, np.argsort(-d, kind="stable")
+        for lo in range(0, len(order), 64):
+            idx = order[lo:lo + 64]
+            idx = idx[d[idx] > top]
+            if not idx.size:
+                break
+            for k, piece in enumerate(res.pieces):
+                sel = idx[own[idx] != k]
+                if sel.size:
+                    d[sel] = np.minimum(d[sel], to_lines(pts[sel], piece.rulings))
+            top = max(top, float(d[idx].max()))
+    return pts, d
+
+
 def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_face: bool = False) -> dict:
     """Independent distances (no fitting code is used):
     design_to_cone: samples of the design face (OCCT; the ruled surface's rulings when no face is
@@ -64,8 +91,7 @@ def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_fa
     fs = FaceSet(faces)
     design = sample_faces([design_face], n) if design_face is not None else _ruling_points(res, n)
     d_dc = fs.distances(design)
-    cone_pts = sample_faces(faces, max(8, n // 2))
-    d_cr = np.min([to_lines(cone_pts, p.rulings) for p in res.pieces], axis=0)
+    cone_pts, d_cr = _to_ruled(res, faces, max(8, n // 2))
     out = {"design_to_cone": float(d_dc.max()), "cone_to_ruled": float(d_cr.max()), "cone_to_design": None,
            "samples": int(design.shape[0] + cone_pts.shape[0])}
     if exact_face and design_face is not None:

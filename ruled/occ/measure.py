@@ -590,29 +590,26 @@ def curve_on_surface_measure(surface, domain, result, n: int = 2000, pcurve=None
 # ------------------------------------------------------------------------------ several faces
 class FaceSet:
     """Distances from points to the nearest of several faces: each face's projector, tried on the faces
-    whose coarse sample cloud comes near the point."""
+    that can be the nearest one by their coarse sample clouds."""
 
     def __init__(self, faces, n: int = 24):
         from scipy.spatial import cKDTree
 
         self.proj = [_Projector(f) for f in faces]
-        clouds = [face_points(f, n) for f in faces]
-        self.owner = np.concatenate([np.full(len(c), i) for i, c in enumerate(clouds)])
-        pts = np.concatenate(clouds)
-        self.tree = cKDTree(pts)
-        # the largest gap between a sample and its nearest neighbour in its own cloud: a face can be
-        # this much nearer than its cloud
-        self.slack = max(float(cKDTree(c).query(c, k=2)[0][:, 1].max()) for c in clouds)
+        samples = [face_samples(f, n, resolution=True) for f in faces]
+        self.trees = [cKDTree(c) for c, _ in samples]
+        # per face, how far a point of it can be from its cloud: the face can be this much nearer to a
+        # point than its cloud is
+        self.slack = np.array([r for _, r in samples])
 
-    def _candidates(self, X: np.ndarray) -> np.ndarray:
-        """(N, faces) booleans: the faces whose cloud comes near each point."""
-        k = min(64, self.owner.size)
-        d, idx = self.tree.query(X, k=k)
-        d, idx = d.reshape(len(X), k), idx.reshape(len(X), k)
-        near = d <= d[:, :1] + 2 * self.slack
+    def _candidates(self, X: np.ndarray, chunk: int = 4096) -> np.ndarray:
+        """(N, faces) booleans: the faces that can be the nearest to each point.  A face's cloud lies on
+        it, so the nearest face is at most the nearest cloud's distance away; a face whose cloud is
+        farther than that by more than its slack cannot be the nearest."""
         out = np.zeros((len(X), len(self.proj)), bool)
-        rows = np.repeat(np.arange(len(X)), k)
-        out[rows[near.ravel()], self.owner[idx.ravel()][near.ravel()]] = True
+        for lo in range(0, len(X), chunk):
+            D = np.column_stack([t.query(X[lo:lo + chunk])[0] for t in self.trees])
+            out[lo:lo + chunk] = D - self.slack[None, :] <= D.min(axis=1, keepdims=True)
         return out
 
     def distance(self, x) -> float:
