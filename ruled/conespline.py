@@ -359,6 +359,12 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     # better: a blade's boundaries at z = 0 and 36 to 1.2e-5); the sliver between a boundary and its
     # plane, along the rulings, is added to the bound
     planar = dev <= PLANAR * max(size, 1e-300)
+    Q = np.vstack([c0(vs), c1(vs)])
+    Q = Q - Q.mean(axis=0)
+    flat = float(np.abs(Q @ np.linalg.svd(Q, full_matrices=False)[2][-1]).max())
+    if flat <= PLANAR * max(size, 1e-300):
+        raise BadInputError(f"the face is flat (all of it within {flat:.2g} of one plane): a plane is developable as "
+                            f"it is and needs no cone spline; cut or machine the face itself")
     U = _dirs(c0, c1, vs)
     ranges = [(0.0, 1.0)]
     slack = 0.0

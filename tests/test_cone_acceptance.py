@@ -260,13 +260,13 @@ def test_twisted_surfaces_are_refused_with_the_reason():
 
     def c1(v):
         v = np.atleast_1d(v)
-        return np.column_stack([1 - 2 * v, np.full_like(v, 0.2), np.ones_like(v)])
+        return np.column_stack([1 - 2 * v, 0.2 + 0.3 * v, np.ones_like(v)])
 
     def d0(v):
         return np.tile([2.0, 0.0, 0.0], (len(np.atleast_1d(v)), 1))
 
     def d1(v):
-        return np.tile([-2.0, 0.0, 0.0], (len(np.atleast_1d(v)), 1))
+        return np.tile([-2.0, 0.3, 0.0], (len(np.atleast_1d(v)), 1))
     with pytest.raises(BadInputError, match="^between the boundaries' parallel planes the fat curve folds, so no "
                                             "cone spline follows it: the two boundaries run against each other"):
         cone_spline(c0, d0, c1, d1, 0.01)
@@ -287,10 +287,56 @@ def test_twisted_surfaces_are_refused_with_the_reason():
     def ds1(v):
         v = np.atleast_1d(v)
         return ds0(v) + k * np.column_stack([-np.sin(k * v), np.cos(k * v), np.zeros_like(v)])
-    with pytest.raises(BadInputError):
+    with pytest.raises(BadInputError) as err:
         cone_spline(s0, ds0, s1, ds1, 0.01)
+    assert str(err.value) == ("the rulings turn too far to split the surface into pieces between parallel planes: "
+                              "32 pieces would be needed (at most 16); fit a part of it")
     with pytest.raises(BadInputError, match="--tol must be a positive finite number"):
         cone_spline(c0, d0, c1, d1, -1.0)
+
+
+def _lines(P0, P1, bend=0.0):
+    """Boundaries P0[0] -> P0[1] and P1[0] -> P1[1] (the second bowed up by bend in the middle)."""
+    P0, P1 = np.asarray(P0, float), np.asarray(P1, float)
+
+    def f0(v):
+        return P0[0] + np.atleast_1d(v)[:, None] * (P0[1] - P0[0])
+
+    def f1(v):
+        v = np.atleast_1d(v)
+        return P1[0] + v[:, None] * (P1[1] - P1[0]) + np.outer(4 * bend * v * (1 - v), [0, 0, 1])
+
+    def d0(v):
+        return np.tile(P0[1] - P0[0], (len(np.atleast_1d(v)), 1))
+
+    def d1(v):
+        v = np.atleast_1d(v)
+        return np.tile(P1[1] - P1[0], (len(v), 1)) + np.outer(4 * bend * (1 - 2 * v), [0, 0, 1])
+    return f0, d0, f1, d1
+
+
+def test_each_cone_refusal_says_what_is_meant():
+    """Word for word: each refusal names what is wrong with this face and what to do, in a user's terms."""
+    from cases import bumped_cone
+    from ruled.conespline import cone_spline_of_surface
+    square = _lines([[0, 0, 0], [1, 0, 0]], [[0, 0.2, 1], [1, 0.2, 1]])
+    cases = [
+        (lambda: cone_spline(*square, 0.01, step=1.5),
+         "the step must be in (0, 1] (got 1.5); it is a fraction of the boundary's parameter"),
+        (lambda: cone_spline(*_lines([[0, 0, 0], [1, 0, 0]], [[0, 1, 0], [1, 1, 0]]), 0.01),
+         "the face is flat (all of it within 0 of one plane): a plane is developable as it is and needs no cone "
+         "spline; cut or machine the face itself"),
+        (lambda: cone_spline(*_lines([[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1, 0.5, 1]], bend=0.3), 0.01),
+         "a ruling has zero length (the two boundaries touch); the surface has no pair of parallel planes across "
+         "it there - fit the part away from the touching point"),
+        (lambda: cone_spline_of_surface(bumped_cone(), 0.01),
+         "the face is not ruled: it is 0.015 from the ruled surface between its u-boundaries (0.10% of its "
+         "size); run 'ruled fit' first, or 'ruled cone --fit'"),
+    ]
+    for run, text in cases:
+        with pytest.raises(BadInputError) as err:
+            run()
+        assert str(err.value) == text
 
 
 def test_fit_then_cone_in_one_call():
@@ -337,7 +383,7 @@ def test_cli_refuses_a_folding_face(tmp_path):
     from ruled.nurbs import Surface
     from ruled.occ.convert import container_to_face
     from ruled.occ.io import write_step
-    P = np.array([[(-1, 0, 0), (1, 0, 0)], [(1, 0.2, 1), (-1, 0.2, 1)]], float)
+    P = np.array([[(-1, 0, 0), (1, 0, 0)], [(1, 0.2, 1), (-1, 0.5, 1)]], float)
     src, out = str(tmp_path / "twist.step"), str(tmp_path / "x.step")
     write_step(container_to_face(Surface(P, [0, 0, 1, 1], [0, 0, 1, 1], 1, 1)), src)
     r = _run("cone", src, "--face", "0", "--tol", "0.01", "-o", out)
@@ -354,7 +400,13 @@ def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
     from ruled.occ.conespline import cone_of_face
     from ruled.occ.convert import container_to_face
     face = container_to_face(elber_ex2())
-    with pytest.raises(BadInputError, match="pass --allow-creases to keep the creases$") as exc:
+    with pytest.raises(BadInputError, match=(
+            r"^the cone spline would not be tangent continuous: neighbouring patches meet at up to [0-9.]+ deg \(the "
+            r"surface twists so much that patches collapse to triangles and the §5 extension cannot be used\); "
+            r"(a tighter tolerance works \(the patches then fall differently\): --tol [0-9.e-]+|the smallest "
+            r"tolerance above it that works is about [0-9.e-]+ \(tried: --tol [0-9.e-]+\)|no tolerance up to the "
+            r"face's size \([0-9.]+\) gives a cone spline: split the face where the surface twists \(ruled split\))"
+            r", or pass --allow-creases to keep the creases$")) as exc:
         cone_of_face(face, 0.05, fit=True, measure_samples=None)
     assert "allow_creases" not in str(exc.value)      # no Python argument names in a user's message
     fc = cone_of_face(face, 0.05, fit=True, measure_samples=None, allow_creases=True)
