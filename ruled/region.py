@@ -405,11 +405,15 @@ def side_candidates(region: Region, corner_deg: float = CORNER_DEG, most: int = 
     if len(corners) == 2:
         r = _runs(region, corners)
         s0, s1 = _split_run(region, r[0], 2), _split_run(region, r[1], 2)
-        return [Sides((s0[0], s0[1], s1[0], s1[1]), tuple(ang), "two corners: each side halved")]
+        return [Sides((r[0], (), r[1], ()), tuple(ang), "two corners: rulings from one side to the other"),
+                Sides((s0[0], s0[1], s1[0], s1[1]), tuple(ang), "two corners: each side halved")]
     start = corners[0] if corners else n - 1
     whole = _runs(region, [start])[0] if n > 1 or corners else (_whole(region, 0),)
-    return [Sides(tuple(_split_run(region, whole, 4)), tuple(ang),
-                  f"{len(corners)} corner{'s' if len(corners) != 1 else ''}: the loop quartered by arc length")]
+    what = f"{len(corners)} corner{'s' if len(corners) != 1 else ''}"
+    halves = _split_run(region, whole, 2)
+    return [Sides((halves[0], (), halves[1], ()), tuple(ang),
+                  f"{what}: the loop halved by arc length, rulings from one half to the other"),
+            Sides(tuple(_split_run(region, whole, 4)), tuple(ang), f"{what}: the loop quartered by arc length")]
 
 
 __all__ = ["Region", "Sides", "four_sides", "side_candidates", "CORNER_DEG"]

@@ -336,3 +336,31 @@ def test_faces_whose_bounds_and_knots_disagree_convert_or_are_refused():
         face_to_container(_raw_face(flat, 7.5, 8.5, 0.5, 2.5))
     assert str(exc.value) == ("the face's u range [7.5, 8.5] lies outside its surface's knot range [0, 6.28318531]; "
                               "repair the face (ShapeFix in your CAD system)")
+
+
+def _flat_surface():
+    return bspline_surface(np.array([[(0, 0, 0), (0, 10, 0)], [(10, 0, 0), (10, 10, 0)]], float),
+                           [0, 1], [2, 2], [0, 1], [2, 2], 1, 1)
+
+
+@pytest.mark.parametrize("shape", ["lens", "ellipse"])
+def test_faces_with_fewer_than_three_corners_rule_from_one_half_to_the_other(shape):
+    """A flat face bounded by a lens (two corners) or a long thin ellipse (none, like a wing's end cap):
+    among the ways of grouping its loop is one whose rulings run across, from one half of the loop to the
+    other, so its fit is the face itself.  (The cap of a wing read 7.0 over 82 % of the face: its rails were
+    two opposite quarters of the loop, the only grouping tried.)"""
+    from OCP.Geom2d import Geom2d_Ellipse
+    from OCP.gp import gp_Ax2d, gp_Dir2d, gp_Pnt2d
+    surf = _flat_surface()
+    if shape == "lens":
+        loop = [graph2d(0.1, 0.9, lambda u: 0.5 + 0.3 * np.sin(np.pi * (u - 0.1) / 0.8)),
+                graph2d(0.1, 0.9, lambda u: 0.5 - 0.1 * np.sin(np.pi * (u - 0.1) / 0.8), reverse=True)]
+    else:
+        loop = [Geom2d_Ellipse(gp_Ax2d(gp_Pnt2d(0.5, 0.5), gp_Dir2d(1, 0)), 0.4, 0.05)]
+    face = face_from_loops(surf, [loop])
+    res, bound, h, area = _fit_and_measure(face)
+    size = _size(face)
+    assert h.max <= 1e-5 * size and bound >= h.max, (res.patch.how, h.max, bound)
+    assert abs(area - 1.0) <= 0.01, area
+    assert "rulings from one half to the other" in res.patch.how or "rulings from one side to the other" in \
+        res.patch.how, res.patch.how
