@@ -517,7 +517,7 @@ def run_split(args) -> dict:
         write_step(fs.faces[fs.chosen].faces, args.split_faces)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face, "dims": args.dims,
            "samples": opts.samples, "interior": opts.interior, "objective": opts.objective,
-           **split_report(fs.result, fs.measured, fs.chosen),
+           **split_report(fs.result, fs.measured, fs.chosen, fs.edge_bounds()),
            "checks": {k: _check_json(c) for k, c in fs.checks.items()}}
     rep["timings"] = {**fs.timings, "total": time.perf_counter() - t0}
     if args.plot:
@@ -547,7 +547,7 @@ def cmd_split(args) -> int:
 def cmd_partition(args) -> int:
     """ruled fit --tol: strips until every ruled fit is within the tolerance."""
     from .occ.io import get_face, write_step
-    from .occ.split import partition_of_face
+    from .occ.split import edge_bound, partition_of_face
     from .report import write_report
     from .split_report import partition_report
 
@@ -563,7 +563,8 @@ def cmd_partition(args) -> int:
     if args.split_faces:
         write_step(fp.faces.faces, args.split_faces)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face,
-           **partition_report(fp.partition, fp.measured), "checks": _check_json(fp.check)}
+           **partition_report(fp.partition, fp.measured, edge_bound(fp.faces)), "checks": _check_json(fp.check)}
+    rep["tol"], rep["fit_tol"] = args.tol, fp.partition.tol     # the fits aim inside tol by the edges' allowance
     rep["timings"]["total"] = time.perf_counter() - t0
     if args.report:
         write_report(rep, args.report)

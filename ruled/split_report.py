@@ -24,12 +24,16 @@ def _strip_json(sf: StripFit, measured: Optional[dict]) -> dict:
             "hausdorff": measured}
 
 
-def split_report(res: SplitResult, measured: dict, chosen: str) -> dict:
-    """measured: candidate name -> [per side Hausdorff dicts]."""
+def split_report(res: SplitResult, measured: dict, chosen: str, edge_bounds: Optional[dict] = None) -> dict:
+    """measured: candidate name -> [per side Hausdorff dicts]; edge_bounds: name -> how far the built split
+    faces' edge (the split curve on the surface, certified) is from the exact split curve.  A candidate's
+    error_bound is between its fits and its split faces: the larger side's bound plus that."""
     cands = {}
     for name, c in res.candidates.items():
         m = measured.get(name)
-        cands[name] = {"error_bound": c.bound, "dp_score": c.dp_score, "t": c.t,
+        e = (edge_bounds or {}).get(name, 0.0)
+        cands[name] = {"error_bound": c.bound + e, "fit_bound": c.bound, "split_edge_bound": e,
+                       "dp_score": c.dp_score, "t": c.t,
                        "hausdorff": None if m is None else max(x["max"] for x in m),
                        "sides": [_strip_json(s, None if m is None else m[k]) for k, s in enumerate(c.sides)],
                        "curve_uv": _curve_json(c.curve, res.transposed)}
@@ -39,12 +43,14 @@ def split_report(res: SplitResult, measured: dict, chosen: str) -> dict:
             "timings": res.timings}
 
 
-def partition_report(p: Partition, measured: list) -> dict:
+def partition_report(p: Partition, measured: list, edge_bound: float = 0.0) -> dict:
+    """edge_bound: how far the built strips' split edges are from the exact split curves (see split_report)."""
     return {"tol": p.tol, "strips": len(p.strips), "greedy_strips": p.greedy_count,
             "uniform_strips": p.uniform_count, "used": p.used,
             "direction": "u" if p.transposed else "v",
             "strip_detail": [_strip_json(s, m) for s, m in zip(p.strips, measured)],
-            "max_error_bound": max(p.bounds), "max_hausdorff": max(m["max"] for m in measured) if measured else None,
+            "max_error_bound": max(p.bounds) + edge_bound, "max_fit_bound": max(p.bounds),
+            "split_edge_bound": edge_bound, "max_hausdorff": max(m["max"] for m in measured) if measured else None,
             "history": [{"strip": k, "split": name, "bound": b} for k, name, b in p.history],
             "timings": p.timings}
 

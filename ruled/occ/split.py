@@ -199,6 +199,16 @@ class FaceSplit:
     timings: dict
     warnings: list = field(default_factory=list)
 
+    def edge_bounds(self) -> dict:
+        """name -> how far its split faces' edges are from the exact split curve (certified)."""
+        return {k: edge_bound(sf) for k, sf in self.faces.items()}
+
+
+def edge_bound(sf: SplitFaces) -> float:
+    """How far the split faces' split edges are from the exact images of the smooth split curves (their
+    own certified bound): the faces differ from the strips the fits were certified against by this."""
+    return max((c.error_bound for c in sf.curves), default=0.0)
+
 
 def _hd(h: Hausdorff) -> dict:
     return {"max": h.max, "mean": h.mean, "split_to_fit": h.max_a_to_b, "fit_to_split": h.max_b_to_a,
@@ -254,7 +264,10 @@ def partition_of_face(face, tol: float, opts=None, progress=None, measure_sample
     """Partition a face into strips whose ruled fits are within tol (ruled.partition), built and measured."""
     from ..partition import SplitOptions, partition
     S, warnings = face_patch_surface(face)
-    p = partition(S, tol, opts or SplitOptions(), progress)
+    # the strips' split edges follow the split curves within EDGE_TOL of the size, which the faces' bound
+    # adds: the fits aim that much inside tol (unless tol is not much larger)
+    inner = tol - EDGE_TOL * S.diagonal()
+    p = partition(S, inner if inner >= 0.5 * tol else tol, opts or SplitOptions(), progress)
     curves = [s.strip.hi for s in p.strips[:-1]]
     sf, ck, fits, meas = measure_strips(S, p.strips, p.transposed, curves, measure_samples)
     return FacePartition(p, sf, ck, fits, meas, warnings)
