@@ -41,6 +41,7 @@ class Region:
     holes: tuple = ()
     edges3d: tuple = ()     # the edges' own 3D curves (on the pcurves' parameters), when they are known
     closed: tuple = (False, False)   # the surface closes on itself across its u (v) domain: wrap, not clip
+    tolerances: tuple = ()  # per loop edge, the model's tolerance of the edge (3D), when it is known
 
     def __post_init__(self):
         if not isinstance(self.surface, Surface):
@@ -59,6 +60,10 @@ class Region:
         object.__setattr__(self, "holes", tuple(tuple(h) for h in self.holes))
         if self.edges3d and len(self.edges3d) != n:
             raise BadInputError("the face's 3D edges do not match its boundary curves")
+        if self.tolerances and (len(self.tolerances) != n or not all(np.isfinite(t) and t >= 0
+                                                                      for t in self.tolerances)):
+            raise BadInputError("the face's edge tolerances must be one finite, non-negative distance per edge")
+        object.__setattr__(self, "tolerances", tuple(float(t) for t in self.tolerances))
 
     @property
     def size(self) -> int:
@@ -66,18 +71,25 @@ class Region:
 
     def rect_sides(self) -> Optional[list]:
         """When every loop edge runs along a side of the surface's (u, v) rectangle within 1e-6 of its
-        range (the loop, closed, then goes round the rectangle): per edge, (side, offset) with side one of
-        'u0', 'u1' (the edge lies on u = u0 or u1), 'v0', 'v1', and its largest offset from that line;
-        else None."""
+        range, or within the edge's own tolerance in space (the model's: an exporter's sloppy edge), the
+        loop, closed, goes round the rectangle: per edge, (side, offset) with side one of 'u0', 'u1' (the
+        edge lies on u = u0 or u1), 'v0', 'v1', and its largest offset from that line; else None."""
         u0, u1, v0, v1 = self.surface.domain
+        speed = None
         out = []
-        for c in self.loop:
+        for k, c in enumerate(self.loop):
             P = c(np.linspace(*c.domain, 33))
             best = None
             for ax, names, (a, b) in ((0, ("u0", "u1"), (u0, u1)), (1, ("v0", "v1"), (v0, v1))):
                 for name, x in zip(names, (a, b)):
                     d = float(np.abs(P[:, ax] - x).max())
-                    if d <= 1e-6 * (b - a) and (best is None or d < best[1]):
+                    ok = d <= 1e-6 * (b - a)
+                    if not ok and self.tolerances and d <= 1e-2 * (b - a):
+                        if speed is None:        # the largest |S_u|, |S_v|: how far an offset reaches in space
+                            bd = self.surface.derivative_bounds()
+                            speed = (float(bd["Su"].max()), float(bd["Sv"].max()))
+                        ok = d * speed[ax] <= self.tolerances[k]
+                    if ok and (best is None or d < best[1]):
                         best = (name, d)
             if best is None:
                 return None
@@ -104,7 +116,12 @@ class Region:
         if not off or off == (0.0, 0.0):
             return 0.0
         b = self.surface.derivative_bounds()
-        return float(off[0] * b["Su"].max() + off[1] * b["Sv"].max())
+        slack = float(off[0] * b["Su"].max() + off[1] * b["Sv"].max())
+        # an edge taken as a side within its tolerance: its own 3D curve may lie that far off the surface
+        u0, u1, v0, v1 = self.surface.domain
+        loose = [k for k, (name, d) in enumerate(self.rect_sides())
+                 if d > 1e-6 * ((u1 - u0) if name[0] == "u" else (v1 - v0))]
+        return slack + max((self.edge_gap(k) for k in loose), default=0.0)
 
     def uv(self, k: int, t) -> np.ndarray:
         """Points (N, 2) of loop edge k, in the surface's domain (see inside)."""

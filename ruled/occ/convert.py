@@ -78,7 +78,59 @@ def face_surface_type(face: TopoDS_Face) -> str:
 
 
 def face_uv_bounds(face: TopoDS_Face) -> tuple[float, float, float, float]:
-    return BRepTools.UVBounds_s(face)
+    """The face's (u, v) bounds: its pcurves' box, each end snapped in to an edge of the outer wire lying
+    on an iso line there when the other edges overshoot that line only within their own tolerance in
+    space (an exporter's sloppy edges running past a seam: the face ends at the seam)."""
+    bounds = BRepTools.UVBounds_s(face)
+    try:
+        return _snapped_bounds(face, bounds)
+    except Exception:  # OCCT's Standard_Failure on a malformed wire: the plain box
+        return bounds
+
+
+def _snapped_bounds(face, bounds) -> tuple:
+    from OCP.BRepTools import BRepTools_WireExplorer
+    surf = BRep_Tool.Surface_s(face)
+    loops = []
+    we = BRepTools_WireExplorer(BRepTools.OuterWire_s(face), face)
+    while we.More():
+        e = we.Current()
+        if not BRep_Tool.Degenerated_s(e):
+            c = BRep_Tool.CurveOnSurface_s(e, face, 0.0, 0.0)
+            if c is not None:
+                a, b = BRep_Tool.Range_s(e, face)
+                uv = np.array([c.Value(float(t)).Coord() for t in np.linspace(a, b, 33)])
+                loops.append((uv, float(BRep_Tool.Tolerance_s(e))))
+        we.Next()
+    if not loops:
+        return bounds
+    out = list(bounds)
+    for d in (0, 1):
+        lo, hi = bounds[2 * d], bounds[2 * d + 1]
+        span = hi - lo
+        if not span > 0:
+            continue
+        iso = [float(uv[:, d].mean()) for uv, _ in loops if np.ptp(uv[:, d]) <= 1e-9 * span]
+        for end, sign in ((1, 1.0), (0, -1.0)):
+            edge_at = bounds[2 * d + end]
+            near = [x for x in iso if 0 < sign * (edge_at - x) <= 1e-2 * span]
+            if not near:
+                continue
+            x = max(near, key=lambda y: sign * y)        # the outermost iso edge short of the bound
+            ok = True
+            for uv, tol in loops:
+                past = uv[sign * (uv[:, d] - x) > 0]
+                for p in past:
+                    q = p.copy()
+                    q[d] = x
+                    if surf.Value(float(p[0]), float(p[1])).Distance(surf.Value(float(q[0]), float(q[1]))) > tol:
+                        ok = False
+                        break
+                if not ok:
+                    break
+            if ok:
+                out[2 * d + end] = x
+    return tuple(out)
 
 
 def _snap_period(a: float, b: float, start: float, period: float) -> tuple:

@@ -110,7 +110,8 @@ def _face_region(face, S) -> Region:
     u0, u1, v0, v1 = S.domain
     closed = (bool(surf.IsUPeriodic() and abs((u1 - u0) - surf.UPeriod()) <= 1e-9 * surf.UPeriod()),
               bool(surf.IsVPeriodic() and abs((v1 - v0) - surf.VPeriod()) <= 1e-9 * surf.VPeriod()))
-    return Region(S, tuple(loop), tuple(seams), tuple(degen), tuple(holes), tuple(e3), closed)
+    tols = tuple(float(BRep_Tool.Tolerance_s(e)) for e in edges)
+    return Region(S, tuple(loop), tuple(seams), tuple(degen), tuple(holes), tuple(e3), closed, tols)
 
 
 def edge_lines(face) -> list:
