@@ -118,6 +118,13 @@ class _Panel:
         return True
 
     def _close_cancelled(self):
+        from .viewproviders import hide_legend
+        obj = getattr(self, "obj", None)
+        if obj is not None:       # undoing the object does not delete it: its colour legend would stay in the view
+            try:
+                hide_legend(self.doc.Name, obj.Name)
+            except Exception:     # the object is gone already
+                pass
         self.doc.abortTransaction()
         self._leave()
         self.doc.recompute()
