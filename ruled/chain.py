@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from .errors import BadInputError
+from .machine import reversed_t
 from .nurbs import Surface
 
 JOIN_TOL = 1e-7           # of the patches' diagonal: rulings farther apart do not meet
@@ -27,12 +28,6 @@ def _flip_u(R: Surface) -> Surface:
     ku = R.knots_u[0] + R.knots_u[-1] - R.knots_u[::-1]
     W = None if R.weights is None else R.weights[::-1].copy()
     return Surface(R.poles[::-1].copy(), ku, R.knots_v, R.degree_u, R.degree_v, W)
-
-
-def _flip_t(R: Surface) -> Surface:
-    kv = R.knots_v[0] + R.knots_v[-1] - R.knots_v[::-1]
-    W = None if R.weights is None else R.weights[:, ::-1].copy()
-    return Surface(R.poles[:, ::-1].copy(), R.knots_u, kv, R.degree_u, R.degree_v, W)
 
 
 def _weights(R: Surface) -> np.ndarray:
@@ -52,7 +47,7 @@ def _orient(prev: Surface, nxt: Surface, tol: float) -> tuple[Surface, float]:
             if fu:
                 cand = _flip_u(cand)
             if ft:
-                cand = _flip_t(cand)
+                cand = reversed_t(cand)
             g = _gap(prev.poles[-1], cand.poles[0])
             if g < gap:
                 best, gap = cand, g

@@ -96,9 +96,10 @@ class Region:
             out.append(best)
         return out
 
-    def rect_offset(self) -> Optional[tuple]:
-        """The largest offsets (du, dv) of the loop from the rectangle (see rect_sides), or None."""
-        sides = self.rect_sides()
+    def rect_offset(self, sides: Optional[list] = None) -> Optional[tuple]:
+        """The largest offsets (du, dv) of the loop from the rectangle (see rect_sides; given or found),
+        or None."""
+        sides = self.rect_sides() if sides is None else sides
         if sides is None:
             return None
         return (max([d for n, d in sides if n[0] == "u"], default=0.0),
@@ -112,14 +113,15 @@ class Region:
     def rect_slack(self) -> float:
         """An upper bound of the distance between a rectangle face and its surface's rectangle: the
         loop's offsets times the largest |S_u|, |S_v| (0 when the loop is the rectangle exactly)."""
-        off = self.rect_offset()
+        sides = self.rect_sides()
+        off = self.rect_offset(sides)
         if not off or off == (0.0, 0.0):
             return 0.0
         b = self.surface.derivative_bounds()
         slack = float(off[0] * b["Su"].max() + off[1] * b["Sv"].max())
         # an edge taken as a side within its tolerance: its own 3D curve may lie that far off the surface
         u0, u1, v0, v1 = self.surface.domain
-        loose = [k for k, (name, d) in enumerate(self.rect_sides())
+        loose = [k for k, (name, d) in enumerate(sides)
                  if d > 1e-6 * ((u1 - u0) if name[0] == "u" else (v1 - v0))]
         return slack + max((self.edge_gap(k) for k in loose), default=0.0)
 
