@@ -29,7 +29,8 @@ import tracemalloc
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from ruled import FitOptions, fit_surface, kernels  # noqa: E402
+from ruled import FitOptions, fit_surface  # noqa: E402
+from ruled.core import jit
 from ruled.examples import EXAMPLES  # noqa: E402
 
 TARGET_N, TARGET_S = 100, 0.5
@@ -87,7 +88,9 @@ def main(argv=None) -> int:
 
 def _engine_4d(S, n: int, m: int, metric: str):
     """The 4D-DP end to end on the oriented surface S: (seconds, stages, DP result)."""
-    from ruled import dp4d, metrics4d, sampling
+    from ruled.fit import dp4d
+    from ruled.fit import metrics4d
+    from ruled.core import sampling
     st = {}
     t0 = time.perf_counter()
     smp = sampling.elevated_samples(S, n, m, 0.05 * S.diagonal() / max(m, 1), False)
@@ -114,7 +117,7 @@ def _bench_4d(S, args) -> None:
     import subprocess
     _engine_4d(S, 8, 2, "sshb")
     _engine_4d(S, 8, 2, "lsad")
-    print(f"\n4D-DP engine on {args.surface} (numba {'on' if kernels.enabled() else 'off'}), median of "
+    print(f"\n4D-DP engine on {args.surface} (numba {'on' if jit.enabled() else 'off'}), median of "
           f"{args.repeat}:")
     print(f"{'metric':>6} {'n':>4} {'levels':>6} {'total s':>8} {'nodes':>7} {'tables':>7} {'dp':>7} "
           f"{'peak MiB':>9} {'target s':>8} {'ratio':>6}")
@@ -167,7 +170,7 @@ def _bench_4d(S, args) -> None:
 def _bench_2d(S, args) -> None:
     t = time.perf_counter()
     fit_surface(S, FitOptions(samples=10))
-    print(f"warm-up (numba {'on' if kernels.enabled() else 'off'}, includes any compile): "
+    print(f"warm-up (numba {'on' if jit.enabled() else 'off'}, includes any compile): "
           f"{time.perf_counter() - t:.2f} s")
     print(f"{'n':>5} {'total s':>8} {'cost':>7} {'dp':>7} {'refine':>7} {'rebuild':>7} {'certify':>7} "
           f"{'peak MiB':>9}")

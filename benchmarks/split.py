@@ -16,7 +16,7 @@ import tracemalloc
 
 from cone import _best
 from ruled.examples import elber_ex2
-from ruled.split import split_dp, split_tables, table_bytes
+from ruled.split.mcurve import split_dp, split_tables, table_bytes
 
 N, D, TARGET_S = 30, 10, 0.5
 LEVELS, TARGET_7D_S, TARGET_7D_MB = 2, 2.5, 150
@@ -32,7 +32,7 @@ def bench_split() -> None:
     print(f"   line-metric tables (ex2): {t_tab:.2f} s;  DP: {t:.3f} s (target {TARGET_S} s, "
           f"ratio {t / TARGET_S:.2f}), path of {len(r.path)} states, score {r.score:.4g}")
     code = ("import sys, time; sys.path.insert(0, %r); from split import N, D; from ruled.examples import elber_ex2\n"
-            "from ruled.split import split_dp, split_tables\n"
+            "from ruled.split.mcurve import split_dp, split_tables\n"
             "T = split_tables(elber_ex2(), N, D); t = time.perf_counter(); split_dp(T); print(time.perf_counter() - t)"
             % os.path.dirname(__file__))
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

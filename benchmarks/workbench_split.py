@@ -24,7 +24,7 @@ def main() -> int:
     _load_workbench()
     import FreeCAD
     import Part
-    from ruled import kernels
+    from ruled.core import jit
     from ruled_workbench.features import make_ruled_split
     doc = FreeCAD.newDocument("Bench")
     src = doc.addObject("Part::Feature", "Src")
@@ -33,7 +33,7 @@ def main() -> int:
     sp = make_ruled_split(doc, src, "Face7")        # kj66 face 6 (FreeCAD counts from 1)
     doc.recompute()
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    print(f"RuledSplit kj66 face 6 at defaults ({'numba' if kernels.enabled() else 'NumPy'} path): {wall:.1f} s wall, "
+    print(f"RuledSplit kj66 face 6 at defaults ({'numba' if jit.enabled() else 'NumPy'} path): {wall:.1f} s wall, "
           f"{cpu:.1f} CPU s (target {TARGET_S:.0f} s, ratio {wall / TARGET_S:.2f}); {sp.Status}, chosen {sp.Chosen}, "
           f"bound {float(sp.ErrorBound):.6g}")
     return 0 if sp.isValid() else 1

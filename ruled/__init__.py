@@ -6,17 +6,18 @@ and the CadQuery entry points through it); FreeCAD only in ``workbench/``.
 Data crosses every boundary as plain arrays in small frozen containers.
 """
 
-from .errors import (BadInputError, CancelledError, DegenerateFaceError, InfeasibleError, RuledError,
-                     TooBigError)
-from .lazy import lazy_getattr
+from ruled.core.errors import (BadInputError, CancelledError, DegenerateFaceError, InfeasibleError, RuledError,
+                               TooBigError)
+from ruled.core.lazy import lazy_getattr
 
 __version__ = "0.1.0"
 
 # the public API, imported on first use: `ruled --help` and argument errors answer before numpy,
 # scipy and the numba kernels are loaded
-_LAZY = {"Direction": "options", "FitOptions": "options", "FitResult": "fit", "Method": "options",
-         "Metric": "options", "Objective": "options", "fit_surface": "fit", "FacePatch": "facefit",
-         "face_patch": "facefit", "fit_region": "facefit", "Curve": "nurbs", "Surface": "nurbs", "Region": "region"}
+_LAZY = {"Direction": "fit.options", "FitOptions": "fit.options", "FitResult": "fit.fit2d", "Method": "fit.options",
+         "Metric": "fit.options", "Objective": "fit.options", "fit_surface": "fit.surface", "FacePatch": "fit.facefit",
+         "face_patch": "fit.facefit", "fit_region": "fit.facefit", "Curve": "core.nurbs", "Surface": "core.nurbs",
+         "Region": "core.region"}
 
 
 __getattr__ = lazy_getattr(__name__, _LAZY, globals())

@@ -40,9 +40,10 @@ from typing import Any, Optional
 
 import numpy as np
 
-from .errors import BadInputError, RuledError
-from .fit import FitOptions, FitResult, Progress, fit_surface
-from .nurbs import Surface
+from ruled.core.errors import BadInputError, RuledError
+from ruled.fit.fit2d import FitOptions, FitResult, Progress
+from ruled.fit.surface import fit_surface
+from ruled.core.nurbs import Surface
 
 
 @dataclass(frozen=True)
@@ -64,7 +65,7 @@ def _topods(face):
 
 def _face_of(face):
     """An OCP face for a cadquery.Face, a TopoDS_Face or a Surface container."""
-    from .occ.convert import container_to_face
+    from ruled.occ.convert import container_to_face
     return container_to_face(face) if isinstance(face, Surface) else _topods(face)
 
 
@@ -84,9 +85,9 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     """Fit the best ruled surface to a face as bounded by its edges (2D-DP over boundary samples, or
     4D-DP with the ruling ends lifted along the normal; refined, certified).  rails: two edge indices
     of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join."""
-    from .occ.convert import container_to_face
-    from .occ.measure import hausdorff
-    from .occ.region import fit_face as _fit_face
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.measure import hausdorff
+    from ruled.occ.region import fit_face as _fit_face
 
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric)
@@ -107,7 +108,7 @@ class CurveOnFace:
     """A curve lying exactly on a face, within a tolerance of the image of a (u, v) curve."""
 
     edge: Any                 # cadquery.Edge when CadQuery is installed, else TopoDS_Edge; carries its pcurve
-    result: Any               # ruled.curve_on_surface.CurveOnSurface: segments, bound, the curve and pcurve arrays
+    result: Any               # ruled.curves.curve_on_surface.CurveOnSurface: segments, bound, curve, pcurve arrays
     measure: Optional[Any]    # ruled.occ.measure.CurveMeasure (OCCT), or None when not asked
     warnings: tuple = ()
 
@@ -117,9 +118,9 @@ def curve_on_face(face, uv, tol: float = 1e-3, angle: float = 1.0, bound: str = 
     """The image on the face of a (u, v) curve: uv is a polyline ((N, 2) points) or a 2D
     :class:`ruled.Curve`; the result is a curve of degree p + q on the face's surface exactly (Yang et
     al. 2008), within tol of the exact image and G1 within angle degrees at its joints."""
-    from .curve_on_surface import polyline_curve
-    from .nurbs import Curve
-    from .occ.cos import curve_on_face as _on_face
+    from ruled.curves.domain import polyline_curve
+    from ruled.core.nurbs import Curve
+    from ruled.occ.cos import curve_on_face as _on_face
 
     src = _face_of(face)
     D = uv if isinstance(uv, Curve) else polyline_curve(uv)
@@ -134,7 +135,7 @@ class ConeSplineFace:
 
     shell: Any                # cadquery.Shape (the sewn patches) when CadQuery is installed, else the OCP shape
     faces: tuple              # one face per cone patch
-    result: Any               # ruled.conespline.ConeSpline: patches (weight, apex, development), bound, pieces
+    result: Any               # ruled.cone.conespline.ConeSpline: patches (weight, apex, development), bound, pieces
     measure: Optional[dict]   # independent distances (OCCT), or None when not asked
     fit: Any = None           # the ruled fit when fit=True
     warnings: tuple = ()
@@ -149,7 +150,7 @@ def cone_spline_face(face, tol: float, step: float = 0.1, fit: bool = False, dir
                      progress=None) -> ConeSplineFace:
     """The cone spline of a ruled face within tol (Yang & Yang 2006); with fit=True the face is first
     fitted by a ruled surface (fit_face's defaults) and that fit is cone-splined, in one call."""
-    from .occ.conespline import check_tolerance, cone_of_face
+    from ruled.occ.conespline import check_tolerance, cone_of_face
 
     src = _face_of(face)
     fc = cone_of_face(src, check_tolerance(tol), step, direction=direction, fit=fit, progress=progress,
@@ -174,8 +175,8 @@ def split_face(face, dims: int = 4, samples: int = 30, interior: int = 10, objec
                fit_samples: int = 40, measure_samples: int = 30, progress=None) -> SplitFace:
     """Split a face in two along the curve whose two ruled fits are best (optimal M-curve, best iso and
     middle candidates are built, fitted and measured; the lowest measured error is kept)."""
-    from .occ.split import split_of_face
-    from .partition import SplitOptions
+    from ruled.occ.split import split_of_face
+    from ruled.split.partition import SplitOptions
     opts = SplitOptions(samples=samples, interior=interior, objective=objective, dims=dims,
                         fit=FitOptions(samples=fit_samples).checked()).checked()
     fs = split_of_face(_face_of(face), opts, progress, measure_samples)
@@ -188,7 +189,7 @@ def split_face(face, dims: int = 4, samples: int = 30, interior: int = 10, objec
 class MachineData:
     """Machine data of a face's ruled fit: the synchronized path, the ruled face, the measured report."""
 
-    path: Any                 # ruled.machine.MachinePath (plain arrays)
+    path: Any                 # ruled.machine.paths.MachinePath (plain arrays)
     face: Any                 # the ruled result (cadquery.Face)
     report: dict              # fit, machine figures, measured cut error / tool envelope, warnings
     fit: FitResult
@@ -196,29 +197,29 @@ class MachineData:
     warnings: tuple = ()
 
     def write_gcode(self, filename: str, title: str = "", units: str = "mm") -> str:
-        from .machine_output import write_gcode
+        from ruled.machine.output import write_gcode
         write_gcode(self.path, filename, title, units)
         return filename
 
     def write_apt(self, filename: str, title: str = "", units: str = "mm") -> str:
-        from .machine_output import write_apt
+        from ruled.machine.output import write_apt
         write_apt(self.path, filename, title, units)
         return filename
 
     def write_csv(self, filename: str, units: str = "mm") -> str:
-        from .machine_output import write_csv
+        from ruled.machine.output import write_csv
         write_csv(self.path, filename, units)
         return filename
 
     def write_step(self, filename: str, rulings: bool = False) -> str:
         """STEP for CAM: the ruled face, with its rulings at the synchronized points as edges if asked."""
-        from .occ.io import write_step
-        from .occ.machine import cam_shapes
+        from ruled.occ.io import write_step
+        from ruled.occ.machine import cam_shapes
         write_step(cam_shapes(_topods(self.face), self.surface, self.path.u, rulings), filename)
         return filename
 
     def plot(self, filename: str) -> str:
-        from .machine_output import plot_path
+        from ruled.machine.output import plot_path
         plot_path(self.path, filename)
         return filename
 
@@ -230,7 +231,7 @@ def _side_sign(side: str) -> float:
 
 
 def _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress) -> MachineData:
-    from .occ.machine import machine_of_face
+    from ruled.occ.machine import machine_of_face
     sign = _side_sign(side)
     src = _face_of(face)
     res = fit.result if isinstance(fit, RuledFit) else fit
@@ -246,7 +247,7 @@ def xyuv_face(face, chord_tol: Optional[float] = None, planes=None, axis="auto",
     """Synchronized XYUV contours of the face's ruled fit for a 4-axis wire (EDM or hot wire): the lower
     guide on one plane (XY), the upper on the other (UV); fit=a RuledFit (or FitResult) of this face
     reuses it.  The report's "cut" is what the wire sweeps against the design face (offset by the kerf)."""
-    from .machine import MachineOptions
+    from ruled.machine.paths import MachineOptions
     opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
     return _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress)
 
@@ -257,8 +258,8 @@ def xyuv_patches(faces, chord_tol: Optional[float] = None, planes=None, axis="au
     """XYUV contours of ruled patches that follow one another (a cone spline's faces, in their order) as
     one wire path; the report's "patches" gives each patch's taper against the machine axis and its twist
     (0 on a developable patch).  fit is None: the patches are cut as they are."""
-    from .machine import MachineOptions
-    from .occ.machine import machine_of_patches
+    from ruled.machine.paths import MachineOptions
+    from ruled.occ.machine import machine_of_patches
     sign = _side_sign(side)
     src = [_face_of(f) for f in faces]
     opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
@@ -273,7 +274,7 @@ def flank_face(face, tool_radius: float, taper: float = 0.0, chord_tol: Optional
     """Flank-milling CL data of the face's ruled fit: the tool tip centre and axis at every CL point for a
     cylindrical tool (or a conical one of half angle `taper` degrees).  The report's "tool_envelope"
     gives the measured overcut and undercut of the tool surfaces against the design face."""
-    from .machine import MachineOptions
+    from ruled.machine.paths import MachineOptions
     opts = MachineOptions("flank", chord_tol, None, "auto", None, 0.0, tool_radius, taper, None, feed, tip=tip)
     return _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress)
 
@@ -317,7 +318,7 @@ def _ruledCurveOnFace(self, uv, **kw):
 
 def _ruledXYUV(self, filename: str, csv: Optional[str] = None, **kw):
     """Write the XYUV G-code (and its CSV, default beside it) of the selected face; the ruled fit follows."""
-    from .machine_output import write_machine
+    from ruled.machine.output import write_machine
     m = xyuv_face(_one_face(self), **kw)
     write_machine(m.path, filename, csv_path=csv)
     return self.newObject([m.face])
@@ -325,7 +326,7 @@ def _ruledXYUV(self, filename: str, csv: Optional[str] = None, **kw):
 
 def _ruledFlank(self, filename: str, tool_radius: float, csv: Optional[str] = None, **kw):
     """Write the flank-milling APT CL data (and its CSV) of the selected face; the ruled fit follows."""
-    from .machine_output import write_machine
+    from ruled.machine.output import write_machine
     m = flank_face(_one_face(self), tool_radius, **kw)
     write_machine(m.path, filename, csv_path=csv)
     return self.newObject([m.face])

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .nurbs import Curve, Surface
+from ruled.core.nurbs import Curve, Surface
 
 # rows are the v direction, points within a row the u direction
 EX1_ROWS = [

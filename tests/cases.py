@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from math import comb
 
-from ruled.nurbs import Surface
+from ruled.core.nurbs import Surface
 
 CIRCLE_KNOTS = np.array([0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1], float)
 
@@ -86,7 +86,7 @@ def reparametrized_ruled(gamma: float = 0.5) -> Surface:
 
 def random_surface(rng, pu=3, pv=2, nu=7, nv=5, rational=True, periodic_u=False) -> Surface:
     """A random (rational, optionally u-periodic) B-spline surface in the container's layout."""
-    from ruled.nurbs import periodic_knots, wrap_periodic_poles
+    from ruled.core.basis import periodic_knots, wrap_periodic_poles
     kv = np.concatenate([np.zeros(pv + 1), np.sort(rng.uniform(0.05, 0.95, nv - pv - 1)), np.ones(pv + 1)])
     if periodic_u:
         m = nu

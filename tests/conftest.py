@@ -9,7 +9,7 @@ ROOT = os.path.dirname(HERE)
 SHARED_DATA = os.path.normpath(os.path.join(ROOT, "..", "shared", "data"))
 LOCAL_DATA = os.path.join(HERE, "data")
 sys.path.insert(0, HERE)
-# the face-count cache (ruled.facecount) of the tests' own, not the user's (subprocesses inherit it)
+# the face-count cache (ruled.core.facecount) of the tests' own, not the user's (subprocesses inherit it)
 if "RULED_TEST_CACHE" not in os.environ:
     import tempfile
     os.environ["RULED_TEST_CACHE"] = os.environ["XDG_CACHE_HOME"] = tempfile.mkdtemp(prefix="ruled-test-cache-")

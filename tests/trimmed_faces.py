@@ -122,7 +122,8 @@ def measure(face, shape, n: int) -> float:
     from OCP.TopAbs import TopAbs_ShapeEnum
     from OCP.TopExp import TopExp_Explorer
 
-    from ruled.occ.measure import FaceSet, _Projector, face_points, hausdorff, sample_faces, two_sided
+    from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
+    from ruled.occ.faceset import FaceSet, sample_faces
     faces = []
     ex = TopExp_Explorer(shape, TopAbs_ShapeEnum.TopAbs_FACE)
     while ex.More():

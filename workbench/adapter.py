@@ -1,7 +1,7 @@
-"""FreeCAD adapter: Part.BSplineSurface / Part.Face <-> the engine's plain arrays (ruled.nurbs.Surface).
+"""FreeCAD adapter: Part.BSplineSurface / Part.Face <-> the engine's plain arrays (ruled.core.nurbs.Surface).
 
 FreeCAD only (no OCP, no CadQuery): Debian's FreeCAD 0.20 has neither.  The array-level form is
-ruled.hostform's, the same the OCP adapter uses, so both hosts see the same surfaces.
+ruled.core.hostform's, the same the OCP adapter uses, so both hosts see the same surfaces.
 """
 
 from __future__ import annotations
@@ -10,10 +10,10 @@ import numpy as np
 
 import FreeCAD
 import Part
-from ruled.errors import BadInputError
-from ruled.hostform import curve_from_kernel_form, from_kernel_form, kernel_form
-from ruled.nurbs import Curve, Surface
-from ruled.region import Region
+from ruled.core.errors import BadInputError
+from ruled.core.hostform import curve_from_kernel_form, from_kernel_form, kernel_form
+from ruled.core.nurbs import Curve, Surface
+from ruled.core.region import Region
 
 
 def surface_to_arrays(bs) -> Surface:
@@ -87,7 +87,7 @@ def face_to_arrays(face) -> Surface:
 
 
 def _kernel_curve(bc, reversed_: bool, onto=None) -> Curve:
-    """A Part.BSplineCurve / BSplineCurve2d (made non-periodic) as a container (ruled.hostform)."""
+    """A Part.BSplineCurve / BSplineCurve2d (made non-periodic) as a container (ruled.core.hostform)."""
     if bc.isPeriodic():
         bc = bc.copy()
         bc.setNotPeriodic()
@@ -156,8 +156,8 @@ def surface_to_face(S: Surface):
 
 
 def curve_to_edge(c):
-    """A 3D curve container (ruled.nurbs.Curve) as a Part edge."""
-    from ruled.hostform import compress
+    """A 3D curve container (ruled.core.nurbs.Curve) as a Part edge."""
+    from ruled.core.hostform import compress
     knots, mults = compress(c.knots)
     bc = Part.BSplineCurve()
     w = [1.0] * len(c.poles) if c.weights is None else [float(x) for x in c.weights]

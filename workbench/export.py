@@ -1,6 +1,6 @@
 """Export for machining (FreeCAD): the ruled results as STEP (optionally with their rulings as edges),
 XYUV G-code and CSV for a 4-axis wire, or flank-milling CL data (APT and CSV).  The machine data is
-made by the engine (ruled.machine) from the result's arrays; the measures use FreeCAD's Part
+made by the engine (ruled.machine.paths) from the result's arrays; the measures use FreeCAD's Part
 (BRepExtrema) for what the wire cuts and the engine's exact projection for the tool envelope.
 A JSON report is written beside every machine file."""
 
@@ -24,8 +24,8 @@ FORMATS = {
 
 
 def write_step(shape, path: str) -> None:
-    """A Part shape as a STEP file, written whole or not at all (ruled.outputs)."""
-    from ruled.outputs import atomic
+    """A Part shape as a STEP file, written whole or not at all (ruled.core.outputs)."""
+    from ruled.core.outputs import atomic
     with atomic(path) as tmp:
         shape.exportStep(tmp)
 
@@ -36,7 +36,7 @@ def _faces(objects) -> list:
 
 def result_arrays(face):
     """The ruled result of a face as arrays with its rulings along v."""
-    from ruled.errors import BadInputError
+    from ruled.core.errors import BadInputError
 
     from .adapter import face_to_arrays
     R = face_to_arrays(face)
@@ -48,7 +48,7 @@ def result_arrays(face):
 
 
 def _one_fit(objects):
-    from ruled.errors import BadInputError
+    from ruled.core.errors import BadInputError
 
     from .features import source_face
     if len(objects) != 1:
@@ -62,7 +62,8 @@ def _one_fit(objects):
 
 def rulings_step(objects, path: str, chord_tol=None) -> int:
     """The results' faces and their rulings (as many as the chord tolerance needs) as one STEP file."""
-    from ruled.machine import Lines, sync_params
+    from ruled.machine.paths import Lines
+    from ruled.machine.sync import sync_params
     shapes = []
     for f in _faces(objects):
         R = result_arrays(f)
@@ -84,10 +85,11 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
     synchronized points, like ``ruled machine --step --rulings``); returns the report."""
-    from ruled.machine import MachineOptions, cut_points, machine_path, swept_surface, tool_envelope
-    from ruled.machine_output import path_report, write_machine
+    from ruled.machine.paths import MachineOptions, machine_path
+    from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
+    from ruled.machine.output import path_report, write_machine
 
-    from ruled.facefit import face_patch
+    from ruled.fit.facefit import face_patch
 
     from .adapter import face_region, face_to_arrays, surface_to_face
     from .features import value
@@ -101,7 +103,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
     csv_path = write_machine(mp, path, title, units=units)
     if cam_step:
-        from ruled.machine import Lines
+        from ruled.machine.paths import Lines
         A, B = Lines(R, 1.0).rulings(mp.u)
         write_step(Part.makeCompound([surface_to_face(R)] + [
             Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]), cam_step)
@@ -122,6 +124,6 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     elif measure_samples:
         rep["tool_envelope"] = tool_envelope(S, out_side, mp)
     rep["warnings"] = list(mp.warnings)
-    from ruled.outputs import write_text
+    from ruled.core.outputs import write_text
     write_text(os.path.splitext(path)[0] + ".json", json.dumps(rep, indent=1, default=float))
     return rep

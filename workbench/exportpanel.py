@@ -80,7 +80,7 @@ def save_settings(values: dict) -> None:
 
 def machine_params(v: dict, kind: str) -> dict:
     """The settings as keyword arguments of workbench.commands.export for the format kind."""
-    from ruled.errors import BadInputError
+    from ruled.core.errors import BadInputError
     if kind not in MACHINE:
         return {"chord_tol": v["ChordTol"] or None} if kind == "step-rulings" else {}
     planes = None
@@ -234,7 +234,7 @@ class ExportTaskPanel:
     def write(self) -> bool:
         """Write the file with the panel's settings; remember them.  False (and the reason shown) when it
         cannot."""
-        from ruled.errors import RuledError
+        from ruled.core.errors import RuledError
 
         from .commands import export
         v = self.values()

@@ -47,7 +47,7 @@ def value(x) -> float:
 
 def source_face(obj):
     """The one face obj.Source names, or a BadInputError saying what is wrong."""
-    from ruled.errors import BadInputError
+    from ruled.core.errors import BadInputError
     link = obj.Source
     if link is None or link[0] is None:
         raise BadInputError("no source face: select one face of a part and run the command again")
@@ -125,7 +125,7 @@ class _Progress:
         self.pumped = 0.0
 
     def __call__(self, stage: str, frac: float) -> None:
-        from ruled.errors import CancelledError
+        from ruled.core.errors import CancelledError
         frac = min(max(float(frac), 0.0), 1.0)
         if stage != self.stage:
             self.stage = stage
@@ -176,8 +176,8 @@ def say_kernels() -> None:
     if _KERNELS_SAID:
         return
     _KERNELS_SAID = True
-    from ruled import kernels
-    if kernels.enabled():
+    from ruled.core import jit
+    if jit.enabled():
         FreeCAD.Console.PrintLog("Ruled: the numba kernels are in use\n")
     else:
         FreeCAD.Console.PrintWarning("Ruled: numba is not installed in FreeCAD's Python, so the fits run the "
@@ -253,7 +253,7 @@ class _Feature:
         return face, opts, face_to_arrays(face), _Progress(f"Ruled: {verb} {obj.Label}")
 
     def execute(self, obj):
-        from ruled.errors import RuledError
+        from ruled.core.errors import RuledError
         t0 = time.perf_counter()
         RUNNING.append(obj.Name)
         try:
@@ -331,8 +331,8 @@ class RuledFit(_Feature):
                           metric=str(obj.Metric)).checked()
 
     def compute(self, obj):
-        from ruled.facefit import fit_region
-        from ruled.hostform import bounds_slack
+        from ruled.fit.facefit import fit_region
+        from ruled.core.hostform import bounds_slack
 
         from .adapter import face_region, outer_edges, surface_to_face
         face, opts, S, progress = self.inputs(obj, "fitting")
@@ -382,13 +382,13 @@ class RuledSplit(_Feature):
 
     def options(self, obj):
         from ruled import FitOptions
-        from ruled.partition import SplitOptions
+        from ruled.split.partition import SplitOptions
         return SplitOptions(samples=int(obj.Samples), interior=int(obj.Interior), objective=str(obj.Objective),
                             dims=int(obj.Dims), fit=FitOptions(samples=int(obj.FitSamples)).checked()).checked()
 
     def compute(self, obj):
-        from ruled.facefit import face_patch
-        from ruled.partition import split_face
+        from ruled.fit.facefit import face_patch
+        from ruled.split.partition import split_face
 
         from .adapter import face_region
         face, opts, S, progress = self.inputs(obj, "splitting")
@@ -407,8 +407,8 @@ class RuledSplit(_Feature):
         (the split's, against the face's four-sided patch, plus the patch's deviation dev)."""
         import Part
         import numpy as np
-        from ruled.curve_on_surface import approximate
-        from ruled.strips import EDGE_TOL, input_curve
+        from ruled.curves.curve_on_surface import approximate
+        from ruled.split.strips import EDGE_TOL, input_curve
 
         from .adapter import curve_to_edge, surface_to_face
         best = res.best()

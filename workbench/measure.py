@@ -10,7 +10,7 @@ import numpy as np
 
 import FreeCAD
 import Part
-from ruled.hostform import Hausdorff, PolygonClassifier, grid_size
+from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
 
 
 def face_bounds(face):

@@ -48,17 +48,17 @@ class RuledPartition(_Feature):
 
     def options(self, obj):
         from ruled import FitOptions
-        from ruled.partition import SplitOptions
+        from ruled.split.partition import SplitOptions
         return SplitOptions(samples=int(obj.Samples), interior=int(obj.Interior), max_strips=int(obj.MaxStrips),
                             fit=FitOptions(samples=int(obj.FitSamples)).checked()).checked()
 
     def compute(self, obj):
         import Part
-        from ruled.curve_on_surface import approximate
-        from ruled.errors import BadInputError
-        from ruled.facefit import face_patch
-        from ruled.partition import partition
-        from ruled.strips import EDGE_TOL, input_curve
+        from ruled.curves.curve_on_surface import approximate
+        from ruled.core.errors import BadInputError
+        from ruled.fit.facefit import face_patch
+        from ruled.split.partition import partition
+        from ruled.split.strips import EDGE_TOL, input_curve
 
         from .adapter import curve_to_edge, face_region, surface_to_face
         tol = value(obj.Tolerance)
@@ -92,7 +92,7 @@ class RuledPartition(_Feature):
 def cone_source(obj):
     """(the ruled surface as arrays, the design face to measure against, the ruled fit's bound or None
     when the source is a face) of a RuledConeSpline's Source: a RuledFit, or a face of a part."""
-    from ruled.errors import BadInputError
+    from ruled.core.errors import BadInputError
 
     from .adapter import face_to_arrays
     link = obj.Source
@@ -142,9 +142,9 @@ class RuledConeSpline(_Feature):
 
     def compute(self, obj):
         import Part
-        from ruled.conespline import cone_spline_of_surface
-        from ruled.errors import BadInputError
-        from ruled.facefit import face_patch, fit_region
+        from ruled.cone.surface import cone_spline_of_surface
+        from ruled.core.errors import BadInputError
+        from ruled.fit.facefit import face_patch, fit_region
         from ruled import FitOptions
 
         from .adapter import face_region, surface_to_face
@@ -218,8 +218,8 @@ class RuledCurveOnFace(_Feature):
 
     def domain_curves(self, obj, face, S) -> list:
         """The (u, v) curves: the sketch's edges mapped onto the face, or a polyline through the points."""
-        from ruled.curve_on_surface import domain_curve_from_json, polyline_curve
-        from ruled.errors import BadInputError
+        from ruled.curves.domain import domain_curve_from_json, polyline_curve
+        from ruled.core.errors import BadInputError
         u0, u1, v0, v1 = S.domain
         if obj.Sketch is not None:
             unit = obj.Mapping == "unit square"
@@ -250,8 +250,9 @@ class RuledCurveOnFace(_Feature):
     def compute(self, obj):
         import Part
         import numpy as np
-        from ruled.curve_on_surface import approximate, check_inside
-        from ruled.distance import to_polyline
+        from ruled.curves.curve_on_surface import approximate
+        from ruled.curves.domain import check_inside
+        from ruled.core.distance import to_polyline
 
         from .adapter import curve_to_edge, face_region, face_to_arrays
         from .measure import distances

@@ -1,7 +1,7 @@
 """The only part of Ruled that imports OCP (OCCT): reading faces, building result
 faces, STEP, and the independent error measure."""
 
-from ..lazy import lazy_getattr
+from ruled.core.lazy import lazy_getattr
 
 _LAZY = {"container_to_bspline": "convert", "container_to_face": "convert", "face_to_container": "convert",
          "face_surface_type": "convert", "bspline_surface_to_container": "convert", "face_area": "io",

@@ -12,10 +12,12 @@ import numpy as np
 from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
 from OCP.BRepCheck import BRepCheck_Analyzer
 
-from ..conespline import ConeSpline, Progress, cone_spline_of_surface
-from ..errors import positive
-from .convert import container_to_face, face_surface_type, face_to_container
-from .measure import FaceSet, face_points, sample_faces, to_lines
+from ruled.cone.conespline import ConeSpline, Progress
+from ruled.cone.surface import cone_spline_of_surface
+from ruled.core.errors import positive
+from ruled.occ.convert import container_to_face, face_surface_type, face_to_container
+from ruled.occ.measure import face_points
+from ruled.occ.faceset import FaceSet, sample_faces, to_lines
 
 
 @dataclass
@@ -107,7 +109,7 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
                  fit_options=None, progress: Progress = None, measure_samples: Optional[int] = 24,
                  **kw) -> FaceCone:
     """The cone spline of a ruled face within tol; with fit, the face is first fitted by a ruled
-    surface (ruled.fit) and the cone spline approximates that fit (its error adds to the fit's)."""
+    surface (ruled.fit.fit2d) and the cone spline approximates that fit (its error adds to the fit's)."""
     t0 = time.perf_counter()
     S = face_to_container(face)
     warnings = []
@@ -116,14 +118,14 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
         warnings.append(f"the face is a {kind}; it is taken as its exact B-spline conversion")
     fitted = None
     if fit:
-        from ..fit import FitOptions
-        from .region import fit_face
+        from ruled.fit.fit2d import FitOptions
+        from ruled.occ.region import fit_face
         fitted, _ = fit_face(face, fit_options or FitOptions(), progress, S=S)
         warnings += list(fitted.patch.warnings)
         S = fitted.surface
     else:
-        from ..facefit import face_patch
-        from .region import face_region
+        from ruled.fit.facefit import face_patch
+        from ruled.occ.region import face_region
         patch = face_patch(face_region(face, S))
         if not patch.identity:
             warnings.append(f"the face is trimmed: its own four-sided patch (within {patch.deviation:.3g} of it) "

@@ -1,6 +1,6 @@
 """OCCT geometry <-> the engine's plain-array containers.
 
-Only this package imports OCP.  A face becomes a :class:`ruled.nurbs.Surface`
+Only this package imports OCP.  A face becomes a :class:`ruled.core.nurbs.Surface`
 restricted to the face's UV bounds; containers become Geom_BSplineSurface /
 Geom_BSplineCurve handles and faces.
 """
@@ -21,9 +21,9 @@ from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array1OfPnt2d, TColgp_Array2Of
 from OCP.TColStd import (TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal)
 from OCP.TopoDS import TopoDS_Face
 
-from ..errors import BadInputError
-from ..hostform import bounds_slack, compress, from_kernel_form, kernel_form
-from ..nurbs import Curve, Surface
+from ruled.core.errors import BadInputError
+from ruled.core.hostform import bounds_slack, compress, from_kernel_form, kernel_form
+from ruled.core.nurbs import Curve, Surface
 
 SURFACE_TYPE_NAMES = {
     GeomAbs_SurfaceType.GeomAbs_Plane: "plane",
@@ -222,7 +222,7 @@ def face_to_container(face: TopoDS_Face) -> Surface:
 
 
 def conversion_slack(face: TopoDS_Face, S: Surface) -> float:
-    """Upper bound of the distance from the container to the face (ruled.hostform.bounds_slack)."""
+    """Upper bound of the distance from the container to the face (ruled.core.hostform.bounds_slack)."""
     return bounds_slack(S, face_uv_bounds(face))
 
 

@@ -9,11 +9,12 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
-from ..curve_on_surface import CurveOnSurface, Progress, approximate, check_inside, sampled_error
-from ..nurbs import Curve, Surface
-from .convert import (container_to_bspline, container_to_face, curve2d_to_bspline, curve_to_bspline, edge_on_face,
-                      face_surface_type, face_to_container)
-from .measure import CurveMeasure, curve_on_surface_measure
+from ruled.curves.curve_on_surface import CurveOnSurface, Progress, approximate, sampled_error
+from ruled.curves.domain import check_inside
+from ruled.core.nurbs import Curve, Surface
+from ruled.occ.convert import (container_to_bspline, container_to_face, curve2d_to_bspline, curve_to_bspline,
+                               edge_on_face, face_surface_type, face_to_container)
+from ruled.occ.curve_measure import CurveMeasure, curve_on_surface_measure
 
 
 @dataclass
@@ -40,7 +41,7 @@ def curve_on_face(face, D: Curve, tol: float, angle: float = 1.0, *, bound: str 
         warnings.append(f"the face is a {kind}; (u, v) are taken in its B-spline conversion's parameters, and the "
                         f"pcurve lies on that converted surface")
         host = container_to_face(S)
-    from .region import face_region
+    from ruled.occ.region import face_region
     check_inside(face_region(face, S), D)
     t0 = time.perf_counter()
     res = approximate(S, D, tol, angle, bound=bound, progress=progress)

@@ -17,8 +17,8 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.Message import Message, Message_Gravity
 from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 
-from ..errors import BadInputError
-from ..facecount import out_of_range, remember
+from ruled.core.errors import BadInputError
+from ruled.core.facecount import out_of_range, remember
 
 # keep OCCT's transfer statistics off the user's terminal
 for _printer in Message.DefaultMessenger_s().Printers():
@@ -108,7 +108,7 @@ class FaceInfo:
 
 
 def face_info(index: int, face) -> FaceInfo:
-    from .convert import face_surface_type
+    from ruled.occ.convert import face_surface_type
     st = face_surface_type(face)
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     ad = BRepAdaptor_Surface(face)
@@ -145,7 +145,7 @@ def write_step(shapes, path: str) -> None:
     d = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(d):
         raise BadInputError(f"cannot write {path}: folder {d} does not exist")
-    from ..outputs import atomic
+    from ruled.core.outputs import atomic
     with atomic(path) as tmp:
         if w.Write(tmp) != IFSelect_ReturnStatus.IFSelect_RetDone:
             raise BadInputError(f"cannot write {path}; check that the folder is writable")

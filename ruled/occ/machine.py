@@ -1,5 +1,5 @@
 """Machine outputs of a face with OCCT: fit the face (2D or 4D), make the XYUV contours or the flank
-tool axes (ruled.machine), and measure what the machine will cut against the design face,
+tool axes (ruled.machine.paths), and measure what the machine will cut against the design face,
 independently: OCCT projections between the design face (offset by the kerf when there is one) and
 the surface swept between the exported lines; for flank milling, the tool surfaces against the
 design surface.  Also the STEP for CAM: the ruled result, optionally with its rulings as edges."""
@@ -13,12 +13,13 @@ from typing import Any, Optional
 import numpy as np
 from OCP.TopAbs import TopAbs_REVERSED
 
-from ..fit import FitOptions, FitResult
-from ..machine import Lines, MachineOptions, MachinePath, cut_points, machine_path, swept_surface, tool_envelope
-from ..machine_output import path_report
-from .convert import container_to_face, conversion_slack, face_to_container, segment_edge
-from .region import fit_face
-from .measure import _Projector, face_points, hausdorff, two_sided
+from ruled.fit.fit2d import FitOptions, FitResult
+from ruled.machine.paths import Lines, MachineOptions, MachinePath, machine_path
+from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
+from ruled.machine.output import path_report
+from ruled.occ.convert import container_to_face, conversion_slack, face_to_container, segment_edge
+from ruled.occ.region import fit_face
+from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
 
 
 @dataclass
@@ -69,7 +70,7 @@ def cam_shapes(face, R, u: np.ndarray, rulings: bool = False) -> list:
 
 def given_ruled(S):
     """A face that is a ruled result already (linear in one parameter) as R with its rulings along v."""
-    from ..errors import BadInputError
+    from ruled.core.errors import BadInputError
     if S.degree_v == 1:
         return S
     if S.degree_u == 1:
@@ -81,9 +82,9 @@ def given_ruled(S):
 def machine_of_patches(faces: list, names: list, opts: MachineOptions, progress=None,
                        measure_samples: Optional[int] = 30, side: float = 1.0) -> FaceMachine:
     """Machine ruled patches that follow one another (a cone spline's, in the order 'ruled cone' writes
-    them) as one: one ruled surface through them all (ruled.chain), one path over it, measured against
+    them) as one: one ruled surface through them all (ruled.machine.chain), one path over it, measured against
     that surface; the report adds each patch's taper and twist."""
-    from ..chain import join_patches, patch_figures
+    from ruled.machine.chain import join_patches, patch_figures
     Ss = [face_to_container(f) for f in faces]
     Rs = [given_ruled(S) for S in Ss]
     slack = max(conversion_slack(f, S) for f, S in zip(faces, Ss))
@@ -140,7 +141,7 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
         fit_rep = {"method": res.best.method, "direction": res.direction, "closed": res.best.closed,
                    "error_bound": res.error_bound + slack, "notes": list(res.notes)}
         if res.patch is not None:
-            from ..report import region_report
+            from ruled.fit.report import region_report
             fit_rep["region"] = region_report(res)
     rep = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
     warns = list(warnings or []) + list(path.warnings)

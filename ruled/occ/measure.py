@@ -4,16 +4,14 @@ samples are points of each face as bounded by its edges, and distances are to th
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 from OCP.BRep import BRep_Tool
 from OCP.BRepTools import BRepTools
-from OCP.Adaptor3d import Adaptor3d_CurveOnSurface
-from OCP.Extrema import Extrema_ExtPC, Extrema_GenLocateExtPS
-from OCP.Geom2dAdaptor import Geom2dAdaptor_Curve
+from OCP.Extrema import Extrema_GenLocateExtPS
 from OCP.GeomAdaptor import GeomAdaptor_Surface
-from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
+from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.ShapeAnalysis import ShapeAnalysis_Surface
 from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
@@ -22,7 +20,8 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 
-from ..hostform import Hausdorff, PolygonClassifier, grid_size
+from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
+from ruled.occ.curve_measure import _golden_min, _p3
 
 SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local projections
 SEEDS = 8          # the exact distance also searches locally from this many nearest seeds
@@ -438,228 +437,3 @@ def two_sided(pa: np.ndarray, pb: np.ndarray, to_a, to_b) -> Hausdorff:
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size))
 
 
-@dataclass(frozen=True)
-class CurveMeasure:
-    hausdorff: float          # two-sided, result <-> exact image
-    result_to_exact: float
-    exact_to_result: float
-    on_surface: float         # largest distance of a result sample to the surface (projection)
-    joints: list              # [(t, angle between the result's one-sided tangents, the exact image's)]
-    samples: int
-
-    def max_joint_angle_deg(self, corner_deg: float = 180.0) -> float:
-        """The largest joint angle where the exact image itself turns by less than corner_deg."""
-        a = [r for _, r, e in self.joints if not e >= corner_deg]
-        return max(a) if a else 0.0
-
-    def corners(self, corner_deg: float) -> list:
-        return [(t, r, e) for t, r, e in self.joints if e >= corner_deg]
-
-
-def _p3(p) -> np.ndarray:
-    return np.array((p.X(), p.Y(), p.Z()))
-
-
-def _seeded(curve, ts, pts, x, iters: int = 60) -> float:
-    """Distance from x to a curve (anything with Value(t)): golden-section search around the
-    nearest of the dense samples pts (at parameters ts)."""
-    k = int(np.argmin(np.linalg.norm(pts - x, axis=1)))
-    a, b = ts[max(k - 1, 0)], ts[min(k + 1, ts.size - 1)]
-
-    def f(t):
-        return float(np.linalg.norm(_p3(curve.Value(float(t))) - x))
-    return min(_golden_min(f, a, b, iters), float(np.linalg.norm(pts[k] - x)))
-
-
-def _golden_min(f, a, b, iters: int):
-    """The smallest value golden-section search finds for f on [a, b]; elementwise when a, b are arrays
-    (f then maps arrays of parameters to arrays of values)."""
-    g = 0.5 * (np.sqrt(5) - 1)
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = np.asarray(f(c), float), np.asarray(f(d), float)
-    for _ in range(iters):
-        left = fc < fd
-        a, b = np.where(left, a, c), np.where(left, d, b)
-        c, d = np.where(left, b - g * (b - a), d), np.where(left, c, a + g * (b - a))
-        fn = np.asarray(f(np.where(left, c, d)), float)
-        fc, fd = np.where(left, fn, fd), np.where(left, fc, fn)
-    m = np.minimum(fc, fd)
-    return float(m) if m.ndim == 0 else m
-
-
-def _angle(a: gp_Vec, b: gp_Vec) -> float:
-    if a.Magnitude() == 0 or b.Magnitude() == 0:
-        return float("nan")
-    return float(np.degrees(a.Angle(b)))
-
-
-def _result_angle(result, ta, ia, ja, tb, ib, jb) -> float:
-    p, q = gp_Pnt(), gp_Pnt()
-    va, vb = gp_Vec(), gp_Vec()
-    result.LocalD1(ta, ia, ja, p, va)
-    result.LocalD1(tb, ib, jb, q, vb)
-    return _angle(va, vb)
-
-
-def _exact_angle(surface, domain, ta, tb) -> float:
-    """Angle between the exact image's tangent arriving at domain(ta) and leaving from domain(tb)
-    (one-sided at the domain curve's knots)."""
-    from OCP.gp import gp_Pnt2d, gp_Vec2d
-
-    def tangent(t, left):
-        k = [domain.Knot(i) for i in range(1, domain.NbKnots() + 1)]
-        j = int(np.searchsorted(k, t, side="left" if left else "right"))
-        j = min(max(j, 1), len(k) - 1)       # the span [k[j-1], k[j]] (1-based knots j, j + 1)
-        p2, d2 = gp_Pnt2d(), gp_Vec2d()
-        domain.LocalD1(t, j, j + 1, p2, d2)
-        p, su, sv = gp_Pnt(), gp_Vec(), gp_Vec()
-        surface.D1(p2.X(), p2.Y(), p, su, sv)
-        return su.Multiplied(d2.X()).Added(sv.Multiplied(d2.Y()))
-    return _angle(tangent(ta, True), tangent(tb, False))
-
-
-def curve_on_surface_measure(surface, domain, result, n: int = 2000, pcurve=None) -> CurveMeasure:
-    """Measure a curve meant to lie on a surface against the exact image of a domain curve, with
-    OCCT only: surface a Geom_Surface, domain a Geom2d_Curve in its (u, v), result a
-    Geom_BSplineCurve.  The exact image is OCCT's curve on surface; n samples of each curve (plus
-    every knot of the result) are projected exactly onto the other (Extrema / GeomAPI), ends
-    included.  The distance to the surface is GeomAPI_ProjectPointOnSurf's or, when the result's
-    pcurve (a Geom2d_Curve on the same parameters) is given and closer, |result(t) - surface(pcurve(t))|
-    (the projection can miss the foot on a folded surface)."""
-    exact = Adaptor3d_CurveOnSurface(Geom2dAdaptor_Curve(domain), GeomAdaptor_Surface(surface))
-    e0, e1 = domain.FirstParameter(), domain.LastParameter()
-    r0, r1 = result.FirstParameter(), result.LastParameter()
-    dk = [e0] + [domain.Knot(i) for i in range(1, domain.NbKnots() + 1) if e0 < domain.Knot(i) < e1] + [e1]
-    rk = [result.Knot(i) for i in range(1, result.NbKnots() + 1)]
-    # the curves' knot points: the closest point may sit at a corner, where no extremum exists
-    kp_exact = np.array([_p3(exact.Value(float(t))) for t in dk])
-    kp_res = np.array([_p3(result.Value(float(t))) for t in rk])
-    tr = np.unique(np.concatenate([np.linspace(r0, r1, n), rk]))
-    te = np.unique(np.concatenate([np.linspace(e0, e1, n), dk]))
-    pr = np.array([_p3(result.Value(float(t))) for t in tr])
-    pe = np.array([_p3(exact.Value(float(t))) for t in te])
-    # result -> exact image: extrema on every knot span of the domain curve, the knot points (the
-    # closest point may sit at a corner, where no extremum exists) and a golden-section search
-    # seeded at the nearest dense sample (OCCT's extrema can miss a minimum near a span's end)
-    d_re = 0.0
-    d_surf = 0.0
-    ps = GeomAPI_ProjectPointOnSurf()
-    u0, u1, v0, v1 = surface.Bounds()
-    ps.Init(surface, u0, u1, v0, v1)
-    for t, x in zip(tr, pr):
-        p = gp_Pnt(*map(float, x))
-        best = min(float(np.linalg.norm(kp_exact - x, axis=1).min()), _seeded(exact, te, pe, x))
-        for a, b in zip(dk[:-1], dk[1:]):
-            ext = Extrema_ExtPC(p, exact, a, b, 1e-10)
-            if ext.IsDone():
-                for k in range(1, ext.NbExt() + 1):
-                    best = min(best, float(np.sqrt(ext.SquareDistance(k))))
-        d_re = max(d_re, best)
-        ds = np.inf
-        ps.Perform(p)
-        if ps.IsDone() and ps.NbPoints() > 0:
-            ds = float(ps.LowerDistance())
-        if pcurve is not None:
-            q = pcurve.Value(float(t))
-            ds = min(ds, float(surface.Value(q.X(), q.Y()).Distance(p)))
-        d_surf = max(d_surf, ds)
-    # exact image -> result
-    d_er = 0.0
-    pc = GeomAPI_ProjectPointOnCurve()
-    for t, x in zip(te, pe):
-        best = min(float(np.linalg.norm(kp_res - x, axis=1).min()), _seeded(result, tr, pr, x))
-        pc.Init(gp_Pnt(*map(float, x)), result)
-        if pc.NbPoints() > 0:
-            best = min(best, float(pc.LowerDistance()))
-        d_er = max(d_er, best)
-    # joints: the result's one-sided tangents at its interior knots (and at the closing point of a
-    # closed curve), beside the exact image's own one-sided tangents there (a corner of the domain
-    # curve or a polyline vertex is a corner of the exact image too)
-    joints = []
-    nk = result.NbKnots()
-    for i in range(2, nk):
-        t = result.Knot(i)
-        joints.append((t, _result_angle(result, t, i - 1, i, t, i, i + 1),
-                       _exact_angle(surface, domain, t, t)))
-    if result.IsClosed() and nk > 2:
-        joints.append((r1, _result_angle(result, r1, nk - 1, nk, r0, 1, 2), _exact_angle(surface, domain, e1, e0)))
-    return CurveMeasure(max(d_re, d_er), d_re, d_er, d_surf, joints, int(tr.size + te.size))
-
-
-# ------------------------------------------------------------------------------ several faces
-class FaceSet:
-    """Distances from points to the nearest of several faces: each face's projector, tried on the faces
-    that can be the nearest one by their coarse sample clouds."""
-
-    def __init__(self, faces, n: int = 24):
-        from scipy.spatial import cKDTree
-
-        self.proj = [_Projector(f) for f in faces]
-        samples = [face_samples(f, n, resolution=True) for f in faces]
-        self.trees = [cKDTree(c) for c, _ in samples]
-        # per face, how far a point of it can be from its cloud: the face can be this much nearer to a
-        # point than its cloud is
-        self.slack = np.array([r for _, r in samples])
-
-    def _candidates(self, X: np.ndarray, chunk: int = 4096) -> np.ndarray:
-        """(N, faces) booleans: the faces that can be the nearest to each point.  A face's cloud lies on
-        it, so the nearest face is at most the nearest cloud's distance away; a face whose cloud is
-        farther than that by more than its slack cannot be the nearest."""
-        out = np.zeros((len(X), len(self.proj)), bool)
-        for lo in range(0, len(X), chunk):
-            D = np.column_stack([t.query(X[lo:lo + chunk])[0] for t in self.trees])
-            out[lo:lo + chunk] = D - self.slack[None, :] <= D.min(axis=1, keepdims=True)
-        return out
-
-    def distance(self, x) -> float:
-        cand = np.nonzero(self._candidates(np.asarray(x, float).reshape(1, 3))[0])[0]
-        return min(self.proj[i].distance(x) for i in cand)
-
-    def upper(self, X: np.ndarray) -> np.ndarray:
-        X = np.asarray(X, float).reshape(-1, 3)
-        cand = self._candidates(X)
-        ub = np.full(len(X), np.inf)
-        for i, p in enumerate(self.proj):
-            m = cand[:, i]
-            if m.any():
-                ub[m] = np.minimum(ub[m], p.upper(X[m]))
-        return ub
-
-    def distances(self, X: np.ndarray) -> np.ndarray:
-        return screened(self, X)
-
-
-def sample_faces(faces, n: int) -> np.ndarray:
-    """About n x n samples of each face as bounded by its edges (OCCT evaluation), stacked."""
-    return np.concatenate([face_points(f, n) for f in faces])
-
-
-def to_lines(points: np.ndarray, ends, m: int = 2049, iters: int = 40) -> np.ndarray:
-    """Distances from points to the ruled surface swept by the segments ends(v) = (A(v), B(v)), v in
-    [0, 1] (each (N, 3)): the nearest of m segments, then a golden-section search over v between its
-    neighbours, exact segment distances throughout."""
-    def seg(X, A, B):
-        D = B - A
-        s = np.clip(((X - A) * D).sum(axis=-1) / np.maximum((D * D).sum(axis=-1), 1e-300), 0, 1)
-        return np.linalg.norm(X - (A + s[..., None] * D), axis=-1)
-    vs = np.linspace(0.0, 1.0, m)
-    A, B = ends(vs)
-    size = float(np.ptp(np.vstack([A, B]), axis=0).max())
-    closed = max(np.linalg.norm(A[0] - A[-1]), np.linalg.norm(B[0] - B[-1])) <= 1e-12 * max(size, 1e-300)
-    out = np.empty(len(points))
-    for i in range(0, len(points), 256):
-        X = points[i:i + 256]
-        d = seg(X[:, None, :], A[None], B[None])
-        k = np.argmin(d, axis=1)
-
-        def f(v, X=X):
-            a, b = ends(v)
-            return seg(X, a, b)
-        best = np.minimum(d[np.arange(len(X)), k],
-                          _golden_min(f, vs[np.maximum(k - 1, 0)], vs[np.minimum(k + 1, m - 1)], iters))
-        if closed:            # v = 0 and v = 1 are one ruling: search the other side of the seam too
-            k2 = np.where(k == 0, m - 1, np.where(k == m - 1, 0, k))
-            best = np.minimum(best, _golden_min(f, vs[np.maximum(k2 - 1, 0)], vs[np.minimum(k2 + 1, m - 1)], iters))
-        out[i:i + 256] = best
-    return out

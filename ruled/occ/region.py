@@ -15,15 +15,15 @@ from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
-from ..errors import BadInputError, RuledError
-from ..hostform import curve_from_kernel_form
-from ..nurbs import Curve
-from ..region import Region
-from .convert import face_to_container
+from ruled.core.errors import BadInputError, RuledError
+from ruled.core.hostform import curve_from_kernel_form
+from ruled.core.nurbs import Curve
+from ruled.core.region import Region
+from ruled.occ.convert import face_to_container
 
 
 def _kernel_curve(bs, reversed_: bool, onto=None) -> Curve:
-    """A Geom(2d)_BSplineCurve (made non-periodic) as a container (ruled.hostform)."""
+    """A Geom(2d)_BSplineCurve (made non-periodic) as a container (ruled.core.hostform)."""
     if bs.IsPeriodic():
         bs = bs.Copy()
         bs.SetNotPeriodic()
@@ -140,16 +140,16 @@ def fit_face(face, options, progress=None, rails=None, S=None):
     """The ruled fit of the face as bounded by its edges: (FitResult, conversion slack), the slack (the
     container's round-off overhang of the face's bounds) to be added to the bound.  S: the face's
     container when the caller has it already."""
-    from ..facefit import fit_region
-    from .convert import conversion_slack
+    from ruled.fit.facefit import fit_region
+    from ruled.occ.convert import conversion_slack
     S = face_to_container(face) if S is None else S
     return fit_region(face_region(face, S), options, progress, rails), conversion_slack(face, S)
 
 
 def rect_area_ratio(face, S=None, area=None) -> float:
     """The face's area (given, or OCCT's) over its surface's (u, v) rectangle's area (1: untrimmed)."""
-    from ..fit import surface_area
-    from .io import face_area
+    from ruled.fit.fit2d import surface_area
+    from ruled.occ.io import face_area
     S = face_to_container(face) if S is None else S
     a = surface_area(S)
     return (face_area(face) if area is None else area) / a if a > 0 else 1.0

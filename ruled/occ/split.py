@@ -1,7 +1,7 @@
 """Split faces with OCCT: the strips of a face as real faces of its surface, sharing their split edges,
 and the independent measure of ruled fits against them.
 
-Every edge is the exact image of a domain curve under the surface (ruled.curve_on_surface: degree
+Every edge is the exact image of a domain curve under the surface (ruled.curves.curve_on_surface: degree
 p + q pieces composed with the surface, within a distance tolerance of the smooth domain curve); its
 pcurve is the domain polyline, the same for the faces on both sides, so the faces share the edge
 and the surface itself.  The faces are checked with BRepCheck, sewn, and their areas compared.
@@ -25,12 +25,12 @@ from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Wire
 from OCP.gp import gp_Pnt
 
-from ..curve_on_surface import approximate
-from ..hostform import Hausdorff
-from ..nurbs import Curve, Surface
-from ..strips import EDGE_TOL, input_curve, iso_curve
-from .convert import container_to_bspline, curve2d_to_bspline, curve_to_bspline
-from .measure import _Projector, hausdorff
+from ruled.curves.curve_on_surface import approximate
+from ruled.core.hostform import Hausdorff
+from ruled.core.nurbs import Curve, Surface
+from ruled.split.strips import EDGE_TOL, input_curve, iso_curve
+from ruled.occ.convert import container_to_bspline, curve2d_to_bspline, curve_to_bspline
+from ruled.occ.measure import _Projector, hausdorff
 
 
 @dataclass
@@ -190,7 +190,7 @@ def _area(face) -> float:
 # ------------------------------------------------------------------------------ whole jobs
 @dataclass
 class FaceSplit:
-    result: object             # ruled.partition.SplitResult
+    result: object             # ruled.split.partition.SplitResult
     chosen: str                # the candidate with the lowest measured error
     faces: dict                # name -> SplitFaces
     fits: dict                 # name -> [TopoDS_Face of each side's ruled fit]
@@ -219,7 +219,7 @@ def measure_strips(S: Surface, strip_fits: list, transposed: bool, curves: list,
     """Build the split faces between the curves, check them (against the face's whole UV rectangle, which
     they cover), and measure each strip's ruled fit against its split face.
     Returns (SplitFaces, SplitCheck, fit faces, per strip Hausdorff dicts)."""
-    from .convert import container_to_face
+    from ruled.occ.convert import container_to_face
     closed = bool(strip_fits[0].fit.best.closed)
     sf = build_split_faces(S, curves, transposed, closed=closed)
     ck = check_split_faces(sf, container_to_face(S))
@@ -233,7 +233,7 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
     real faces, fitted and measured; the one with the lowest measured error is chosen."""
     import time
 
-    from ..partition import SplitOptions, split_face
+    from ruled.split.partition import SplitOptions, split_face
     t0 = time.perf_counter()
     S, warnings = face_patch_surface(face)
     res = split_face(S, opts or SplitOptions(), progress)
@@ -252,7 +252,7 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
 
 @dataclass
 class FacePartition:
-    partition: object          # ruled.partition.Partition
+    partition: object          # ruled.split.partition.Partition
     faces: SplitFaces
     check: SplitCheck
     fits: list
@@ -261,8 +261,8 @@ class FacePartition:
 
 
 def partition_of_face(face, tol: float, opts=None, progress=None, measure_samples: int = 24) -> FacePartition:
-    """Partition a face into strips whose ruled fits are within tol (ruled.partition), built and measured."""
-    from ..partition import SplitOptions, partition
+    """Partition a face into strips whose ruled fits are within tol (ruled.split.partition), built and measured."""
+    from ruled.split.partition import SplitOptions, partition
     S, warnings = face_patch_surface(face)
     # the strips' split edges follow the split curves within EDGE_TOL of the size, which the faces' bound
     # adds: the fits aim that much inside tol (unless tol is not much larger)
@@ -275,10 +275,10 @@ def partition_of_face(face, tol: float, opts=None, progress=None, measure_sample
 
 def face_patch_surface(face):
     """The surface a split works on: the face's own surface when the face is its whole (u, v) rectangle,
-    else its four-sided patch (ruled.facefit); and the warnings to show."""
-    from ..facefit import face_patch
-    from .convert import face_to_container
-    from .region import face_region
+    else its four-sided patch (ruled.fit.facefit); and the warnings to show."""
+    from ruled.fit.facefit import face_patch
+    from ruled.occ.convert import face_to_container
+    from ruled.occ.region import face_region
     S = face_to_container(face)
     patch = face_patch(face_region(face, S))
     warnings = list(patch.warnings)

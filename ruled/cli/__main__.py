@@ -1,0 +1,5 @@
+import sys
+
+from ruled.cli.main import main
+
+sys.exit(main())

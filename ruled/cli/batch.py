@@ -1,0 +1,42 @@
+"""ruled batch: every selected face of many files, on a process pool or a Dask cluster."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+from ruled.batch.batch import run_batch
+from ruled.cli.common import check_measure_samples
+
+
+def options_dict(args) -> dict:
+    return {"samples": args.samples, "objective": args.objective, "max_error": args.max_error,
+            "direction": args.direction, "method": args.method, "measure_samples": args.measure_samples,
+            "plots": not args.no_plots}
+
+
+def main_batch(args) -> int:
+    from ruled.core.progress import Bar
+    from ruled.fit.options import FitOptions
+    FitOptions(samples=args.samples, objective=args.objective, max_error=args.max_error, direction=args.direction,
+               method=args.method).checked()
+    check_measure_samples(args.measure_samples)
+    bar = Bar(enabled=not args.quiet and sys.stderr.isatty())
+    try:
+        out = run_batch(args.inputs, args.output, faces=args.faces, fraction=args.candidate_fraction,
+                        options=options_dict(args), jobs=args.jobs, scheduler=args.scheduler, resume=args.resume,
+                        face_timeout=args.face_timeout, memory_cap_mb=args.memory_cap, progress=bar)
+    finally:
+        bar.done()
+    rows = out["rows"]
+    n = {s: sum(r["status"] == s for r in rows) for s in ("ok", "refused", "failed")}
+    print(f"{len(rows)} of {out['total']} faces: {n['ok']} fitted, {n['refused']} refused, {n['failed']} failed")
+    worst = [r for r in rows if r["status"] == "ok"][:3]
+    for r in worst:
+        print(f"  {r['file']} face {r['face']}: error bound {r['error_bound']:.6g}, measured {r['hausdorff']:.6g}")
+    for k in ("csv", "json", "html"):
+        print(f"summary: {os.path.abspath(out['paths'][k])}")
+    if out["interrupted"]:
+        print("ruled: interrupted; the summary holds the faces that finished (--resume continues)", file=sys.stderr)
+        return 130
+    return 0

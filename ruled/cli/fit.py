@@ -1,0 +1,172 @@
+"""ruled faces, ruled fit (one face) and ruled demo."""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+from ruled import __version__
+from ruled.cli.common import check_measure_samples, check_outputs, print_files_only, with_bar
+from ruled.cli.split import cmd_partition
+from ruled.core.errors import RuledError
+
+
+def cmd_faces(args) -> int:
+    from ruled.core.region import four_sides
+    from ruled.occ.io import face_info, read_faces
+    from ruled.occ.region import edge_lines, face_region, rect_area_ratio
+    faces = read_faces(args.input)
+    if not faces:
+        raise RuledError(f"{args.input}: the file holds no faces")
+    for i, face in enumerate(faces):
+        info = face_info(i, face)
+        extra = ""
+        try:
+            region = face_region(face)
+            ratio = rect_area_ratio(face, region.surface, info.area)
+            trim = "untrimmed" if region.is_rectangle() else f"trimmed {100 * ratio:.0f}%"
+            extra = f"  {trim}  edges {region.size}  holes {len(region.holes)}"
+            sides = four_sides(region) if args.edges and not region.is_rectangle() else None
+        except RuledError as exc:
+            extra, sides = f"  ({exc})", None
+        print(info.line() + extra)
+        if args.edges:
+            for line in edge_lines(face):
+                print(line)
+            if sides is not None:
+                print("    sides: " + "  ".join(f"{k}: [{','.join(map(str, sides.edges(k))) or 'point'}]"
+                                               for k in range(4)) + f"  ({sides.how})")
+    return 0
+
+
+def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
+            direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
+            elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True) -> dict:
+    """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
+    already (the batch's workers keep the files they have read); say: print the warnings and notes
+    (the batch keeps them in the reports)."""
+    from ruled.fit.options import FitOptions
+    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
+                      refine=refine, method=method, elevations=elevations, step=step, metric=metric,
+                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
+    check_outputs(output, report, plot, inputs=(input_path,))
+    check_measure_samples(measure_samples)
+    # the face before the engine: a wrong --face is answered without loading it
+    from ruled.occ.io import face_area, get_face, write_step
+    t0 = time.perf_counter()
+    face = get_face(input_path, face_index) if face is None else face
+    t_read = time.perf_counter() - t0
+    from ruled.core.progress import Bar
+    from ruled.fit.report import plot as make_plot
+    from ruled.fit.report import report_dict, write_report
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.measure import hausdorff
+    from ruled.occ.region import fit_face
+    bar = Bar(enabled=not quiet and sys.stderr.isatty())
+    t_fit = time.perf_counter()
+    try:
+        res, slack = fit_face(face, opts, bar, rails)
+    finally:
+        bar.done()
+    t_fit = time.perf_counter() - t_fit
+    warnings = list(res.patch.warnings)
+    for w in warnings if say else ():
+        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    t1 = time.perf_counter()
+    out_face = container_to_face(res.surface)
+    write_step(out_face, output)
+    t_write = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    if not quiet and sys.stderr.isatty():
+        print(f"  measuring the Hausdorff distance with OCCT ({measure_samples}x{measure_samples} samples per face)",
+              file=sys.stderr)
+    h = hausdorff(face, out_face, measure_samples)
+    t_meas = time.perf_counter() - t2
+    rep = report_dict(res, input_path=input_path, face=face_index, method=method,
+                      hausdorff={"max": h.max, "mean": h.mean, "input_to_result": h.max_a_to_b,
+                                 "result_to_input": h.max_b_to_a, "samples": h.samples,
+                                 "resolution": h.resolution},
+                      timings={"read": t_read, "fit": t_fit, "build_and_write": t_write,
+                               "measure": t_meas}, version=__version__, conversion_slack=slack)
+    rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
+    rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None
+    rep["warnings"] = warnings
+    for note in res.notes if say else ():
+        print(f"ruled: {note}", file=sys.stderr)
+    if report:
+        write_report(rep, report)
+    if plot:
+        make_plot(res, plot, h.max)
+    return rep
+
+
+def _summary(rep: dict, output: str, report=None, plot=None) -> None:
+    h = rep["hausdorff"]
+    rg = rep.get("region")
+    where = f"along {rep['direction']}"
+    if rg is not None and rg["trimmed"]:
+        where = f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and " \
+                f"{','.join(map(str, rg['rails'][1])) or 'a point'} of the trimmed face"
+    print(f"face {rep['face']}: rulings {where}{' (closed)' if rep['closed'] else ''}, "
+          f"{len(rep['pairs'])} DP rulings, result {rep['result']['poles'][0]}x{rep['result']['poles'][1]} poles "
+          f"degree {rep['result']['degree'][0]}x{rep['result']['degree'][1]}")
+    if rep["method"] == "4d":
+        e = rep["elevation"]
+        if e["step"] is None:
+            print("4d: no elevation tried; " + "; ".join(rep["notes"]))
+        else:
+            print(f"4d: {e['levels'] * 2 + 1} elevation levels of {e['step']:.4g} ({e['metric']}); result from "
+                  f"the {rep['result_method']} fit")
+    print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g}"
+          + (f"   area {rep['area']['ratio']:.4g} x the face's" if rep.get("area", {}).get("ratio") else ""))
+    print(f"STEP:   {os.path.abspath(output)}")
+    if report:
+        print(f"report: {os.path.abspath(report)}")
+    if plot:
+        print(f"plot:   {os.path.abspath(plot)}")
+
+
+def cmd_fit(args) -> int:
+    check_measure_samples(args.measure_samples)
+    if args.tol is not None:
+        return cmd_partition(args)
+    if args.split_faces:
+        raise RuledError("--split-faces needs --tol (the partition); for one split use 'ruled split'")
+    rep = run_fit(args.input, args.face, args.output, samples=args.samples, objective=args.objective,
+                  max_error=args.max_error, direction=args.direction, refine=not args.no_refine,
+                  report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet,
+                  method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
+                  memory_cap_mb=args.memory_cap, rails=args.rails)
+    _summary(rep, args.output, args.report, args.plot)
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from ruled.examples import elber_ex2
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import write_step
+
+    out = os.path.abspath("ruled-demo")
+    os.makedirs(out, exist_ok=True)
+    src = os.path.join(out, "input.step")
+    write_step(container_to_face(elber_ex2()), src)
+    print(f"demo: Elber's B-spline example (ex2) written to {src}; fitting face 0 with 40 samples")
+    paths = {k: os.path.join(out, n) for k, n in (("o", "result.step"), ("r", "report.json"), ("p", "plot.png"))}
+    rep = run_fit(src, 0, paths["o"], samples=40, report=paths["r"], plot=paths["p"], quiet=args.quiet)
+    _summary(rep, paths["o"], paths["r"], paths["p"])
+    # the result as machine data: synchronized XYUV contours for a 4-axis wire
+    from ruled.machine.output import plot_path, write_machine
+    from ruled.machine.paths import MachineOptions
+    from ruled.occ.io import get_face
+    from ruled.occ.machine import machine_of_face
+    fm = with_bar(args.quiet, 0, lambda bar: machine_of_face(get_face(paths["o"], 0), MachineOptions(),
+                                                               progress=bar, measure_samples=20, given=True))
+    files = {k: os.path.join(out, n) for k, n in (("g", "wire.ngc"), ("c", "wire.csv"), ("p", "wire.png"))}
+    write_machine(fm.path, files["g"], "Ruled demo: the ruled fit of Elber's ex2", files["c"])
+    plot_path(fm.path, files["p"], "Ruled demo: XYUV contours of the ruled fit")
+    m, c = fm.report["machine"], fm.report["cut"]
+    print(f"XYUV: {m['sync_points']} synchronized pairs within {m['chord_tol']:.3g} of the ruled surface "
+          f"(measured {c['max']:.3g}), largest taper {m['max_taper_deg']:.3g} deg")
+    print_files_only((("G-code", files["g"]), ("CSV", files["c"]), ("plot", files["p"])))
+    return 0

@@ -1,0 +1,128 @@
+"""ruled machine."""
+
+from __future__ import annotations
+
+import os
+
+from ruled import __version__
+from ruled.cli.common import check_measure_samples, check_outputs, print_files_only, with_bar
+from ruled.core.errors import RuledError
+
+
+def run_machine(args) -> dict:
+    """Read a face, fit it, make the machine path, measure it, write the G-code / APT, CSV, STEP."""
+    from ruled.fit.fit2d import FitOptions
+    from ruled.fit.report import write_report
+    from ruled.machine.output import plot_path, write_machine
+    from ruled.machine.paths import MachineOptions
+    from ruled.occ.io import get_face, write_step
+    from ruled.occ.machine import cam_shapes, machine_of_face
+
+    planes = None
+    if args.planes is not None:
+        planes = args.planes.split(",")
+    opts = MachineOptions("flank" if args.flank else "xyuv", args.chord_tol, planes, args.axis, args.margin,
+                          args.kerf, args.tool_radius, args.taper, args.lead, args.feed, tip=args.tip).checked()
+    if args.flank and args.kerf:
+        raise RuledError("--kerf is for --xyuv; a flank tool is offset by --tool-radius")
+    if args.xyuv and args.tool_radius is not None:
+        raise RuledError("--tool-radius is for --flank; a wire is offset by --kerf")
+    check_measure_samples(args.measure_samples, 4)
+    if args.ruled and args.method != "2d":
+        raise RuledError("--ruled machines the face as it is; --method chooses a fit: give one of them")
+    if args.ruled and args.rails is not None:
+        raise RuledError("--ruled machines the face as it is; --rails chooses a fit's rails: give one of them")
+    fit_opts = FitOptions(samples=args.samples, method=args.method).checked()
+    csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
+    check_outputs(args.output, csv_path, args.step, args.report, args.plot, inputs=(args.input,))
+    side = 1.0 if args.side == "outside" else -1.0
+    if isinstance(args.face, int):
+        face = get_face(args.input, args.face)
+        fm = with_bar(args.quiet, args.face, lambda bar: machine_of_face(
+            face, opts, fit_opts, bar, args.measure_samples, side, given=args.ruled, rails=args.rails))
+        what, chosen = f"face {args.face}", args.face
+    else:
+        fm, what, chosen = _machine_patches(args, opts, side)
+    title = f"{what} of {os.path.basename(args.input)}"
+    write_machine(fm.path, args.output, title, csv_path, args.units)
+    if args.step:
+        write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
+    rep = {"version": __version__, "input": os.path.abspath(args.input), "face": chosen,
+           "output": os.path.abspath(args.output), "csv": os.path.abspath(csv_path), **fm.report}
+    if args.plot:
+        plot_path(fm.path, args.plot, f"{title}: {opts.mode}")
+    if args.report:
+        write_report(rep, args.report)
+    return rep
+
+
+def _machine_patches(args, opts, side):
+    """'ruled machine --face all|K,L-M --ruled': the patches joined and machined as one."""
+    from ruled.occ.io import read_faces
+    from ruled.occ.machine import machine_of_patches
+    if not args.ruled:
+        raise RuledError(f"--face {_face_text(args.face)} machines several faces as one, which only patches of a "
+                         f"ruled result can be (add --ruled); fit the faces one at a time")
+    faces = read_faces(args.input)
+    idx = list(range(len(faces))) if args.face == "all" else args.face
+    bad = [i for i in idx if i >= len(faces)]
+    if bad:
+        raise RuledError(f"--face {_face_text(args.face)}: {args.input} has {len(faces)} faces (0 to "
+                         f"{len(faces) - 1}); see 'ruled faces {args.input}'")
+    what = f"face {idx[0]}" if len(idx) == 1 else f"faces {_face_text(idx)}"
+    fm = with_bar(args.quiet, what, lambda bar: machine_of_patches(
+        [faces[i] for i in idx], [f"face {i}" for i in idx], opts, bar, args.measure_samples, side))
+    return fm, what, idx
+
+
+def _face_text(face) -> str:
+    if face == "all":
+        return "all"
+    runs, start = [], face[0]
+    for a, b in zip(face, face[1:] + [None]):
+        if b != a + 1:
+            runs.append(str(start) if start == a else f"{start}-{a}")
+            start = b
+    return ",".join(runs)
+
+
+def cmd_machine(args) -> int:
+    rep = run_machine(args)
+    m, f = rep["machine"], rep["fit"]
+    meas = f" (measured {f['measured']:.6g})" if "measured" in f else ""
+    if "patches" in rep:
+        print(f"faces {_face_text(rep['face'])}: {len(rep['patches'])} ruled patches machined as one"
+              if len(rep["patches"]) > 1 else f"face {rep['face'][0]}: a ruled result, rulings along {f['direction']}")
+        for p in rep["patches"]:
+            print(f"  {p['face']}: taper {p['taper_min_deg']:.3g} to {p['taper_max_deg']:.3g} deg, twist along the "
+                  f"line {p['twist_deg']:.2g} deg")
+    elif args.ruled:
+        print(f"face {rep['face']}: a ruled result, rulings along {f['direction']}")
+    else:
+        rg = f.get("region")
+        where = (f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and "
+                 f"{','.join(map(str, rg['rails'][1])) or 'a point'}" if rg and rg["trimmed"]
+                 else f"along {f['direction']}")
+        print(f"face {rep['face']}: ruled fit bound {f['error_bound']:.6g}{meas}, rulings {where}")
+    if m["mode"] == "xyuv":
+        print(f"XYUV: {m['sync_points']} synchronized points, XY path {m['length_xy']:.6g}, UV path "
+              f"{m['length_uv']:.6g}, largest taper {m['max_taper_deg']:.3g} deg, planes at "
+              f"{m['plane_heights'][0]:.6g} and {m['plane_heights'][1]:.6g} along "
+              f"{tuple(round(x, 6) for x in m['axis'])}")
+        if "cut" in rep:
+            c = rep["cut"]
+            print(f"what the wire cuts, against {c['against']}: {c['max']:.6g} (bound {c['bound']:.6g}: the fit's "
+                  f"{c['fit_error']:.6g} + {m['cut_bound_beyond_fit']:.6g}, the chord tolerance"
+                  f"{'' if m['cut_bound_beyond_fit'] == m['chord_tol'] else ' and the kerf offset deviation'})")
+    else:
+        print(f"flank: {m['cl_points']} CL points, tool radius {m['tool_radius']:.6g}"
+              f"{', taper %.3g deg' % m['taper_deg'] if m['taper_deg'] else ''}, tool-envelope deviation "
+              f"{m['envelope_deviation']:.3g}")
+        if "tool_envelope" in rep:
+            e = rep["tool_envelope"]
+            print(f"at the CL points: overcut {e['cl_positions']['overcut']:.6g}, undercut "
+                  f"{e['cl_positions']['undercut']:.6g}; with the moves between: overcut "
+                  f"{e['with_moves']['overcut']:.6g}, undercut {e['with_moves']['undercut']:.6g}")
+    print(f"{'G-code' if m['mode'] == 'xyuv' else 'APT'}: {rep['output']}")
+    print_files_only((("CSV", rep["csv"]), ("STEP", args.step), ("report", args.report), ("plot", args.plot)))
+    return 0

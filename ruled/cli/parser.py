@@ -1,0 +1,256 @@
+"""The command line's options: one parser per command, with one-line errors (exit code 2)."""
+
+from __future__ import annotations
+
+import argparse
+
+from ruled import __version__
+from ruled.core.errors import RuledError
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit code 2)."""
+
+    def error(self, message):
+        self.exit(2, f"ruled: error: {message}; see '{self.prog} --help'\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="ruled", description="Optimal ruled-surface fitting for CAD faces "
+                                "(wire EDM, flank milling, hot-wire cutting).")
+    p.add_argument("--version", action="version", version=f"ruled {__version__}")
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser,
+                           metavar="{faces,fit,split,curve-on-surface,cone,machine,batch,demo}")
+    f = sub.add_parser("faces", help="list the faces of a STEP/BREP file (trimmed or not, edges, sides, holes)")
+    f.add_argument("input")
+    f.add_argument("--edges", action="store_true",
+                   help="also list each face's outer-wire edges (the indices --rails takes) and its four sides")
+    g = sub.add_parser("fit", help="fit the best ruled surface to one face")
+    g.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    g.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    g.add_argument("--method", choices=["2d", "4d"], default="2d",
+                   help="2d: rulings between boundary samples (Elber); 4d: their ends also lifted along the "
+                        "surface normal (Wang & Elber), never worse than 2d")
+    g.add_argument("--elevations", type=int, default=None,
+                   help="4d: elevation levels on each side of the surface (default 10, i.e. 21 levels)")
+    g.add_argument("--step", type=float, default=None,
+                   help="4d: elevation step in model units (default: the 2d result's distance / elevations)")
+    g.add_argument("--metric", choices=["lsad", "sshb"], default="lsad",
+                   help="4d cost: lsad, the line-surface distance of each ruling (default, faster); sshb, the "
+                        "certified surface-bilinear bound of each patch")
+    g.add_argument("--memory-cap", type=float, default=None,
+                   help="refuse tables larger than this many MiB (default: 80%% of the free memory)")
+    g.add_argument("--samples", type=int, default=40, help="samples per boundary (default 40)")
+    g.add_argument("--objective", choices=["sum", "max"], default="sum",
+                   help="sum of ruling distances (Elber) or the largest one (minimax)")
+    g.add_argument("--max-error", type=float, default=None, help="forbid rulings farther than this from the face")
+    g.add_argument("--direction", choices=["auto", "u", "v"], default="auto",
+                   help="which pair of opposite sides the rulings join: v, sides 0 and 2 of the face (the v-min and "
+                        "v-max boundaries of an untrimmed face); u, sides 1 and 3; auto: the better")
+    g.add_argument("--rails", type=_rails, default=None, metavar="A,B",
+                   help="the two opposite edges the rulings join (indices as 'ruled faces INPUT --edges' lists them)")
+    g.add_argument("--no-refine", action="store_true", help="keep the DP pairing (no continuous refinement)")
+    g.add_argument("-o", "--output", required=True, help="STEP file for the ruled face")
+    g.add_argument("--report", help="JSON report")
+    g.add_argument("--plot", help="PNG plot of the pairing and the error per ruling")
+    g.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")
+    g.add_argument("--quiet", action="store_true", help="no progress bars")
+    g.add_argument("--tol", type=float, default=None,
+                   help="partition the face into strips until every strip's ruled fit is within this distance "
+                        "(splits at optimal curves, Wang & Elber); OUTPUT.step then holds every strip's fit")
+    g.add_argument("--max-strips", type=int, default=16, help="with --tol: refuse beyond this many strips")
+    g.add_argument("--split-faces", help="with --tol: STEP file for the strips of the face itself")
+    s = sub.add_parser("split", help="the best curve to cut a face in two for ruling (Wang & Elber), the two "
+                       "faces and their ruled fits, compared with iso-parametric splits")
+    s.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    s.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    s.add_argument("--dims", type=int, choices=[4, 5, 7], default=4,
+                   help="split DP dimension: 4 (nothing elevated, default), 5 (M-points lifted along the normal) "
+                        "or 7 (P-, Q- and M-points lifted)")
+    s.add_argument("--elevations", type=int, default=2,
+                   help="5d/7d: lift levels on each side of the surface (default 2, i.e. 5 levels)")
+    s.add_argument("--step", type=float, default=None,
+                   help="5d/7d: lift per level in model units (default: the one-strip fit's bound / "
+                        "(2 elevations + 1))")
+    s.add_argument("--samples", type=int, default=30, help="P-, Q- and M-columns of the split DP (default 30)")
+    s.add_argument("--interior", type=int, default=10, help="interior M-rows of the split DP (default 10)")
+    s.add_argument("--objective", choices=["max", "sum"], default="max",
+                   help="split DP objective over the pairs of rulings: the largest (default, as the paper) or "
+                        "the sum")
+    s.add_argument("--fit-samples", type=int, default=40, help="samples per boundary of each side's fit")
+    s.add_argument("--memory-cap", type=float, default=None,
+                   help="refuse tables larger than this many MiB (default: 80%% of the free memory)")
+    s.add_argument("-o", "--output", required=True, help="STEP file for the ruled fits, one face per side")
+    s.add_argument("--split-faces", help="STEP file for the two faces of the split face")
+    s.add_argument("--report", help="JSON report")
+    s.add_argument("--plot", help="PNG: the split curves over the error map, and the errors compared")
+    s.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
+    s.add_argument("--quiet", action="store_true", help="no progress bars")
+    c = sub.add_parser("curve-on-surface", help="a low-degree curve lying exactly on a face, within a tolerance "
+                       "of the image of a (u, v) curve (Yang et al.)")
+    c.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    c.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    src = c.add_mutually_exclusive_group(required=True)
+    src.add_argument("--uv", help='a polyline in the face\'s (u, v): "u0,v0;u1,v1;..."')
+    src.add_argument("--uv-curve", help='JSON B-spline in (u, v): {"degree": p, "knots": [...], "points": '
+                     '[[u, v], ...], "weights": [optional]}')
+    c.add_argument("--tol", type=float, default=1e-3,
+                   help="distance tolerance to the exact image, model units (default 0.001)")
+    c.add_argument("--angle", type=float, default=1.0, help="angle tolerance at the joints, degrees (default 1)")
+    c.add_argument("--bound", choices=["local", "span"], default="local",
+                   help="2D tolerance rule: local (derivative bounds over each piece's box, default) or span "
+                        "(the paper's eq. 12 over the whole knot span)")
+    c.add_argument("-o", "--output", required=True, help="STEP file for the curve (one edge)")
+    c.add_argument("--report", help="JSON report")
+    c.add_argument("--measure-samples", type=int, default=2000, help="samples of each curve for the measure")
+    c.add_argument("--quiet", action="store_true", help="no progress bars")
+    k = sub.add_parser("cone", help="a tangent-smooth cone spline (developable) within a tolerance of a ruled "
+                       "face (Yang & Yang)")
+    k.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    k.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    k.add_argument("--tol", type=float, required=True, help="distance tolerance, model units")
+    k.add_argument("--step", type=float, default=0.1,
+                   help="first forward step along the boundaries, a fraction of their parameter (default 0.1)")
+    k.add_argument("--fit", action="store_true",
+                   help="fit the face by a ruled surface first ('ruled fit' defaults), then cone-spline that")
+    k.add_argument("--direction", choices=["auto", "u", "v"], default="auto",
+                   help="which parameter runs across the rulings' ends (auto: the linear one)")
+    k.add_argument("--allow-creases", action="store_true",
+                   help="keep a result whose neighbouring patches are not tangent continuous (strongly twisted "
+                        "faces); without it such a face is refused")
+    k.add_argument("--paper-search", action="store_true",
+                   help="the paper's step search only (shrink by 0.9 until accepted; more patches)")
+    k.add_argument("-o", "--output", required=True, help="STEP file for the patches (one sewn shell)")
+    k.add_argument("--report", help="JSON report")
+    k.add_argument("--plot", help="PNG plot of the fat curve and the fitted fat conic spline")
+    k.add_argument("--measure-samples", type=int, default=24, help="n x n samples per face for the measure")
+    k.add_argument("--quiet", action="store_true", help="no progress bars")
+    _machine_parser(sub)
+    _batch_parser(sub)
+    d = sub.add_parser("demo", help="fit a bundled example; files go to ./ruled-demo/")
+    d.add_argument("--quiet", action="store_true")
+    return p
+
+
+def _batch_parser(sub) -> None:
+    b = sub.add_parser("batch", help="fit every selected face of many files (a process pool or a Dask cluster), "
+                       "with a summary (CSV, JSON, HTML)")
+    b.add_argument("inputs", nargs="+", metavar="INPUT", help="STEP (.step/.stp) or BREP (.brep) files")
+    b.add_argument("--faces", default="all",
+                   help="all, bspline (the B-spline faces), ruled-candidates (faces whose iso-parametric ruled "
+                        "surface is already within --candidate-fraction of their size) or indices K,L-M "
+                        "(default all)")
+    b.add_argument("--candidate-fraction", type=float, default=0.01,
+                   help="--faces ruled-candidates: the fraction of a face's size (default 0.01)")
+    b.add_argument("--method", choices=["2d", "4d"], default="2d", help="the fit ('ruled fit --method')")
+    b.add_argument("--samples", type=int, default=40, help="samples per boundary (default 40)")
+    b.add_argument("--objective", choices=["sum", "max"], default="sum", help="as 'ruled fit --objective'")
+    b.add_argument("--max-error", type=float, default=None, help="as 'ruled fit --max-error'")
+    b.add_argument("--direction", choices=["auto", "u", "v"], default="auto", help="as 'ruled fit --direction'")
+    b.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")
+    b.add_argument("--no-plots", action="store_true",
+                   help="no plot per face (faster on thousands of faces; the summary page then has no thumbnails)")
+    b.add_argument("--jobs", type=int, default=None, help="worker processes (default: the number of cores)")
+    b.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                   help="run the faces on this Dask distributed cluster instead (pip install 'ruled[dask]')")
+    b.add_argument("--resume", action="store_true",
+                   help="skip the faces whose report exists for the same input file, face and options")
+    b.add_argument("--face-timeout", type=float, default=600.0,
+                   help="seconds a face may take before it is recorded as failed (default 600)")
+    b.add_argument("--memory-cap", type=float, default=None,
+                   help="MiB for the whole batch, divided among the workers (default: 80%% of the free memory)")
+    b.add_argument("-o", "--output", required=True, help="output folder: one folder per input file, summary.*")
+    b.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _machine_parser(sub) -> None:
+    m = sub.add_parser("machine", help="machine data for the ruled fit of a face: synchronized XYUV contours "
+                       "(4-axis wire EDM, hot wire) or flank-milling tool axes")
+    m.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
+    m.add_argument("--face", type=_face_or_patches, required=True,
+                   help="face index (0-based, as 'ruled faces' lists); with --ruled also all or K,L-M: ruled "
+                        "patches that follow one another (the patches 'ruled cone' writes), machined as one")
+    kind = m.add_mutually_exclusive_group(required=True)
+    kind.add_argument("--xyuv", action="store_true", help="XYUV G-code (lower guide XY, upper guide UV) and CSV")
+    kind.add_argument("--flank", action="store_true", help="flank-milling CL data: APT GOTO/x,y,z,i,j,k and CSV")
+    m.add_argument("--planes", help="xyuv: the two plane heights a,b along the axis (default: just outside the "
+                   "part; write --planes=-5,20 when a starts with a minus)")
+    m.add_argument("--axis", default="auto",
+                   help="xyuv: the machine axis, normal to the planes: auto (the mean ruling direction, snapped to "
+                        "x, y or z within 0.5 degree), x, y, z or ax,ay,az")
+    m.add_argument("--margin", type=float, default=None,
+                   help="xyuv: default planes this far outside the part (default 2%% of its diagonal)")
+    m.add_argument("--kerf", type=float, default=0.0,
+                   help="xyuv: wire radius plus spark gap; the wire runs offset by it to the outside (default 0)")
+    m.add_argument("--lead", type=float, default=None,
+                   help="xyuv: lead-in and lead-out length (default 5%% of the diagonal; 0: none)")
+    m.add_argument("--tool-radius", type=float, default=None, help="flank: tool radius (at the tip for --taper)")
+    m.add_argument("--taper", type=float, default=0.0, help="flank: half angle of a conical tool, degrees")
+    m.add_argument("--tip", choices=["auto", "first", "second"], default="auto",
+                   help="flank: the tool tip at the rulings' first or second end (the fit's boundaries), or auto: "
+                        "the end lower in z (default)")
+    m.add_argument("--side", choices=["outside", "inside"], default="outside",
+                   help="the side of the face the wire offset or the tool is on (outside: the face's normal)")
+    m.add_argument("--chord-tol", type=float, default=None,
+                   help="largest distance between a straight move and the contours (default 1e-4 of the diagonal)")
+    m.add_argument("--feed", type=float, default=100.0,
+                   help="feed rate, output units per minute (default 100)")
+    m.add_argument("--units", choices=["mm", "inch"], default="mm",
+                   help="units of the G-code / APT / CSV coordinates (the model's are mm; default mm)")
+    m.add_argument("--method", choices=["2d", "4d"], default="2d", help="the ruled fit ('ruled fit --method')")
+    m.add_argument("--ruled", action="store_true",
+                   help="the face is a ruled result already (from 'ruled fit', 'ruled split', 'ruled fit --tol'): "
+                        "use it as it is, no fit")
+    m.add_argument("--samples", type=int, default=40, help="samples per boundary of the fit (default 40)")
+    m.add_argument("--rails", type=_rails, default=None, metavar="A,B",
+                   help="the two opposite edges the fit's rulings join ('ruled faces INPUT --edges')")
+    m.add_argument("-o", "--output", required=True,
+                   help="G-code (.ngc) for --xyuv, APT CL data (.apt) for --flank")
+    m.add_argument("--csv", help="CSV of the synchronized pairs or CL points (default: OUTPUT with .csv)")
+    m.add_argument("--step", help="STEP for CAM: the ruled result face")
+    m.add_argument("--rulings", action="store_true", help="with --step: the rulings at the sync points as edges")
+    m.add_argument("--report", help="JSON report")
+    m.add_argument("--plot", help="PNG: the two contours with their synchronisation links")
+    m.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
+    m.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+def _face_or_patches(text: str):
+    """--face of 'ruled machine': an index, or (for --ruled) 'all' or indices 'K,L-M' in their order."""
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    if text == "all":
+        return text
+    from ruled.batch.batch import parse_faces
+    try:
+        return parse_faces(text)
+    except RuledError:
+        raise argparse.ArgumentTypeError(f"--face {text!r}: give a face index, or with --ruled all or indices "
+                                         f"like 0-6 (patches that follow one another)") from None
+
+
+def _rails(text: str) -> tuple:
+    try:
+        a, b = (int(x) for x in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--rails {text!r}: give two edge indices as A,B (see 'ruled faces "
+                                         f"INPUT --edges')") from None
+    return a, b
+
+
+def argv_with_negative_values(argv: list) -> list:
+    """An option followed by a negative number or list (--planes -1.5,1.5) as --planes=-1.5,1.5, which
+    argparse would otherwise read as an option."""
+    import re
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a.startswith("--") and "=" not in a and i + 1 < len(argv) and re.match(r"^-(\d|\.\d)", argv[i + 1]):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out

@@ -1,0 +1,45 @@
+"""A certificate (the bound, where it is reached, how it was made) and the grid cells a certificate refines
+where its bound is loose."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import numpy as np
+
+
+# bounds below this fraction of the face's size are not refined further (no machine holds less)
+FLOOR = 1e-6
+
+
+@dataclass(frozen=True)
+class Certificate:
+    bound: float        # certified upper bound of H(S, R)
+    node_max: float     # largest |S - R o psi| at the grid nodes (a sampled estimate)
+    remainder: float    # largest per-cell remainder term
+    nodes: tuple        # grid size (nu, nv)
+    map_deviation: float = 0.0   # included in bound: the fitted patch's deviation from the bounded face
+    rounding: float = 0.0        # included in bound: double precision's round-off in the evaluations
+
+
+def _corner_max(f: np.ndarray) -> np.ndarray:
+    """Per grid cell, the largest of the node values at its four corners."""
+    return np.maximum(np.maximum(f[:-1, :-1], f[1:, :-1]), np.maximum(f[:-1, 1:], f[1:, 1:]))
+
+
+def _cells_to_split(cert: Certificate, cell: np.ndarray, rem: tuple, floor: float, uniform: bool = False):
+    """Grid intervals to halve in the next round, (iu, iv): those of the cells near the worst and
+    dominated by their remainder, in the directions whose part of the remainder (rem = (u part,
+    v part)) matters; None when the bound is tight, or when most cells qualify (the grid is coarse
+    everywhere: local refinement would not pay) unless ``uniform`` (then the whole grid is halved in
+    the directions that dominate: an exact fit, whose bound is all remainder); None too when the
+    bound is below ``floor`` (no CAD tolerance asks for less)."""
+    ru, rv = rem
+    tot = ru + rv
+    cut = cert.node_max + 0.5 * (cert.bound - cert.node_max)
+    bad = (cell > cut) & (tot > 0.25 * cell)
+    if (not bad.any() or cert.bound <= max(1.02 * cert.node_max, floor)
+            or (bad.mean() > 0.05 and not uniform)):
+        return None
+    iu = np.unique(np.nonzero(bad & (ru >= 0.25 * tot))[0])
+    iv = np.unique(np.nonzero(bad & (rv >= 0.25 * tot))[1])
+    return iu, iv

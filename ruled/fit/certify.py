@@ -1,0 +1,412 @@
+"""A certified upper bound of the two-sided Hausdorff distance between S and a ruled result R.
+
+Let psi map the domain of S into the domain (s, t) of R (a continuous,
+piecewise bilinear map on a grid aligned with the knot spans of S), sending
+each boundary side of S's domain into the matching side of R's domain: the
+boundary v0 to t = 0 through the pairing (s = a^-1), v1 to t = 1, and for an
+open face the first and last u to s = 0 and s = 1.  Such a map is onto R's
+domain (its boundary map has degree one), so for every point of S and every
+point of R there is a (u, v) with both S(u, v) and R(psi(u, v)) and hence
+
+    H(S, R) <= sup |f(u, v)|,   f = S - R o psi.
+
+On each grid cell f has bounded second derivatives (S is polynomial or rational
+inside a knot span; R has a continuous first derivative away from its kink
+parameters, the knots of full multiplicity), and bilinear interpolation gives
+
+    sup_cell |f| <= max_corners |f| + (h_u^2 sup|f_uu| + h_v^2 sup|f_vv|) / 8
+                   (+ |jump of R_s| (|ds_u| + |ds_v|) / 4 per kink crossed),
+
+with f_uu bounded by the per-span control-net bounds of S_uu and by
+R_ss ds^2 + 2 R_st ds dt (psi is linear along each cell edge direction; R_tt
+is zero), R's bounds again from control nets (quotient rule when rational).
+The derivative jump at a kink is measured from one-sided derivatives.
+Interior nodes use the closest point of R (Gauss–Newton over the rulings), or
+stay near the pairing's own correspondence; both maps are tried and the
+smaller bound kept.  Any choice keeps the bound valid, closer ones make it
+tighter.  Rows next to the boundaries are graded and extra columns follow
+the pairing where it crawls (fans of rulings), so the cells stay small there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ruled.core.nurbs import Curve, Surface
+from ruled.fit.reparam import Boundaries
+from ruled.fit.pairing import Pairing
+from ruled.fit.bounds import (_contains, _crossing, _joint_jumps, _knot_grid, _local_net_max, _pairing_s,
+                              _polished_feet, _rail, _range_max, _segment_feet, _snap, _soft_knots, _spanmax,
+                              _twin)
+from ruled.fit.certify_reverse import certify_reverse
+from ruled.fit.cells import Certificate, FLOOR, _cells_to_split, _corner_max
+
+
+# the second-order remainder is tried where the bound exceeds the node maximum by this factor
+SECOND_ORDER_WHEN = 1.1
+# the refinement rounds stop before a grid this many times the first one
+GRID_GROWTH = 8
+# the second-order remainder's corner values are taken this fraction of the cell inside each corner
+NUDGE = 1e-6
+
+
+# round-off of the evaluations the bound rests on (points of S and R, their differences), in units of
+# the largest coordinate: a few dozen operations each, each within half an ulp (a face far from the
+# origin and tiny carries its coordinates' round-off in every distance)
+ROUND_ULPS = 64
+
+
+def sampled_distance(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, nu: int = 121,
+                     nv: int = 41) -> float:
+    """The engine's own measure of H(S, R): closest points both ways from dense grids (a sampled
+    estimate, not a bound; the independent measure is ruled.occ.measure)."""
+    from ruled.core.distance import project_points
+    closed = pairing.closed
+    u0, u1, v0, v1 = S.domain
+    L = u1 - u0
+    x = np.linspace(0.0, 1.0, nu, endpoint=not closed)
+    tau = np.linspace(0.0, 1.0, nv)
+    UU, VV = np.meshgrid(u0 + L * x, v0 + (v1 - v0) * tau, indexing="ij")
+    X = S(UU.ravel(), VV.ravel())
+    s0 = _pairing_s(pairing, x, tau).ravel()
+    d1 = np.full(X.shape[0], np.inf)
+    best = np.zeros((X.shape[0], 2))
+    for shift in (0.0, -0.05, 0.05, -0.15, 0.15):  # several seeds: the closest ruling is not always the nearest one
+        s, t = _segment_feet(bd.A, bd.B, X, s0 + shift if closed else np.clip(s0 + shift, 0.0, 1.0), closed, iters=8)
+        d = np.linalg.norm(X - R(np.mod(s, 1.0) if closed else s, t), axis=1)
+        better = d < d1
+        d1 = np.where(better, d, d1)
+        best[better] = np.stack([s, t], axis=1)[better]
+    # polish on R as a surface (both parameters at once)
+    _, dp = project_points(R, X, best, 6, closed)
+    d1 = np.minimum(d1, dp)
+    SS, TT = np.meshgrid(x, tau, indexing="ij")
+    Y = R(SS.ravel(), TT.ravel())
+    a, b = pairing.ab(SS.ravel())
+    xs = (1 - TT.ravel()) * a + TT.ravel() * b
+    seeds = np.stack([u0 + L * (np.mod(xs, 1.0) if closed else np.clip(xs, 0.0, 1.0)),
+                      v0 + (v1 - v0) * TT.ravel()], axis=1)
+    _, d2 = project_points(S, Y, seeds, 8, closed)
+    # and from the nearest of S's own samples (the pairing's seed can lead the projection into a local
+    # minimum, or against the domain's edge, far from the closest point)
+    from scipy.spatial import cKDTree
+    near = cKDTree(X).query(Y)[1]
+    grid = np.stack([UU.ravel(), VV.ravel()], axis=1)
+    _, d2b = project_points(S, Y, grid[near], 8, closed)
+    d2 = np.minimum(d2, d2b)
+    return float(max(d1.max(), d2.max()))
+
+
+def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
+            target_u: int = 240, target_v: int = 80, rounds: int = 3, rival: float = np.inf) -> Certificate:
+    """Certified bound of H(S, R) for a fit oriented along v (see the module doc); the pairing's
+    normalized parameters run over S's u-domain.  Cells whose remainder dominates their bound are
+    split (up to ``rounds`` times), where psi is steep (fans of rulings, twisted or lifted results),
+    unless the rounds left cannot bring the bound below ``rival`` (a bound already certified)."""
+    closed = pairing.closed
+    u0, u1, v0, v1 = S.domain
+    L = u1 - u0
+    # nodes where the pairing maps the ruling grid, where a or b crawls (fans of rulings): there
+    # a small step in u spans many rulings, and the cells must stay small in s
+    sg = np.linspace(0.0, 1.0, 4 * target_u + 1)
+    ag, bg = pairing.ab(sg)
+    slow_a = np.diff(ag) < 0.5 / (4 * target_u)
+    slow_b = np.diff(bg) < 0.5 / (4 * target_u)
+    keep_a = np.concatenate([slow_a, [False]]) | np.concatenate([[False], slow_a])
+    keep_b = np.concatenate([slow_b, [False]]) | np.concatenate([[False], slow_b])
+    xg = np.concatenate([ag[keep_a][::2], bg[keep_b][::2]])
+    if closed:
+        xg = np.mod(xg, 1.0)
+    extra_u = u0 + L * xg
+    # graded rows next to both boundaries, where a fan of rulings makes psi steep
+    grade = (v1 - v0) / target_v * 0.5 ** np.arange(1, 11)
+    extra_v = np.concatenate([v0 + grade, v1 - grade])
+    tw = (_twin(S), _twin(R, ruled=True))
+    b = tw[0].derivative_bounds()
+    best = None
+    for rnd in range(rounds + 1):
+        us, span_u = _knot_grid(S, "u", target_u, extra_u, tw[0])
+        vs, span_v = _knot_grid(S, "v", target_v, extra_v, tw[0])
+        cert, guide = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw)
+        if best is None or cert.bound < best.bound:
+            best = cert
+        split = _cells_to_split(*guide, FLOOR * S.diagonal(), uniform=True)
+        # each round about halves the excess over the node maximum: stop where even that would not
+        # bring the bound below the rival's (the other side's certificate)
+        hope = cert.node_max + (cert.bound - cert.node_max) / 2 ** (rounds - rnd)
+        if rnd == rounds or split is None or hope >= rival:
+            break
+        iu, iv = split
+        grown = (us.size + np.unique(iu).size) * (vs.size + np.unique(iv).size)
+        if grown > GRID_GROWTH * (target_u + 1) * (target_v + 1):
+            break       # the next grid would cost more than the bound is worth (an exact fit asks for ever more)
+        extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
+        extra_v = np.concatenate([extra_v, 0.5 * (vs[iv] + vs[iv + 1])])
+    return best
+
+
+def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw):
+    """Best bound over the candidate maps psi on one grid, and the map that guides the refinement
+    (certificate, per-cell bound, remainder parts): the one whose bound may fall lowest, a quarter of
+    its remainder above its node maximum (a map whose nodes are far from R cannot get below them)."""
+    closed = pairing.closed
+    u0, u1, v0, v1 = S.domain
+    L = u1 - u0
+    nu, nv = us.size, vs.size
+    UU, VV = np.meshgrid(us, vs, indexing="ij")
+    X = S(UU.ravel(), VV.ravel()).reshape(nu, nv, 3)
+    x = (us - u0) / L
+    tau = (vs - v0) / (v1 - v0)
+    s_init = _pairing_s(pairing, x, tau)
+    s_feet, t_feet = _polished_feet(bd, R, X.reshape(-1, 3), s_init.ravel(), closed)
+    jump = np.abs(s_feet - s_init.ravel())
+    if closed:
+        jump = np.minimum(jump, 1.0 - jump)
+    maps = []
+    # Two maps, both valid: closest points (tight where the fit is good), and closest points kept
+    # near the pairing's own correspondence (a foot that jumps, to the other sheet of a thin part
+    # say, folds psi and inflates the remainder).
+    prev = None
+    for k, limit in enumerate((np.inf, 0.5 / target_u)):
+        s, t = s_feet.copy(), t_feet.copy()
+        far = jump > limit
+        if k > 0 and np.array_equal(far, prev):
+            continue  # the same map again
+        prev = far
+        if far.any():
+            s0, t0 = _segment_feet(bd.A, bd.B, X.reshape(-1, 3)[far], s_init.ravel()[far], closed, iters=0)
+            s[far], t[far] = s0, t0
+        maps.append((s, t))
+    # Smoothed closest points: where the closest ruling jumps (a twisted or lifted result), a
+    # smoothed field of s keeps psi continuous at the price of slightly larger node distances.
+    ds = (s_feet - s_init.ravel()).reshape(nu, nv)
+    if closed:
+        ds = ds - np.round(ds)
+    for sweeps in (4, 16, 64):
+        s = (s_init + _smooth(ds, sweeps)).ravel()
+        _, t = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s, closed, iters=0)
+        maps.append((s, t))
+    best, which, guide = None, 0, None
+
+    def reach(c):
+        return c.node_max + 0.25 * (c.bound - c.node_max)
+    for k, (s, t) in enumerate(maps):
+        out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(), t.reshape(nu, nv).copy(),
+                         pairing, bd, R, tw)
+        if best is None or out[0].bound < best[0].bound:
+            best, which = out, k
+        if guide is None or reach(out[0]) < reach(guide[0]):
+            guide = out
+    if best[0].bound > SECOND_ORDER_WHEN * best[0].node_max:
+        # the remainder dominates (an exact or nearly exact fit): the second-order remainder may be far
+        # smaller (see _remainder2); the closest points (smooth where the fit is exact) and the best map
+        # again, each cell keeping the smaller of the two
+        for s, t in {0: maps[0], which: maps[which]}.values():
+            out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(),
+                             t.reshape(nu, nv).copy(), pairing, bd, R, tw, second=True)
+            if out[0].bound < best[0].bound:
+                best = out
+            if reach(out[0]) < reach(guide[0]):
+                guide = out
+    return best[0], guide
+
+
+def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
+    """Repeated 5-point averaging (edges replicated)."""
+    g = f.copy()
+    for _ in range(sweeps):
+        p = np.pad(g, 1, mode="edge")
+        g = (4.0 * g + p[:-2, 1:-1] + p[2:, 1:-1] + p[1:-1, :-2] + p[1:-1, 2:]) / 8.0
+    return g
+
+
+def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, second=False):
+    """The bound of the module doc for one map psi = (s, t) on the grid (us, vs); with ``second``,
+    each cell's remainder is the smaller of the first- and the second-order one (_remainder2)."""
+    closed = pairing.closed
+    nu, nv = us.size, vs.size
+    # boundary rows and columns fixed so that psi maps sides to sides
+    xa = x if not closed else pairing.ab(np.array([0.0]))[0][0] + np.mod(x - pairing.ab(np.array([0.0]))[0][0], 1.0)
+    xb = x if not closed else pairing.ab(np.array([0.0]))[1][0] + np.mod(x - pairing.ab(np.array([0.0]))[1][0], 1.0)
+    # the boundary rows go to the boundary curves of R at their closest points (seeded by the
+    # pairing): any continuous side-to-side map keeps psi onto, and lifted boundaries (4D) are not
+    # where the pairing puts them
+    for col, xx, C, which in ((0, xa, bd.A, "a"), (-1, xb, bd.B, "b")):
+        s0 = pairing.inverse(xx, which)
+        sc, _ = _segment_feet(C, C, np.ascontiguousarray(X[:, col]), s0, closed)
+        if closed:
+            sc = s0 + (np.mod(sc - s0 + 0.5, 1.0) - 0.5)
+        s[:, col], t[:, col] = sc, (0.0 if col == 0 else 1.0)
+    if not closed:
+        for col, sv in ((0, 0.0), (-1, 1.0)):
+            a0 = bd.A(np.array([sv]))[0]
+            b0 = bd.B(np.array([sv]))[0]
+            d = b0 - a0
+            dd = max(float(d @ d), 1e-300)
+            s[col, 1:-1] = sv
+            t[col, 1:-1] = np.clip((X[col, 1:-1] - a0) @ d / dd, 0.0, 1.0)
+    s = _snap(s, bd.A, closed)
+    sw = np.mod(s, 1.0) if closed else s
+    Rp = R(sw.ravel(), t.ravel()).reshape(nu, nv, 3)
+    f = np.linalg.norm(X - Rp, axis=2)
+    # per-cell remainder
+    Suu = _range_max(_range_max(b["Suu"], span_u, 0), span_v, 1)
+    Svv = _range_max(_range_max(b["Svv"], span_u, 0), span_v, 1)
+    hu = np.diff(us)[:, None]
+    hv = np.diff(vs)[None, :]
+
+    def rel(q):
+        if not closed:
+            return q
+        return q - np.round(q)
+
+    s00, s10, s01, s11 = s[:-1, :-1], s[1:, :-1], s[:-1, 1:], s[1:, 1:]
+    dsu = np.maximum(np.abs(rel(s10 - s00)), np.abs(rel(s11 - s01)))
+    dsv = np.maximum(np.abs(rel(s01 - s00)), np.abs(rel(s11 - s10)))
+    t00, t10, t01, t11 = t[:-1, :-1], t[1:, :-1], t[:-1, 1:], t[1:, 1:]
+    dtu = np.maximum(np.abs(t10 - t00), np.abs(t11 - t01))
+    dtv = np.maximum(np.abs(t01 - t00), np.abs(t11 - t10))
+    cs = np.stack([s00, s10, s01, s11])
+    if closed:
+        cs = s00[None] + rel(cs - s00[None])
+    slo, shi = cs.min(axis=0), cs.max(axis=0)
+    ct = np.stack([t00, t10, t01, t11])
+    tlo, thi = ct.min(axis=0), ct.max(axis=0)
+    Rb = tw[1]
+    if R.rational:  # quotient-rule bounds of the rational ruled surface, per span in s
+        rb = Rb.derivative_bounds()
+        Rss = _spanmax(Rb, rb["Suu"][:, 0], slo, shi)
+        Rst = _spanmax(Rb, rb["Suv"][:, 0], slo, shi)
+    else:
+        Ab, Bb = _rail(Rb, 0), _rail(Rb, 1)
+        diff = Curve(Bb.poles - Ab.poles, Ab.knots, Ab.degree)
+        A2 = _spanmax(Rb, _local_net_max(Ab, 2), slo, shi)
+        B2 = _spanmax(Rb, _local_net_max(Bb, 2), slo, shi)
+        Rst = _spanmax(Rb, _local_net_max(diff, 1), slo, shi)
+        Rss = (1.0 - tlo) * A2 + thi * B2
+    ru = (Suu * hu ** 2 + Rss * dsu ** 2 + 2 * Rst * dsu * dtu) / 8.0
+    rv = (Svv * hv ** 2 + Rss * dsv ** 2 + 2 * Rst * dsv * dtv) / 8.0
+    for sk in bd.kinks:
+        hit = _crossing(slo, shi, sk, closed)
+        if hit.any():
+            J = _joint_jumps(R, sk)[0]
+            ru = ru + np.where(hit, J * dsu / 4.0, 0.0)
+            rv = rv + np.where(hit, J * dsv / 4.0, 0.0)
+    if second:
+        r2u, r2v = _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw)
+        use = r2u + r2v < ru + rv
+        ru, rv = np.where(use, r2u, ru), np.where(use, r2v, rv)
+    rem = ru + rv
+    cell = _corner_max(f) + rem
+    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, (ru, rv)
+
+
+def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw) -> tuple:
+    """Per cell, the interpolation remainder (h_u^2 sup|f_uu| + h_v^2 sup|f_vv|) / 8 with sup|f_uu|
+    bounded from its values at the cell's corners and third-derivative bounds:
+
+        sup|f_uu| <= max_corners |f_uu| + (h_u sup|f_uuu| + h_v sup|f_uuv|) / 2   (+ jumps),
+
+    f_uu = S_uu - (R_ss s_u^2 + 2 R_st s_u t_u) at a corner (just inside the cell: see NUDGE), with
+    the cell's own (bilinear) slopes there; f_uuu and f_uuv by the chain rule (psi bilinear: s_uu = 0; R linear in
+    t: R_tt = R_stt = 0) from the control-net bounds of S and R.  Where S o psi is exactly R o psi up
+    to the bilinear map's own error, f_uu is that error's second derivative: the bound follows the
+    fit down to round-off, where the first-order remainder stays at h^2 |S_uu| / 8.  f_uu jumps where
+    R's second derivative does (knots of multiplicity p - 1): each crossing adds the jump (a straight
+    path crosses such a line at most twice in a bilinear cell).  Cells where this does not hold (S
+    less than C2 inside, R less than C1) get infinity."""
+    nu, nv = us.size, vs.size
+    hu = np.diff(us)[:, None]
+    hv = np.diff(vs)[None, :]
+
+    def rel(q):
+        return q - np.round(q) if closed else q
+
+    su_b, su_t = rel(s[1:, :-1] - s[:-1, :-1]) / hu, rel(s[1:, 1:] - s[:-1, 1:]) / hu
+    tu_b, tu_t = (t[1:, :-1] - t[:-1, :-1]) / hu, (t[1:, 1:] - t[:-1, 1:]) / hu
+    sv_l, sv_r = rel(s[:-1, 1:] - s[:-1, :-1]) / hv, rel(s[1:, 1:] - s[1:, :-1]) / hv
+    tv_l, tv_r = (t[:-1, 1:] - t[:-1, :-1]) / hv, (t[1:, 1:] - t[1:, :-1]) / hv
+    s_uv = np.abs(su_t - su_b) / hv
+    t_uv = np.abs(tu_t - tu_b) / hv
+    # f_uu and f_vv at a point just inside each corner (NUDGE of the cell inward): on the cell's side
+    # of any knot line through the corner (S's creases are grid lines, R's knots may pass through
+    # nodes), where a node's own value would be the neighbour's
+    s00, t00 = s[:-1, :-1], t[:-1, :-1]
+    du_s, dv_s = rel(s[1:, :-1] - s00), rel(s[:-1, 1:] - s00)
+    dd_s = rel(s[1:, 1:] - s00) - du_s - dv_s
+    du_t, dv_t = t[1:, :-1] - t00, t[:-1, 1:] - t00
+    dd_t = t[1:, 1:] - t00 - du_t - dv_t
+    Fuu = Fvv = 0.0
+    ncell = (nu - 1) * (nv - 1)
+    P = [(lu, lv) for lu in (NUDGE, 1.0 - NUDGE) for lv in (NUDGE, 1.0 - NUDGE)]
+    uq = np.concatenate([np.broadcast_to(us[:-1, None] + lu * hu, (nu - 1, nv - 1)).ravel() for lu, lv in P])
+    vq = np.concatenate([np.broadcast_to(vs[None, :-1] + lv * hv, (nu - 1, nv - 1)).ravel() for lu, lv in P])
+    sq = np.concatenate([(s00 + lu * du_s + lv * dv_s + lu * lv * dd_s).ravel() for lu, lv in P])
+    tq = np.concatenate([(t00 + lu * du_t + lv * dv_t + lu * lv * dd_t).ravel() for lu, lv in P])
+    Dq = S.evaluate(uq, vq, 2)
+    Rq = R.evaluate(np.mod(sq, 1.0) if closed else np.clip(sq, 0.0, 1.0), np.clip(tq, 0.0, 1.0), 2)
+    for k, (lu, lv) in enumerate(P):
+        sl = slice(k * ncell, (k + 1) * ncell)
+        a_s, a_t = ((du_s + lv * dd_s) / hu).ravel(), ((du_t + lv * dd_t) / hu).ravel()   # psi_u there
+        c_s, c_t = ((dv_s + lu * dd_s) / hv).ravel(), ((dv_t + lu * dd_t) / hv).ravel()   # psi_v there
+        Rss, Rst = Rq.Suu[sl], Rq.Suv[sl]
+        guu = Dq.Suu[sl] - (Rss * (a_s * a_s)[:, None] + 2.0 * Rst * (a_s * a_t)[:, None])
+        gvv = Dq.Svv[sl] - (Rss * (c_s * c_s)[:, None] + 2.0 * Rst * (c_s * c_t)[:, None])
+        Fuu = np.maximum(Fuu, np.linalg.norm(guu, axis=1).reshape(nu - 1, nv - 1))
+        Fvv = np.maximum(Fvv, np.linalg.norm(gvv, axis=1).reshape(nu - 1, nv - 1))
+    a_u, b_u = np.maximum(np.abs(su_b), np.abs(su_t)), np.maximum(np.abs(tu_b), np.abs(tu_t))
+    a_v, b_v = np.maximum(np.abs(sv_l), np.abs(sv_r)), np.maximum(np.abs(tv_l), np.abs(tv_r))
+    # S's third derivatives over the cell's spans
+    Sb, Rb = tw
+    b3 = Sb.third_derivative_bounds()
+    M3 = {k: _range_max(_range_max(b3[k], span_u, 0), span_v, 1) for k in ("Suuu", "Suuv", "Suvv", "Svvv")}
+    # R's second and third derivatives over the cell's s-range
+    rb, rb3 = Rb.derivative_bounds(), Rb.third_derivative_bounds()
+    Mss = _spanmax(Rb, rb["Suu"][:, 0], slo, shi)
+    Mst = _spanmax(Rb, rb["Suv"][:, 0], slo, shi)
+    Msss = _spanmax(Rb, rb3["Suuu"][:, 0], slo, shi)
+    Msst = _spanmax(Rb, rb3["Suuv"][:, 0], slo, shi)
+    r_uuu = Msss * a_u ** 3 + 3 * Msst * a_u ** 2 * b_u
+    r_vvv = Msss * a_v ** 3 + 3 * Msst * a_v ** 2 * b_v
+    r_uuv = ((Msss * a_v + Msst * b_v) * a_u ** 2 + 2 * Mss * a_u * s_uv + 2 * Msst * a_v * a_u * b_u
+             + 2 * Mst * (s_uv * b_u + a_u * t_uv))
+    r_vvu = ((Msss * a_u + Msst * b_u) * a_v ** 2 + 2 * Mss * a_v * s_uv + 2 * Msst * a_u * a_v * b_v
+             + 2 * Mst * (s_uv * b_v + a_v * t_uv))
+    half = 0.5 + NUDGE      # the nudged corners are a little farther from the cell's points
+    Guu = Fuu + half * hu * (M3["Suuu"] + r_uuu) + half * hv * (M3["Suuv"] + r_uuv)
+    Gvv = Fvv + half * hv * (M3["Svvv"] + r_vvv) + half * hu * (M3["Suvv"] + r_vvu)
+    bad = np.zeros(Guu.shape, bool)
+    # S less than C2 inside a cell (creases, multiplicity >= p, are grid lines already)
+    u0, u1, v0, v1 = S.domain
+    ku, _ = _soft_knots(S.knots_u, S.degree_u, u0, u1)
+    kv, _ = _soft_knots(S.knots_v, S.degree_v, v0, v1)
+    bad |= _contains(ku, us[:-1], us[1:])[:, None] | _contains(kv, vs[:-1], vs[1:])[None, :]
+    # R's knots where R_ss jumps, inside a cell's s-range
+    kr, mr = _soft_knots(bd.A.knots, bd.A.degree, 0.0, 1.0)
+    if closed:     # the seam of a periodic result is a knot too
+        kr, mr = np.concatenate([[0.0], kr]), np.concatenate([[bd.A.degree], mr])
+    for sk, m in zip(kr, mr):
+        _, J2, kink = _joint_jumps(R, sk)
+        hit = _crossing(slo, shi, sk, closed, strict=True)   # touching cells evaluated on their side
+        if m >= bd.A.degree and kink:
+            bad |= hit      # a kink of R: the first-order remainder's kink term handles it
+            continue
+        Guu = Guu + np.where(hit, 2.0 * J2 * a_u ** 2, 0.0)
+        Gvv = Gvv + np.where(hit, 2.0 * J2 * a_v ** 2, 0.0)
+    return np.where(bad, np.inf, hu ** 2 * Guu / 8.0), np.where(bad, np.inf, hv ** 2 * Gvv / 8.0)
+
+
+def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, target_u: int = 240,
+                    target_v: int = 80, cutoff: float = np.inf) -> Certificate:
+    """The smaller of the two certified bounds (both valid): from R's side (certify_reverse) and,
+    unless that one is already within 2 % of its own node maximum or its node maximum (a sampled
+    distance of the fit) is already at least ``cutoff`` (another candidate's bound: this one cannot
+    win), from S's side (certify)."""
+    rnd = ROUND_ULPS * np.finfo(float).eps * max(float(np.abs(S.poles).max()), float(np.abs(R.poles).max()))
+    rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
+    if not (rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff):
+        fwd = certify(S, pairing, bd, R, target_u, target_v, rival=min(rev.bound, cutoff))
+        rev = fwd if fwd.bound < rev.bound else rev
+    return replace(rev, bound=rev.bound + rnd, rounding=rnd)

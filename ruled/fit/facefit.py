@@ -1,0 +1,264 @@
+"""Fitting the face the user selected: its region mapped onto the unit square, then fitted.
+
+A face that is its surface's whole (u, v) rectangle is fitted as it is (the exact path). Any other face is
+first turned into the four-sided patch S o Omega of its Coons map (ruled.core.region, ruled.fit.coons),
+sampled into a bicubic B-spline within ``PATCH_TOL`` of the face's size (ruled.split.strips.side_surface);
+the patch is fitted, and the deviation of the sampled patch from S o Omega is added to the certified bound,
+which is then for the bounded face. The rails are two opposite sides of the face: the fit's direction 'v'
+joins sides 0 and 2, 'u' sides 1 and 3.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Optional
+
+import numpy as np
+
+from ruled.core.blas import one_thread
+from ruled.core.errors import BadInputError, DegenerateFaceError, RuledError
+from ruled.fit.fit2d import GRID_COARSE, GRID_FINE, Direction, FitOptions, FitResult, Progress, iso_fit, recertify
+from ruled.fit.surface import fit_surface
+from ruled.core.nurbs import Surface
+from ruled.fit.coons import coons_map
+from ruled.core.region import Region, Sides, four_sides, side_candidates
+from ruled.split.strips import side_surface
+
+PATCH_TOL = 1e-6         # the sampled patch's target deviation from S o Omega, a fraction of the face's size
+PATCH_ACCEPT = 1e-4      # kept when the surface's creases (C0 knot lines) keep the patch from the target
+PATCH_MAX_SPANS = 192
+EDGE_MARGIN = 1.05       # sampled distances between a face's 3D edges and its surface, raised by 5 %
+
+
+@dataclass(frozen=True)
+class FacePatch:
+    """The face as a four-sided patch: ``surface`` (the input surface itself when ``identity``),
+    its deviation from the bounded face, the region and its sides."""
+
+    region: Region
+    surface: Surface
+    deviation: float
+    identity: bool
+    sides: Optional[Sides] = None
+    direction: Optional[str] = None    # forced by the given rails
+    spans: tuple = (0, 0)
+    face_size: float = 0.0
+    warnings: tuple = ()
+    edge_gap: float = 0.0              # part of deviation: the face's edges lie off its surface by up to this
+
+    def rails(self, direction: str) -> tuple:
+        """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
+        if self.sides is not None:
+            return self.sides.rails(direction)
+        # the rectangle: the loop edges on its v-min / v-max (direction v) or u-min / u-max sides
+        sides = self.region.rect_sides() or []
+        return tuple(tuple(k for k, (n, _) in enumerate(sides) if n == f"{direction}{i}") for i in (0, 1))
+
+    @property
+    def how(self) -> str:
+        return "the face is its surface's whole (u, v) rectangle" if self.identity else self.sides.how
+
+
+def region_size(region: Region) -> float:
+    """The diagonal of the bounding box of the face's boundary (dense samples of its image)."""
+    S = region.surface
+    pts = []
+    for k, c in enumerate(region.loop):
+        uv = region.uv(k, np.linspace(*c.domain, 33))
+        pts.append(S(uv[:, 0], uv[:, 1]))
+    P = np.concatenate(pts)
+    return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+
+
+def _rect_direction(region: Region, rails) -> str:
+    """The fit direction of a rectangle whose rails are the given loop edges."""
+    a, b = (int(x) for x in rails)
+    for k in (a, b):
+        if not 0 <= k < region.size:
+            raise BadInputError(f"--rails: the face has no edge {k}; its outer wire has edges 0..{region.size - 1} "
+                                f"(see 'ruled faces INPUT --edges')")
+    sides = region.rect_sides()
+    na, nb = sides[a][0], sides[b][0]
+    if na[0] != nb[0] or na == nb:
+        raise BadInputError(f"--rails {a},{b}: edges {a} and {b} are not opposite sides of the face; name two "
+                            f"opposite edges (see 'ruled faces INPUT --edges')")
+    return na[0]
+
+
+def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:
+    """The face as a four-sided patch (see the module doc); rails: two loop edges to fix the rails."""
+    warnings = []
+    if region.holes:
+        n = len(region.holes)
+        warnings.append(f"the face has {n} hole{'s' if n > 1 else ''}: the ruled surface spans "
+                        f"{'them' if n > 1 else 'it'} (it is fitted over the outer boundary)")
+    size = region_size(region)
+    if region.is_rectangle():
+        direction = None if rails is None else _rect_direction(region, rails)
+        return FacePatch(region, region.surface, region.rect_slack(), True, None, direction, face_size=size,
+                         warnings=tuple(warnings))
+    sides, m = _choose_sides(region, rails, size)
+    tol = PATCH_TOL * max(size, 1e-300)
+    side = side_surface(region.surface, m, tol, PATCH_MAX_SPANS, PATCH_ACCEPT * size)
+    x = np.linspace(0.0, 1.0, 41)
+    ss, tt = np.meshgrid(x, x, indexing="ij")
+    off = m.offset(ss.ravel(), tt.ravel())
+    # the blended offsets (the patch follows the 3D edges) and the edges' own distance to the surface,
+    # both sampled: EDGE_MARGIN for what the samples miss
+    gap = EDGE_MARGIN * ((0.0 if off is None else float(np.linalg.norm(off, axis=1).max())) + region.max_gap())
+    return FacePatch(region, side.surface, float(side.deviation) + gap, False, sides,
+                     None if rails is None else "v", side.spans, size, tuple(warnings), gap)
+
+
+def _choose_sides(region: Region, rails, size: float):
+    """The sides (and their Coons map): the rails' when given; else, among the candidate groupings
+    (ruled.core.region.side_candidates) whose map does not fold, the one whose quick fit (16 samples, no
+    refinement, the largest ruling distance) is best."""
+    if rails is not None:
+        sides = four_sides(region, rails)
+        return sides, coons_map(region, sides)
+    cands = side_candidates(region)
+    maps, errors = [], []
+    for sd in cands:
+        try:
+            maps.append((sd, coons_map(region, sd)))
+        except DegenerateFaceError as exc:
+            errors.append(exc)
+    if not maps:
+        raise errors[0]
+    if len(maps) == 1:
+        return maps[0]
+    best, score = None, np.inf
+    quick = FitOptions(samples=16, refine=False, objective="max")
+    for sd, m in maps:
+        try:
+            side = side_surface(region.surface, m, 1e-4 * size, 32, 1e-2 * size)
+            q = fit_surface(side.surface, quick).best.certificate.node_max + side.deviation
+        except RuledError:
+            continue
+        if q < score:
+            best, score = (sd, m), q
+    if best is None:
+        raise DegenerateFaceError("no grouping of the face's edges into four sides can be fitted; pick two "
+                                  "opposite edges as rails (--rails A,B, see 'ruled faces INPUT --edges')")
+    return best
+
+
+def with_deviation(res: FitResult, dev: float) -> FitResult:
+    """The fit with every candidate's certified bound raised by the patch's deviation."""
+    if dev == 0.0:
+        return res
+
+    def up(c):
+        if isinstance(c, str) or c is None:
+            return c
+        return replace(c, certificate=replace(c.certificate, bound=c.certificate.bound + dev,
+                                              map_deviation=c.certificate.map_deviation + dev))
+    return replace(res, best=up(res.best), candidates={d: up(c) for d, c in res.candidates.items()},
+                   other=up(res.other))
+
+
+@one_thread
+def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Progress = None,
+               rails: Optional[tuple] = None, patch: Optional[FacePatch] = None) -> FitResult:
+    """The globally optimal ruled fit of the face as bounded by its edges (fit_surface on its patch);
+    the result's ``patch`` tells the rails, and its bound includes the patch's deviation."""
+    if progress is not None:
+        progress("the face's own parametrization", 0.0)
+    patch = face_patch(region, rails) if patch is None else patch
+    if progress is not None:
+        progress("the face's own parametrization", 1.0)
+    opts = options.checked()
+    if patch.direction is not None:
+        opts = replace(opts, direction=Direction(patch.direction))
+    res = fit_surface(patch.surface, opts, progress)
+    if not patch.identity:          # an untrimmed face keeps today's exact path
+        res = _area_checked(with_iso(res, progress), patch)
+    res = with_deviation(res, patch.deviation)
+    far = far_from_ruled(res.error_bound, patch.face_size or region_size(region))
+    return replace(res, patch=patch if far is None else replace(patch, warnings=patch.warnings + (far,)))
+
+
+FAR = 0.1    # a best ruled surface farther than this fraction of the face's size is no use to a line cut
+
+
+def far_from_ruled(bound: float, size: float) -> Optional[str]:
+    """The warning for a face no ruled surface comes near, said as soon as the fit is known."""
+    if not (size > 0 and bound >= FAR * size):
+        return None
+    return (f"no ruled surface comes near this face: the best is within {bound:.4g} of it, {100 * bound / size:.0f} % "
+            f"of its size ({size:.4g}); a line cannot cut it as one face: split it into strips (ruled fit --tol T) "
+            f"or machine it another way")
+
+
+def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:
+    """Drop candidates whose surface's area is far from the face's (rails that nearly meet, a
+    collapsed map): a result that does not cover the face is refused, never returned."""
+    from ruled.fit.fit2d import surface_area
+    a = surface_area(patch.surface)
+    cands, reasons = {}, []
+    for d, c in res.candidates.items():
+        if isinstance(c, str):
+            cands[d] = c
+            continue
+        r = surface_area(c.surface) / a if a > 0 else 1.0
+        if 0.5 <= r <= 2.0:
+            cands[d] = c
+        else:
+            ra, rb = patch.rails(d)
+            why = (f"the fit between edges {','.join(map(str, ra)) or 'a point'} and "
+                   f"{','.join(map(str, rb)) or 'a point'} covers {100 * r:.3g}% of the face's area")
+            cands[d] = why
+            reasons.append(why)
+    ok = [c for c in cands.values() if not isinstance(c, str)]
+    if not ok:
+        raise DegenerateFaceError("; ".join(reasons) + "; the face's edges do not bound a four-sided region "
+                                  "a ruled surface can span (check the face in a CAD viewer, or name other rails "
+                                  "with --rails A,B)")
+    best = min(ok, key=lambda c: c.error_bound)
+    return res if best is res.best else replace(res, best=best, candidates=cands)
+
+
+ISO_MARGIN = 1e-3
+
+
+def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
+    """The fit, where in either direction the iso-parametric ruled surface between the same rails has
+    the lower certified bound, with that surface instead (the DP's objective is a sum over its rulings,
+    so the straight pairing can win on the largest distance): never worse than a CAD system's ruled
+    surface between two opposite edges."""
+    cands = dict(res.candidates)
+    notes = list(res.notes)
+    for d, c in res.candidates.items():
+        if isinstance(c, str) or (c.method == "2d" and np.all(c.pairs[:, 0] == c.pairs[:, 1])):
+            continue
+        if progress is not None:
+            progress(f"iso-parametric check ({d})", 0.0)
+        # a coarse certificate first (an upper bound too), one-sided where it cannot beat the best bound
+        # yet (c is among them) ...
+        rival = min(o.error_bound for o in cands.values() if not isinstance(o, str))
+        iso = iso_fit(c, GRID_COARSE, rival)
+        # ... the fine one only where it may win by more than 0.1 %, and samples closer than the DP's fit
+        # (a tie within that is not worth a fine certificate: either surface is as good)
+        if iso is not None and iso.certificate.node_max < (1.0 - ISO_MARGIN) * min(rival, c.certificate.node_max):
+            iso = recertify(iso, GRID_FINE, rival)
+        if progress is not None:
+            progress(f"iso-parametric check ({d})", 1.0)
+        if iso is not None and iso.error_bound < c.error_bound:
+            cands[d] = iso
+            if c is res.best:
+                notes.append(f"the iso-parametric ruled surface between the rails has the lower bound "
+                             f"({iso.error_bound:.4g} against {c.error_bound:.4g} for the DP's pairing) and is "
+                             f"the result")
+    ok = [c for c in cands.values() if not isinstance(c, str)]
+    best = min(ok, key=lambda c: c.error_bound)
+    if best is res.best:
+        return res
+    if best.direction != res.best.direction and best.method == "iso":
+        notes.append(f"the iso-parametric ruled surface along {best.direction} has the lowest bound "
+                     f"({best.error_bound:.4g}) and is the result")
+    return replace(res, best=best, candidates=cands, notes=tuple(notes),
+                   other=res.best if res.other is None else res.other)
+
+
+__all__ = ["FacePatch", "face_patch", "fit_region", "region_size", "with_deviation", "PATCH_TOL"]

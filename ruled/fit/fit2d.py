@@ -1,0 +1,369 @@
+"""Orchestration of a 2D ruled fit: direction choice, cost table, DP, refinement, rebuild, bound."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from typing import Optional
+
+import numpy as np
+
+from ruled.fit import dp
+from ruled.core.blas import one_thread
+from ruled.fit.certify import certified_bound
+from ruled.fit.cells import Certificate
+from ruled.core.distance import ruling_distances
+from ruled.core.errors import DegenerateFaceError, TooBigError
+from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
+from ruled.core.nurbs import Surface
+from ruled.core.progress import Progress
+from ruled.fit.reparam import Boundaries, exact_boundaries, fit_boundaries, ruled_surface
+from ruled.fit.pairing import MAX_DELTA_COEFS, Pairing, delta_coefs, fit_delta, refine_pairing
+
+# certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
+GRID_FINE = (240, 80)
+GRID_COARSE = (80, 24)
+# rulings at most this fraction of the size from the face count as exact (the pairing then follows them)
+EXACT_RULINGS = 1e-4
+
+
+
+@dataclass(frozen=True)
+class DirectionFit:
+    """The fit along one direction, in the coordinates of the oriented surface."""
+
+    direction: str
+    closed: bool
+    surface: Surface              # the ruled result R(s, t)
+    pairs: np.ndarray             # (K, 2) DP path, sample indices (unwrapped when closed)
+    rulings: np.ndarray           # (K, 2, 3) end points of the DP rulings
+    pair_params: np.ndarray       # (K, 2) boundary parameters of the DP rulings
+    ruling_costs: np.ndarray      # (K,) line–surface distance of each DP ruling
+    dp_score: float
+    refined: tuple                # (sigma, delta, cost) of the continuous refinement
+    pairing: Pairing
+    boundary_fit_error: float
+    certificate: Certificate
+    timings: dict
+    boundaries: Boundaries = None
+    oriented: Surface = None      # the input surface oriented so that rulings run along v
+    method: str = "2d"
+    elevations: Optional[np.ndarray] = None   # (K, 2) 4D: elevation of each DP ruling's ends (model units)
+    lift: Optional[dict] = None               # 4D: levels, step, metric, ns
+    measured: Optional[float] = None          # sampled two-sided distance to the input (engine's own measure)
+
+    @property
+    def error_bound(self) -> float:
+        return self.certificate.bound
+
+
+@dataclass(frozen=True)
+class FitResult:
+    best: DirectionFit
+    candidates: dict              # direction -> DirectionFit (or error message)
+    options: FitOptions
+    timings: dict = field(default_factory=dict)
+    notes: tuple = ()             # what the fit decided on its own (e.g. 4D fell back to 2D)
+    other: Optional[DirectionFit] = None   # 4D: the fit it was compared with (2D, or the 4D attempt if 2D won)
+    patch: Optional[object] = None         # the face's patch (ruled.fit.facefit.FacePatch) when fitted as a face
+
+    @property
+    def surface(self) -> Surface:
+        return self.best.surface
+
+    @property
+    def error_bound(self) -> float:
+        return self.best.error_bound
+
+    @property
+    def direction(self) -> str:
+        return self.best.direction
+
+
+def surface_area(S: Surface, n: int = 48) -> float:
+    u0, u1, v0, v1 = S.domain
+    g, w = np.polynomial.legendre.leggauss(n)
+    u = 0.5 * (u1 - u0) * (g + 1) + u0
+    v = 0.5 * (v1 - v0) * (g + 1) + v0
+    UU, VV = np.meshgrid(u, v, indexing="ij")
+    D = S.evaluate(UU.ravel(), VV.ravel(), 1)
+    J = np.linalg.norm(np.cross(D.Su, D.Sv), axis=1).reshape(n, n)
+    return float(0.25 * (u1 - u0) * (v1 - v0) * (w[:, None] * w[None, :] * J).sum())
+
+
+def _polyline_length(P: np.ndarray) -> float:
+    return float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
+
+
+def check_direction(S: Surface) -> tuple[bool, Optional[str]]:
+    """For the surface oriented along v: (closed boundaries?, reason it cannot be fitted or None)."""
+    u0, u1, v0, v1 = S.domain
+    diag = S.diagonal()
+    tol = 1e-7 * max(diag, 1e-300)
+    us = np.linspace(u0, u1, 65)
+    vs = np.linspace(v0, v1, 17)
+    C0 = S(us, np.full(us.size, v0))
+    C1 = S(us, np.full(us.size, v1))
+    for name, C in (("v-min", C0), ("v-max", C1)):
+        if _polyline_length(C) <= 1e-9 * max(diag, 1e-300):
+            return False, f"the {name} boundary collapses to a point"
+    if np.max(np.linalg.norm(C0 - C1, axis=1)) <= tol:
+        return False, "the v-min and v-max boundaries coincide (the face is closed across the rulings)"
+    closed = bool(np.max(np.linalg.norm(S(np.full(vs.size, u0), vs) - S(np.full(vs.size, u1), vs), axis=1)) <= tol)
+    return closed, None
+
+
+def available_memory() -> int:
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 8 << 30
+
+
+def memory_budget(cap: Optional[float] = None) -> int:
+    """Bytes a fit may use: the cap when given, else 80 % of the free memory."""
+    return int(cap) if cap is not None else int(available_memory() * 0.8)
+
+
+def check_memory(n: int, closed: bool, cap: Optional[float] = None) -> None:
+    extra = 200 * (1 << 20) if cap is None else 0  # the rest of the process, when the budget is the free memory
+    need = dp.table_bytes(n, closed) + extra
+    have = memory_budget(cap)
+    if need > have:
+        # largest n that fits
+        lo, hi = 3, n
+        while lo < hi:
+            mid = (lo + hi + 1) // 2
+            if dp.table_bytes(mid, closed) + extra <= have:
+                lo = mid
+            else:
+                hi = mid - 1
+        raise TooBigError(f"--samples {n} needs about {need / 2**30:.1f} GiB for the DP tables but only "
+                          f"{have / 2**30:.1f} GiB is allowed; use --samples {lo} or fewer")
+
+
+def _stage(progress: Progress, name: str, frac: float) -> None:
+    if progress is not None:
+        progress(name, frac)
+
+
+def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None,
+                  grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
+    """Fit along one direction ('v': boundaries v-min/v-max; 'u': the surface is transposed first)."""
+    So = S if direction == "v" else S.transposed()
+    closed, why = check_direction(So)
+    if why is not None:
+        raise DegenerateFaceError(f"cannot fit rulings along {direction}: {why}; "
+                                  f"use --direction {'u' if direction == 'v' else 'v'} or repair the face")
+    n = opts.samples
+    check_memory(n, closed, opts.memory_cap)
+    T = {}
+    u0, u1, v0, v1 = So.domain
+    L = u1 - u0
+    diag = So.diagonal()
+    x = np.arange(n) / (n if closed else n - 1)
+    up = u0 + L * x
+    # cost table
+    t0 = time.perf_counter()
+    cost = np.empty((n, n))
+    rows = max(1, 200000 // (opts.points_per_ruling * n))
+    for i0 in range(0, n, rows):
+        i1 = min(n, i0 + rows)
+        uP = np.repeat(up[i0:i1], n)
+        uQ = np.tile(up, i1 - i0)
+        cost[i0:i1] = ruling_distances(So, uP, uQ, opts.points_per_ruling, 3, closed)[1].reshape(i1 - i0, n)
+        _stage(progress, f"cost table ({direction})", i1 / n)
+    # distances at round-off level are all "exact": equal, so that ties keep the straight pairing
+    cost[cost <= 1e-10 * diag] = 0.0
+    T["cost_table"] = time.perf_counter() - t0
+    # dynamic programming
+    t0 = time.perf_counter()
+    res = dp.solve(cost, closed, opts.objective.value, opts.max_error,
+                   (lambda d, m: _stage(progress, f"dynamic programming ({direction})", d / m)))
+    T["dp"] = time.perf_counter() - t0
+    path = res.path.copy()
+    if closed:
+        # unwrap so that the rulings take the shorter way around: |a - b| <= 1/2 on average
+        path[:, 0] -= n * int(np.round(np.mean(path[:, 0] - path[:, 1]) / n))
+    h = 1.0 / (n if closed else n - 1)
+    ab = path.astype(float) * h
+    # continuous refinement
+    t0 = time.perf_counter()
+    G = max(2 * n, 64)
+    if opts.refine:
+        sig, dlt, rc = refine_pairing(So, u0, L, closed, ab, h, G,
+                                      progress=lambda r, m: _stage(progress, f"refinement ({direction})", r / m))
+    else:
+        sp = 0.5 * (ab[:, 0] + ab[:, 1])
+        sig = sp[0] + np.arange(G) / G if closed else np.linspace(0, 1, G)
+        dlt = np.interp(sig, sp, 0.5 * (ab[:, 1] - ab[:, 0]))
+        rc = ruling_distances(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)[1]
+    pairing = fit_delta(sig, dlt, closed, delta_coefs(n))
+    if opts.refine:
+        pairing, sig, dlt, rc = _follow_exact(So, closed, ab, h, (sig, dlt, rc), pairing)
+    T["refine"] = time.perf_counter() - t0
+    # rebuild
+    t0 = time.perf_counter()
+    C0 = So.iso_curve("u", v0)
+    C1 = So.iso_curve("u", v1)
+    tol = max(2e-7 * diag, 0.02 * float(np.max(rc)))
+    bd = exact_boundaries(C0, C1, u0, L, pairing) or fit_boundaries(C0, C1, u0, L, pairing, tol)
+    R = ruled_surface(bd)
+    T["rebuild"] = time.perf_counter() - t0
+    _stage(progress, f"certify ({direction})", 0.0)
+    t0 = time.perf_counter()
+    cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
+    bd, R, cert = _coarser(So, pairing, (C0, C1, u0, L), bd, R, cert, tol, grid)
+    T["certify"] = time.perf_counter() - t0
+    _stage(progress, f"certify ({direction})", 1.0)
+    pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
+    ppw = u0 + np.mod(pp - u0, L) if closed else pp
+    ends = So(np.concatenate([ppw[:, 0], ppw[:, 1]]),
+              np.concatenate([np.full(len(pp), v0), np.full(len(pp), v1)]))
+    rulings = np.stack([ends[: len(pp)], ends[len(pp):]], axis=1)
+    pc = cost[path[:, 0] % n, path[:, 1] % n]
+    return DirectionFit(direction, closed, R, path, rulings, pp, pc, res.score, (sig, dlt, rc), pairing,
+                        bd.fit_error, cert, T, bd, So)
+
+
+COARSE = 0.01     # rails within this fraction of a result's bound are fine enough
+COMPACT_POLES = 40   # results with more poles than this are rebuilt coarser when far from the face
+
+
+def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: float, grid: tuple):
+    """A result far from the face (its bound far above the rails' fitting tolerance, which follows the
+    rulings' own distances) needs no rails finer than a fraction of its bound: refitted to that, kept
+    when its certified bound is no more than 2 % higher and it has fewer poles (a hopeless face fitted
+    into hundreds of poles is not a result anyone can use)."""
+    coarse = COARSE * cert.bound
+    n = bd.A.poles.shape[0]
+    if not (np.isfinite(coarse) and coarse > 10.0 * tol and n > COMPACT_POLES):
+        return bd, R, cert
+    bd2 = fit_boundaries(*curves, pairing, coarse)
+    if bd2.A.poles.shape[0] >= n:
+        return bd, R, cert
+    R2 = ruled_surface(bd2)
+    cert2 = certified_bound(So, pairing, bd2, R2, *grid, 1.02 * cert.bound)
+    return (bd2, R2, cert2) if cert2.bound <= 1.02 * cert.bound else (bd, R, cert)
+
+
+def _follow_exact(So: Surface, closed: bool, ab: np.ndarray, h: float, refined: tuple, pairing,
+                  rounds: int = 6):
+    """Where the refined rulings are (nearly) exact, a smooth pairing that follows them: while the
+    cubic delta(sigma) misses them (its rulings' distances, checked between the refined samples too,
+    above twice the refined ones), the knot spans where it misses are halved, each new span pinned
+    by refined samples of its own.  Elsewhere the pairing as it is.  Returns (pairing, sigma, delta,
+    cost)."""
+    sig, dlt, rc = refined
+    u0, u1, v0, v1 = So.domain
+    L = u1 - u0
+    diag = So.diagonal()
+    if float(np.max(rc)) > EXACT_RULINGS * diag:
+        return pairing, sig, dlt, rc
+    s0 = float(sig[0])
+    for _ in range(rounds):
+        br = np.unique(pairing.delta.knots)         # absolute sigma, from s0 to s0 + 1
+        chk = np.unique(np.concatenate([np.linspace(br[i], br[i + 1], 9) for i in range(br.size - 1)]))
+        a, b = pairing.ab(chk - s0)
+        miss = ruling_distances(So, u0 + L * a, u0 + L * b, 15, 4, closed)[1]
+        bad = miss > 2.0 * float(np.max(rc)) + 1e-7 * diag
+        if not bad.any() or br.size - 1 >= 4 * MAX_DELTA_COEFS:
+            break
+        span = np.unique(np.clip(np.searchsorted(br, chk[bad], side="right") - 1, 0, br.size - 2))
+        mids = 0.5 * (br[span] + br[span + 1])
+        new = np.concatenate([np.linspace(br[i], br[i + 1], 6)[1:-1] for i in span])
+        s2, d2, c2 = refine_pairing(So, u0, L, closed, ab, h, 0, at=new)
+        order = np.argsort(np.concatenate([sig, s2]), kind="stable")
+        sig, dlt, rc = (np.concatenate([sig, s2])[order], np.concatenate([dlt, d2])[order],
+                        np.concatenate([rc, c2])[order])
+        interior = np.concatenate([br[1:-1], mids])
+        pairing = fit_delta(sig, dlt, closed, 0, interior=interior)
+    return pairing, sig, dlt, rc
+
+
+def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> Optional[DirectionFit]:
+    """The iso-parametric ruled surface between the same two boundaries (the pairing a = b, rulings
+    joining equal parameters: what a CAD system's 'ruled surface between two edges' builds), exact
+    and certified like a fit; None when it cannot be rebuilt exactly."""
+    So, closed = fit.oriented, fit.closed
+    u0, u1, v0, v1 = So.domain
+    L = u1 - u0
+    n = fit.pairs.shape[0]
+    t0 = time.perf_counter()
+    sig = np.linspace(0.0, 1.0, 64, endpoint=not closed)
+    pairing = fit_delta(sig, np.zeros_like(sig), closed, 8)
+    bd = exact_boundaries(So.iso_curve("u", v0), So.iso_curve("u", v1), u0, L, pairing)
+    if bd is None:
+        return None
+    R = ruled_surface(bd)
+    cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
+    x = np.linspace(0.0, 1.0, n, endpoint=not closed)
+    rc = ruling_distances(So, u0 + L * sig, u0 + L * sig, 15, 4, closed)[1]
+    pc = ruling_distances(So, u0 + L * x, u0 + L * x, FitOptions.points_per_ruling, 3, closed)[1]
+    pp = np.stack([u0 + L * x, u0 + L * x], axis=1)
+    ends = So(np.concatenate([pp[:, 0], pp[:, 1]]), np.concatenate([np.full(n, v0), np.full(n, v1)]))
+    timings = {"iso": time.perf_counter() - t0}
+    return replace(fit, surface=R, pairs=np.stack([np.arange(n), np.arange(n)], axis=1),
+                   rulings=np.stack([ends[:n], ends[n:]], axis=1), pair_params=pp, ruling_costs=pc,
+                   dp_score=float(pc.sum()), refined=(sig, np.zeros_like(sig), rc), pairing=pairing,
+                   boundary_fit_error=bd.fit_error, certificate=cert, timings=timings, boundaries=bd,
+                   elevations=None, lift=None, measured=None, method="iso")
+
+
+def recertify(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
+    """The same fit with its bound computed on another grid (see certified_bound for cutoff)."""
+    t0 = time.perf_counter()
+    cert = certified_bound(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid, cutoff)
+    timings = dict(fit.timings)
+    timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
+    return replace(fit, certificate=cert, timings=timings)
+
+
+@one_thread
+def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None,
+                   cutoff: float = np.inf) -> FitResult:
+    """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified.
+    cutoff: a bound some other candidate already has; a fit sampled at or above it is certified from one
+    side only (its bound stays valid, only less tight: it cannot win).  ruled.fit.surface.fit_surface
+    chooses between this and the 4D fit."""
+    opts = options.checked()
+    t0 = time.perf_counter()
+    diag = S.diagonal()
+    if surface_area(S) <= 1e-12 * max(diag, 1e-300) ** 2 or diag == 0:
+        raise DegenerateFaceError("the face has zero area; pick a proper face (see 'ruled faces')")
+    dirs = ["v", "u"] if opts.direction == Direction.AUTO else [opts.direction.value]
+    cands: dict = {}
+    errors = []
+    grid = GRID_FINE if len(dirs) == 1 else GRID_COARSE
+    for d in dirs:
+        try:
+            # with two directions, R's side of the certificate only at first (cutoff 0) ...
+            cands[d] = fit_direction(S, d, opts, progress, grid, cutoff if len(dirs) == 1 else 0.0)
+        except DegenerateFaceError as exc:
+            if len(dirs) == 1:
+                raise
+            cands[d] = str(exc)
+            errors.append(exc)
+    ok = {d: c for d, c in cands.items() if not isinstance(c, str)}
+    if not ok:
+        if len(errors) == 2 and all("closed across the rulings" in str(e) for e in errors):
+            raise DegenerateFaceError("the face is closed in both directions (like a torus): there are no two "
+                                      "boundaries to rule between; split the face first")
+        raise DegenerateFaceError("degenerate face: " + "; ".join(str(e) for e in errors))
+    if len(ok) > 1:     # ... then S's side too, where it can make the direction win
+        for d, c in list(ok.items()):
+            rival = min([o.error_bound for e, o in ok.items() if e != d] + [cutoff])
+            if c.certificate.bound >= rival > c.certificate.node_max:
+                ok[d] = cands[d] = recertify(c, grid, rival)
+    best = min(ok.values(), key=lambda c: c.error_bound)
+    if grid is not GRID_FINE:
+        _stage(progress, f"certify ({best.direction})", 0.0)
+        best = recertify(best, GRID_FINE, min([o.error_bound for o in ok.values() if o is not best] + [cutoff]))
+        cands[best.direction] = best
+        _stage(progress, f"certify ({best.direction})", 1.0)
+    return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
+

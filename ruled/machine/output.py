@@ -1,0 +1,153 @@
+"""Machine outputs written: LinuxCNC-style XYUV G-code, APT CL data, the CSV of either, the report's
+machine figures and the plot of the two contours with their synchronisation links (ruled.machine.paths
+makes the paths)."""
+
+from __future__ import annotations
+
+import csv
+import os
+from typing import Optional
+
+import numpy as np
+
+from ruled.core.errors import BadInputError
+from ruled.machine.paths import MachinePath, frame_of
+from ruled.core.outputs import atomic, write_text
+
+
+def _fmt(x: float, digits: int = 6) -> str:
+    s = f"{x:.{digits}f}"
+    return s[1:] if s.startswith("-") and not s.strip("-0.") else s
+
+
+UNITS = {"mm": 1.0, "inch": 1.0 / 25.4}     # output unit -> its coordinates per model unit (mm)
+
+
+def _scale(units: str) -> float:
+    if units not in UNITS:
+        raise BadInputError(f"unknown output units {units!r}: use mm or inch")
+    return UNITS[units]
+
+
+def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = "mm") -> None:
+    """LinuxCNC-style XYUV G-code: G21 (mm) or G20 (inch) G90, a rapid to the lead-in, then one G1 with
+    X Y U V and F per synchronized move (the lower guide in XY, the upper in UV); coordinates in the
+    output units (the model's are mm), the feed as given (output units per minute)."""
+    k = _scale(units)
+    if path.mode != "xyuv":
+        raise BadInputError("G-code is written for XYUV contours; flank paths are written as CL data (.apt/.csv)")
+    fr, (h0, h1) = path.frame, path.planes
+    lines = [f"(ruled XYUV contour{': ' + title if title else ''})",
+             f"(lower guide XY on the plane at height {_fmt(h0)}, upper guide UV at height {_fmt(h1)}, "
+             f"along the axis {_vec(fr.axis)})",
+             f"(X = p . {_vec(fr.e1)}, Y = p . {_vec(fr.e2)}; U, V the same on the upper plane)",
+             f"(synchronized points {path.stats['sync_points']}, chord tolerance {path.chord_tol:.6g}, "
+             f"kerf {path.radius:.6g}, {'closed' if path.closed else 'open'} contour, in the model's mm)",
+             ("G21" if units == "mm" else "G20") + " G90 G94"]
+    m = path.moves * k
+    lines.append("G0 " + _xyuv(m[0]))
+    for row in m[1:]:
+        lines.append("G1 " + _xyuv(row) + f" F{path.feed:g}")
+    lines.append("M2")
+    write_text(filename, "\n".join(lines) + "\n")
+
+
+def _vec(v) -> str:
+    return "(" + ", ".join(f"{x:.12g}" for x in v) + ")"
+
+
+def _xyuv(r) -> str:
+    return " ".join(f"{k}{_fmt(x)}" for k, x in zip("XYUV", r))
+
+
+def write_csv(path: MachinePath, filename: str, units: str = "mm") -> None:
+    """xyuv: one row per move (kind, X, Y, U, V, the two 3D points, u); flank: one row per CL point
+    (u, tip x y z, axis i j k); lengths in the output units."""
+    k = _scale(units)
+    with atomic(filename) as tmp, open(tmp, "w", newline="") as fh:
+        w = csv.writer(fh)
+        if path.mode == "xyuv":
+            w.writerow(["kind", "X", "Y", "U", "V", "lower_x", "lower_y", "lower_z", "upper_x", "upper_y",
+                        "upper_z", "u"])
+            (h0, h1), fr = path.planes, path.frame
+            i = 0
+            for kind, row in zip(path.kinds, path.moves):
+                lo, hi = fr.point(row[:2], h0) * k, fr.point(row[2:], h1) * k
+                uu = path.u[i] if kind == "cut" else ""
+                i += kind == "cut"
+                w.writerow([kind, *map(_fmt, row * k), *map(_fmt, lo), *map(_fmt, hi),
+                            uu if uu == "" else f"{uu:.12g}"])
+        else:
+            w.writerow(["u", "x", "y", "z", "i", "j", "k"])
+            for uu, p, a in zip(path.u, path.lower, path.axes):
+                w.writerow([f"{uu:.12g}", *map(_fmt, p * k), *(_fmt(x, 9) for x in a)])
+
+
+def write_apt(path: MachinePath, filename: str, title: str = "", units: str = "mm") -> None:
+    """APT-style CL data: the tip centre and the unit tool axis of every CL point (GOTO/x,y,z,i,j,k), in
+    the output units (UNITS/MM or UNITS/INCHES)."""
+    k = _scale(units)
+    if path.mode != "flank":
+        raise BadInputError("APT CL data is written for flank paths; XYUV contours are written as G-code")
+    r, ta = path.radius * k, path.taper_deg
+    L = float(np.linalg.norm(path.upper - path.lower, axis=1).max()) * k
+    lines = [f"PARTNO/RULED FLANK{' ' + title.upper() if title else ''}",
+             "UNITS/MM" if units == "mm" else "UNITS/INCHES", "MULTAX/ON",
+             f"CUTTER/{_fmt(2 * r)},0,{_fmt(r) if ta == 0 else '0'},0,{_fmt(ta)},0,{_fmt(L)}",
+             f"FEDRAT/{path.feed:g}"]
+    for p, a in zip(path.lower * k, path.axes):
+        lines.append("GOTO/" + ",".join(_fmt(x) for x in p) + "," + ",".join(_fmt(x, 9) for x in a))
+    lines.append("FINI")
+    write_text(filename, "\n".join(lines) + "\n")
+
+
+def write_machine(path: MachinePath, filename: str, title: str = "", csv_path: Optional[str] = None,
+                  units: str = "mm") -> str:
+    """The path's own file (G-code for XYUV, APT for flank) and its CSV (default: beside it, .csv), in
+    the output units (mm or inch); returns the CSV's name."""
+    (write_gcode if path.mode == "xyuv" else write_apt)(path, filename, title, units)
+    csv_path = csv_path or os.path.splitext(filename)[0] + ".csv"
+    write_csv(path, csv_path, units)
+    return csv_path
+
+
+def path_report(path: MachinePath) -> dict:
+    d = {"mode": path.mode, "chord_tol": path.chord_tol, "closed": path.closed, **path.stats,
+         "offset_deviation": path.offset_deviation, "feed": path.feed, "warnings": list(path.warnings)}
+    if path.mode == "xyuv":
+        d.update(kerf=path.radius, frame={"e1": path.frame.e1.tolist(), "e2": path.frame.e2.tolist(),
+                                          "axis": path.frame.axis.tolist()},
+                 leads=int(sum(k != "cut" for k in path.kinds)))
+    return d
+
+
+def plot_path(path: MachinePath, filename: str, title: str = "") -> None:
+    """The two contours (XY and UV, or tip and top of the tool) with their synchronisation links."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fr = path.frame or frame_of(np.mean(path.axes, axis=0))
+    a, b = fr.xy(path.lower), fr.xy(path.upper)
+    fig, ax = plt.subplots(figsize=(7, 6))
+    step = max(1, len(a) // 150)
+    for p, q in zip(a[::step], b[::step]):
+        ax.plot([p[0], q[0]], [p[1], q[1]], color="0.75", lw=0.5)
+    names = ("XY (lower guide)", "UV (upper guide)") if path.mode == "xyuv" else ("tool tip", "tool top")
+    ax.plot(a[:, 0], a[:, 1], "-", color="tab:blue", lw=1.2, label=names[0])
+    ax.plot(b[:, 0], b[:, 1], "-", color="tab:red", lw=1.2, label=names[1])
+    if path.moves is not None and path.kinds and path.kinds[0] == "lead-in":
+        m = path.moves
+        for ends in ([0, 1], [-2, -1]):
+            ax.plot(m[ends, 0], m[ends, 1], ":", color="tab:blue")
+            ax.plot(m[ends, 2], m[ends, 3], ":", color="tab:red")
+    ax.set_xlabel("X, U" if path.mode == "xyuv" else "e1")
+    ax.set_ylabel("Y, V" if path.mode == "xyuv" else "e2")
+    ax.set_aspect("equal", adjustable="datalim")      # the axes fill the figure, however narrow the part
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title(title or f"{path.mode}: {len(a)} synchronized points, chord tolerance {path.chord_tol:.3g} "
+                 f"(links every {step})", fontsize=9)
+    fig.tight_layout()
+    with atomic(filename) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)

@@ -1,0 +1,115 @@
+"""Synchronization of two contours: the parameters at which straight moves on both stay within the chord
+tolerance of the contours (the XYUV pairs and the flank path's stations)."""
+
+from __future__ import annotations
+
+import numpy as np
+from ruled.core.errors import BadInputError
+from ruled.core.nurbs import Surface
+from ruled.core.progress import Progress
+
+_SEG_SAMPLES = 15          # samples inside a move for the chord test
+
+
+def _seeds(S: Surface, X: np.ndarray, n: int = 64) -> np.ndarray:
+    """The (u, v) of the nearest point of an n x n grid of S to each point of X."""
+    from scipy.spatial import cKDTree
+    a0, a1, b0, b1 = S.domain
+    uu, vv = np.meshgrid(np.linspace(a0, a1, n), np.linspace(b0, b1, n), indexing="ij")
+    uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
+    _, k = cKDTree(S(uv[:, 0], uv[:, 1])).query(X)
+    return uv[k]
+
+
+def _samples(f, a: np.ndarray, b: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """k parameters evenly inside each move [a, b] ((n, k)) and the curves there ((n, k, m, 3))."""
+    s = np.arange(1, k + 1) / (k + 1)
+    uu = a[:, None] + (b - a)[:, None] * s
+    return uu, f(uu.ravel()).reshape(a.size, k, -1, 3)
+
+
+def _off_chord(X: np.ndarray, uu: np.ndarray, a, b, fa: np.ndarray, fb: np.ndarray) -> np.ndarray:
+    """Distances between the curve samples X ((n, k, m, 3) at the parameters uu (n, k)) and the straight
+    moves from fa to fb ((n, m, 3)) over [a, b], at the same parameter; the largest per move (n,)."""
+    s = ((uu - a[:, None]) / (b - a)[:, None])[..., None, None]
+    return np.linalg.norm(X - (fa[:, None] + s * (fb - fa)[:, None]), axis=-1).max(axis=(1, 2))
+
+
+def sync_params(f, u0: float, u1: float, tol: float, seeds: np.ndarray = (), max_points: int = 200000,
+                progress: Progress = None, safety: float = 0.95) -> np.ndarray:
+    """The parameters of the synchronized points: the moves between consecutive values of f ((n, m, 3),
+    m curves moving together) stay within safety * tol of every curve at the same u.  Bisection from
+    the seeds until every move is within tol / 16 at 15 samples inside it (densify: only the halves of
+    the moves that failed are sampled again; the deviation goes with the square of the move, so the
+    dense moves are about a quarter of the longest that pass), then a greedy pass over the dense points
+    that keeps the longest moves within tol at every sample taken while densifying (thin: no new
+    evaluations)."""
+    user_tol, tol = tol, safety * tol
+    dense_tol = tol / 16.0
+    u = np.unique(np.concatenate([[u0, u1], np.clip(np.asarray(seeds, float), u0, u1)]))
+    vals = f(u)
+    k = _SEG_SAMPLES
+    su, sx = _samples(f, u[:-1], u[1:], k)
+    dev = _off_chord(sx, su, u[:-1], u[1:], vals[:-1], vals[1:])
+    for it in range(64):
+        if progress:
+            progress("synchronized points", min(0.8, 0.05 * it))
+        bad = np.nonzero(dev > dense_tol)[0]
+        if bad.size == 0:
+            break
+        if u.size + bad.size > 4 * max_points:
+            raise BadInputError(f"the chord tolerance {user_tol:.3g} needs more than {max_points} synchronized "
+                                f"points; raise --chord-tol")
+        a, b = u[bad], u[bad + 1]
+        mid = 0.5 * (a + b)
+        fm = f(mid)
+        na, nb = np.concatenate([a, mid]), np.concatenate([mid, b])
+        fa, fb = np.concatenate([vals[bad], fm]), np.concatenate([fm, vals[bad + 1]])
+        nsu, nsx = _samples(f, na, nb, k)
+        ndev = _off_chord(nsx, nsu, na, nb, fa, fb)
+        keep = np.ones(u.size - 1, bool)
+        keep[bad] = False
+        starts = np.concatenate([u[:-1][keep], na])
+        order = np.argsort(starts, kind="stable")
+        su = np.concatenate([su[keep], nsu])[order]
+        sx = np.concatenate([sx[keep], nsx])[order]
+        dev = np.concatenate([dev[keep], ndev])[order]
+        pts = np.concatenate([u, mid])
+        po = np.argsort(pts, kind="stable")
+        u, vals = pts[po], np.concatenate([vals, fm])[po]
+    else:
+        raise BadInputError(f"the contours cannot be followed within --chord-tol {user_tol:.3g} (a kink or a "
+                            f"jump); raise --chord-tol")
+    # every sample in parameter order: the points themselves and the samples inside each move
+    n = u.size
+    U = np.concatenate([u[:-1, None], su], axis=1).ravel()
+    X = np.concatenate([vals[:-1, None], sx], axis=1).reshape(-1, *vals.shape[1:])
+    pos = np.arange(n) * (k + 1)
+
+    def passes(i, j):
+        lo, hi = pos[i] + 1, pos[j]
+        s = ((U[lo:hi] - u[i]) / (u[j] - u[i]))[:, None, None]
+        lin = vals[i][None] + s * (vals[j] - vals[i])[None]
+        return bool(np.linalg.norm(X[lo:hi] - lin, axis=-1).max() <= tol)
+
+    keep = [0]
+    i = 0
+    while i < n - 1:
+        if progress and len(keep) % 50 == 0:
+            progress("synchronized points", 0.8 + 0.2 * i / n)
+        good, step = i + 1, 1
+        while good + step <= n - 1 and passes(i, good + step):     # gallop ...
+            good += step
+            step *= 2
+        hi = min(good + step, n)                                    # ... then bisect [good, hi)
+        while hi - good > 1:
+            mid = (good + hi) // 2
+            if passes(i, mid):
+                good = mid
+            else:
+                hi = mid
+        keep.append(good)
+        i = good
+    if progress:
+        progress("synchronized points", 1.0)
+    return u[np.array(keep)]

@@ -1,0 +1,147 @@
+"""The house's rules, read from the sources: the engine imports no CAD host, the workbench no OCP or
+CadQuery, no import cycle between Ruled's modules (imports inside functions count), no module past 500
+lines, and the engine runs with every CAD host blocked."""
+import ast
+import os
+import subprocess
+import sys
+
+import pytest
+from conftest import ROOT
+
+HOSTS = ("OCP", "cadquery", "FreeCAD", "FreeCADGui", "Part")
+# the front doors and the OCCT layer, which may import the hosts (or the layers that do)
+FRONT = ("ruled.occ", "ruled.cli", "ruled.cq", "ruled.batch")
+
+
+def _modules(top: str) -> dict:
+    """module name -> its source path, for every .py under ROOT/top."""
+    out = {}
+    for dirpath, _, files in os.walk(os.path.join(ROOT, top)):
+        for f in files:
+            if f.endswith(".py"):
+                path = os.path.join(dirpath, f)
+                name = os.path.relpath(path, ROOT)[:-3].replace(os.sep, ".")
+                out[name[:-9] if name.endswith(".__init__") else name] = path
+    return out
+
+
+def _imports(path: str, name: str) -> set:
+    """Every module path imports, at any depth (function-level imports count)."""
+    tree = ast.parse(open(path).read())
+    pkg = name if path.endswith("__init__.py") else name.rpartition(".")[0]
+    out = set()
+    for n in ast.walk(tree):
+        if isinstance(n, ast.Import):
+            out |= {a.name for a in n.names}
+        elif isinstance(n, ast.ImportFrom):
+            base = n.module or ""
+            if n.level:
+                parts = pkg.split(".")
+                base = ".".join(parts[:len(parts) - n.level + 1] + ([base] if base else []))
+            out.add(base)
+            out |= {f"{base}.{a.name}" for a in n.names}        # `from ruled.fit import dp` imports ruled.fit.dp
+    return out
+
+
+RULED = _modules("ruled")
+GRAPH = {m: {i for i in _imports(p, m) if i in RULED and i != m} for m, p in RULED.items()}
+
+
+def _is(mod: str, prefixes) -> bool:
+    return any(mod == p or mod.startswith(p + ".") for p in prefixes)
+
+
+def test_the_engine_imports_no_cad_host_nor_a_front_door():
+    bad = []
+    for m, p in RULED.items():
+        if _is(m, FRONT):
+            continue
+        for i in _imports(p, m):
+            if _is(i, HOSTS) or _is(i, FRONT):
+                bad.append(f"{m} imports {i}")
+    assert len(RULED) > 40 and not bad, bad
+
+
+def test_the_workbench_imports_no_occ_nor_cadquery():
+    """FreeCAD's Python has neither: the workbench reaches geometry through FreeCAD's Part only."""
+    wb = _modules("workbench")
+    wb["InitGui"] = os.path.join(ROOT, "InitGui.py")
+    bad = [f"{m} imports {i}" for m, p in wb.items() for i in _imports(p, m)
+           if _is(i, ("OCP", "cadquery", "ruled.occ", "ruled.cq", "ruled.cli", "ruled.batch"))]
+    assert len(wb) > 5 and not bad, bad
+
+
+def _cycles(graph: dict) -> list:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_import_cycle():
+    # a package imports its own modules (its __init__ re-exports); a module importing its package is not a cycle
+    graph = {m: {i for i in deps if not m.startswith(i + ".")} for m, deps in GRAPH.items()}
+    assert not _cycles(graph), _cycles(graph)
+
+
+def test_the_cycle_finder_finds_a_cycle():
+    assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+@pytest.mark.parametrize("top", ["ruled", "workbench", "tests", "benchmarks"])
+def test_no_module_past_500_lines(top):
+    long = {os.path.relpath(p, ROOT): n for p in _modules(top).values()
+            if (n := sum(1 for _ in open(p))) > 500}
+    assert not long, long
+
+
+BLOCK = r"""
+import sys
+class Block:
+    def find_spec(self, name, path=None, target=None):
+        if name.split('.')[0] in ('OCP', 'cadquery', 'FreeCAD', 'FreeCADGui', 'Part'):
+            raise ImportError('blocked: ' + name)
+        return None
+sys.meta_path.insert(0, Block())
+import ruled
+from ruled import fit_surface, FitOptions
+from ruled.examples import elber_ex1
+r = fit_surface(elber_ex1(), FitOptions(samples=12))
+assert r.error_bound > 0
+r = fit_surface(elber_ex1(), FitOptions(samples=12, method="4d", elevations=3, metric="sshb"))
+assert r.error_bound > 0
+mods = [m for m in sys.modules if m.split('.')[0] in ('OCP', 'cadquery', 'FreeCAD', 'Part')]
+assert not mods, mods
+print('ok')
+"""
+
+
+def test_engine_runs_with_cad_hosts_blocked():
+    out = subprocess.run([sys.executable, "-c", BLOCK], cwd=ROOT, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr
+    assert "ok" in out.stdout

@@ -1,0 +1,159 @@
+"""Flank-milling CL data: the tool surfaces the APT moves sweep, sampled against exact distances to a
+cylinder and a cone; and the refusals of machine inputs."""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+from ruled.cli import main
+
+gcodeparser = pytest.importorskip("gcodeparser")
+
+
+from ruled.core.nurbs import Surface  # noqa: E402
+from ruled.occ.convert import container_to_face  # noqa: E402
+from ruled.occ.io import write_step  # noqa: E402
+from machine_helpers import hyp_file, patches, read_csv, run_cli  # noqa: E402,F401 (fixtures)
+
+
+def parse_apt(path):
+    tip, axis = [], []
+    with open(path) as fh:
+        for ln in fh:
+            if ln.startswith("GOTO/"):
+                v = [float(x) for x in ln[5:].split(",")]
+                tip.append(v[:3])
+                axis.append(v[3:])
+    return np.array(tip), np.array(axis)
+
+
+def tool_cut(tip, axis, r, taper_deg, length, sd, moves=False, slices=17, angles=721):
+    """Over- and undercut of the tool surfaces against a surface given by its exact signed distance sd:
+    per circle along the tool, the minimum of sd over the circle (dense angles, then refined)."""
+    if moves:
+        tip = np.concatenate([tip, 0.5 * (tip[1:] + tip[:-1])])
+        axis = np.concatenate([axis, 0.5 * (axis[1:] + axis[:-1])])
+        axis = axis / np.linalg.norm(axis, axis=1)[:, None]
+    ref = np.where(np.abs(axis[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    e1 = np.cross(axis, ref)
+    e1 /= np.linalg.norm(e1, axis=1)[:, None]
+    e2 = np.cross(axis, e1)
+    worst_over, worst_under = 0.0, 0.0
+    for s in np.linspace(0, length, slices):
+        c = tip + s * axis
+        rho = r + s * math.tan(math.radians(taper_deg))
+        phi = np.linspace(0, 2 * np.pi, angles, endpoint=False)
+        P = c[:, None] + rho * (np.cos(phi)[None, :, None] * e1[:, None] + np.sin(phi)[None, :, None] * e2[:, None])
+        k = np.argmin(sd(P), axis=1)
+        fine = phi[k][:, None] + np.linspace(-0.01, 0.01, 2001)[None, :]
+        P = c[:, None] + rho * (np.cos(fine)[..., None] * e1[:, None] + np.sin(fine)[..., None] * e2[:, None])
+        m = sd(P).min(axis=1)
+        worst_over = max(worst_over, float(-m.min()))
+        worst_under = max(worst_under, float(m.max()))
+    return max(worst_over, 0.0), max(worst_under, 0.0)
+
+
+def sd_cylinder(P):
+    return np.hypot(P[..., 0], P[..., 1]) - 10.0
+
+
+def sd_cone(P):
+    a = math.radians(15.0)
+    return (np.hypot(P[..., 0], P[..., 1]) - (10.0 + P[..., 2] * math.tan(a))) * math.cos(a)
+
+
+@pytest.mark.parametrize("name", ["cylinder", "cone"])
+def test_flank_developable(tmp_path, patches, name):
+    chord = 1e-3
+    apt, rep, _ = run_cli(tmp_path, patches[name], 0, "--flank", "--tool-radius", "3", "--chord-tol", str(chord))
+    tip, axis = parse_apt(apt)
+    rows = read_csv(os.path.splitext(apt)[0] + ".csv")
+    assert np.allclose(tip, [[float(r[k]) for k in "xyz"] for r in rows], atol=1e-6)
+    assert np.allclose(np.linalg.norm(axis, axis=1), 1.0, atol=1e-8)
+    size = 20.0 * math.sqrt(2)
+    sd = sd_cylinder if name == "cylinder" else sd_cone
+    over, under = tool_cut(tip, axis, 3.0, 0.0, 20.0 if name == "cylinder" else 20.0 / math.cos(math.radians(15)), sd)
+    assert over <= 1e-6 * size and under <= 1e-6 * size
+    over_m, under_m = tool_cut(tip, axis, 3.0, 0.0, 20.0, sd, moves=True)
+    assert over_m <= chord and under_m <= chord
+    e = rep["tool_envelope"]
+    assert e["cl_positions"]["overcut"] <= 1e-6 * size and e["cl_positions"]["undercut"] <= 1e-6 * size
+    assert e["with_moves"]["overcut"] <= chord
+    assert rep["machine"]["envelope_deviation"] < 1e-9 * size
+    assert not rep["warnings"]
+
+
+@pytest.mark.parametrize("tip", ["auto", "second"])
+def test_flank_cone_tool(tmp_path, patches, tip):
+    """A conical tool (taper 5 degrees) on the cylinder: a generator of the cone lies on each ruling, with
+    the tip at either end (auto: the lower)."""
+    apt, rep, _ = run_cli(tmp_path, patches["cylinder"], 0, "--flank", "--tool-radius", "2", "--taper", "5",
+                          "--chord-tol", "1e-3", "--method", "4d", "--tip", tip)
+    assert rep["fit"]["notes"]                                        # 4d: exact already, said so
+    tip_pts, axis = parse_apt(apt)
+    assert np.all(axis[:, 2] > 0.99) if tip == "auto" else np.all(axis[:, 2] < -0.99)
+    assert np.all(tip_pts[:, 2] < 0.0) if tip == "auto" else np.all(tip_pts[:, 2] > 20.0)
+    over, under = tool_cut(tip_pts, axis, 2.0, 5.0, 20.0 * math.cos(math.radians(5)), sd_cylinder)
+    assert over <= 1e-6 * 28 and under <= 1e-6 * 28
+    assert rep["tool_envelope"]["cl_positions"]["overcut"] <= 1e-6 * 28
+
+
+def test_flank_twisted_reported(tmp_path, hyp_file):
+    apt, rep, _ = run_cli(tmp_path, hyp_file, 0, "--flank", "--tool-radius", "1", "--chord-tol", "0.01")
+    e, m = rep["tool_envelope"]["cl_positions"], rep["machine"]
+    assert m["envelope_deviation"] > 0.01
+    assert e["overcut"] > 0 and e["undercut"] > 0
+    bound = rep["fit"]["measured"] + m["envelope_deviation"]
+    assert e["overcut"] <= 1.02 * bound and e["undercut"] <= 1.02 * bound
+    assert rep["tool_envelope"]["with_moves"]["overcut"] <= 1.02 * bound + m["chord_tol"]
+
+
+def test_flank_radius_warning(tmp_path, patches, capsys):
+    """Inside the cylinder (radius 10) a tool of radius 12 gouges: warned, with where."""
+    _, rep, _ = run_cli(tmp_path, patches["cylinder"], 0, "--flank", "--tool-radius", "12", "--side", "inside")
+    assert any("radius of curvature" in w and "u =" in w for w in rep["warnings"])
+    assert "radius of curvature" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------------------------------ bad input
+
+@pytest.mark.parametrize("args, needle", [
+    (["--xyuv", "--planes=-5,20", "--axis", "z"], "crosses ruling"),
+    (["--xyuv", "--axis", "x"], "from the machine axis"),
+    (["--flank"], "--tool-radius"),
+    (["--xyuv", "--kerf", "-1"], "--kerf"),
+    (["--flank", "--tool-radius", "1", "--taper", "50"], "--taper"),
+    (["--xyuv", "--planes", "3"], "--planes"),
+    (["--xyuv", "--chord-tol", "1e-12"], "chord"),
+    (["--xyuv", "--ruled", "--method", "4d"], "give one of them"),
+    (["--flank", "--tool-radius", "1", "--kerf", "0.1"], "--kerf is for --xyuv"),
+])
+def test_bad_input(tmp_path, hyp_file, capsys, args, needle):
+    out = str(tmp_path / "x.ngc")
+    rc = main(["machine", hyp_file, "--face", "0", *args, "-o", out, "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2
+    assert needle in err and len(err.splitlines()) == 1, err
+
+
+def test_not_a_ruled_result(tmp_path, capsys):
+    from cases import barrel
+    p = str(tmp_path / "barrel.step")
+    write_step(container_to_face(barrel()), p)
+    rc = main(["machine", p, "--face", "0", "--xyuv", "--ruled", "-o", str(tmp_path / "b.ngc"), "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and "not a ruled surface" in err and len(err.splitlines()) == 1
+
+
+def test_empty_result():
+    from ruled.core.errors import RuledError
+    from ruled.machine.paths import MachineOptions, xyuv_path
+    P = np.zeros((4, 2, 3))
+    P[:, :, 0] = np.arange(4)[:, None]          # both rows the same curve: every ruling has no length
+    R = Surface(P, [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 1, 1], 3, 1)
+    with pytest.raises(RuledError, match="no length"):
+        xyuv_path(R, MachineOptions())

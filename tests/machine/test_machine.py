@@ -1,0 +1,265 @@
+"""Machine outputs (XYUV wire contours, flank-milling CL data) measured independently of ruled.machine.paths:
+the G-code is read back by an independent parser from PyPI (gcodeparser), the surface the machine sweeps
+is rebuilt from the parsed moves alone and measured with OCCT against the design face (or its OCCT offset
+surface), the contours are checked against the ruled result's trace computed from the CAM STEP file
+with OCCT evaluation, and the flank tool surfaces are sampled against exact distances to a cylinder and
+a cone."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import runpy
+import shutil
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, data_file
+from cases import hyperboloid
+from ruled.cli import main
+
+gcodeparser = pytest.importorskip("gcodeparser")
+
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace  # noqa: E402
+
+from ruled.core.nurbs import Surface  # noqa: E402
+from ruled.occ.convert import container_to_face  # noqa: E402
+from ruled.occ.io import faces_of, get_face, read_shape, write_step  # noqa: E402
+from ruled.occ.measure import _Projector, face_points, hausdorff  # noqa: E402
+from machine_helpers import hyp_file  # noqa: E402,F401 (a fixture)
+from machine_helpers import (_bilinear, check_sync, lines_3d, read_csv, rebuilt_error, rect_face,  # noqa: E402
+                             run_cli, trace_deviation, xyuv_round_trip)
+
+
+# --------------------------------------------------------------------------------------------- XYUV
+
+def test_xyuv_hyperboloid_round_trip(tmp_path, hyp_file):
+    """An exactly ruled closed surface: the rebuilt cut is within the chord tolerance (the fit is exact)."""
+    r = xyuv_round_trip(tmp_path, hyp_file, 0, 0.01)
+    rep, h = r["rep"], r["h"]
+    assert rep["fit"]["closed"] and r["fit"] < 1e-9
+    assert np.allclose(r["cut"][0], r["cut"][-1], atol=1e-6)       # the closed contour returns to its start
+    assert r["kinds"][0] == "lead-in" and r["kinds"][-1] == "lead-out"
+    moves = np.array([[float(x[k]) for k in "XYUV"] for x in read_csv(os.path.splitext(r["ngc"])[0] + ".csv")])
+    for k in (0, 2):                                                    # both leads start outside the part
+        r_lead = np.hypot(*moves[[0, -1], k:k + 2].T)
+        assert np.all(r_lead > np.hypot(*r["cut"][:, k:k + 2].T).max() + 1.0)
+    assert h.max <= r["fit"] + r["chord"]
+    assert h.max > 0.05 * r["chord"]                                  # the chords are really used
+    assert trace_deviation(r["cam"], r["cut"], rep) <= r["chord"] * (1 + 1e-6)
+    assert abs(rep["cut"]["max"] - h.max) <= 0.2 * r["chord"]          # the report's own measure agrees
+    assert rep["machine"]["sync_points"] == len(r["cut"])
+    assert abs(rep["machine"]["max_taper_deg"] - 45.0) < 0.1         # the hyperboloid's rulings: 45 degrees
+
+
+def test_xyuv_hyperboloid_kerf(tmp_path, hyp_file):
+    r = xyuv_round_trip(tmp_path, hyp_file, 0, 0.01, kerf=0.01, name="kerf")
+    assert r["h"].max <= r["fit"] + r["chord"]
+    assert 0 < r["rep"]["machine"]["offset_deviation"] < 0.5 * r["chord"]
+    # the wire runs outside: every lower point is farther from the axis than the design's bottom circle
+    lo, _ = lines_3d(r["cut"], r["rep"])
+    assert np.all(np.hypot(lo[:, 0], lo[:, 1]) > 14.0)
+
+
+@pytest.mark.slow
+def test_xyuv_blade_round_trip(tmp_path):
+    path = data_file("kj66_impeller.step")
+    r = xyuv_round_trip(tmp_path, path, 6, 0.002)
+    assert r["h"].max <= r["fit"] * (1 + 1e-3) + r["chord"]
+    assert trace_deviation(r["cam"], r["cut"], r["rep"]) <= r["chord"] * (1 + 1e-6)
+    k = xyuv_round_trip(tmp_path, path, 6, 0.005, kerf=0.005, name="kerf")
+    assert k["rep"]["machine"]["offset_deviation"] < 0.5 * k["chord"]
+    assert k["h"].max <= k["fit"] * (1 + 1e-3) + k["chord"]
+    # the report measures the cut against the trimmed face offset by the kerf (not its surface's rectangle)
+    assert k["rep"]["cut"]["max"] <= k["rep"]["cut"]["bound"] and k["rep"]["cut"]["max"] <= 2 * k["fit"] + k["chord"]
+
+
+def test_xyuv_planes_given(tmp_path, hyp_file):
+    ngc, rep, _ = run_cli(tmp_path, hyp_file, 0, "--xyuv", "--planes", "12,-11", "--axis", "z", "--lead", "0")
+    assert rep["machine"]["plane_heights"] == [-11.0, 12.0]     # given as 12,-11: sorted
+    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
+    assert len(parsed) == rep["machine"]["sync_points"] and set(kinds) == {"cut"}     # no leads
+
+
+def test_xyuv_of_a_ruled_result(tmp_path, hyp_file):
+    """A ruled result of Ruled (here 'ruled fit' of the hyperboloid) is machined as it is (--ruled)."""
+    fits = str(tmp_path / "fit.step")
+    assert main(["fit", hyp_file, "--face", "0", "-o", fits, "--quiet"]) == 0
+    ngc, rep, _ = run_cli(tmp_path, fits, "all", "--xyuv", "--ruled", "--chord-tol", "0.01")
+    assert rep["fit"]["method"].startswith("given") and rep["cut"]["max"] <= 0.01
+    # one patch; the hyperboloid x^2 + y^2 - z^2 = 10^2 is not developable: along a ruling (45 degrees) from
+    # z = -10 to 10 its tangent plane turns by 2 atan(s / b), s = 10 sqrt 2 from the waist, b = 10
+    assert len(rep["patches"]) == 1
+    assert rep["patches"][0]["twist_deg"] == pytest.approx(2 * math.degrees(math.atan(math.sqrt(2))), abs=1.0)
+    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
+    lo, hi = lines_3d(parsed[[k == "cut" for k in kinds]], rep)
+    design = container_to_face(hyperboloid(10.0, 10.0, 10.0))
+    assert rebuilt_error(design, design, lo, hi, "v", 30).max <= 0.01
+    # a fit that is not a surface of revolution (Elber's ex2): the wire against the ruled result itself
+    from ruled.examples import elber_ex2
+    src, fits = str(tmp_path / "ex2.step"), str(tmp_path / "ex2-fit.step")
+    write_step(container_to_face(elber_ex2()), src)
+    assert main(["fit", src, "--face", "0", "-o", fits, "--quiet"]) == 0
+    ngc, rep, _ = run_cli(tmp_path, fits, 0, "--xyuv", "--ruled", name="ex2")
+    chord = rep["machine"]["chord_tol"]
+    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
+    lo, hi = lines_3d(parsed[[k == "cut" for k in kinds]], rep)
+    result = get_face(fits, 0)
+    assert rebuilt_error(result, result, lo, hi, "v", 30).max <= chord
+    assert rep["cut"]["max"] <= chord
+
+
+def test_fit_cone_machine_chain(tmp_path, capsys):
+    """A face that is not ruled, fitted and cone-splined ('ruled cone --fit'), then its patches machined
+    as one wire path ('ruled machine --face all --ruled'): the G-code's lines, rebuilt from the parsed
+    moves, lie within the fit's bound + the cone tolerance + the chord tolerance of the design face
+    (OCCT projection) and cover it; each patch's taper is what the lines show, and a cone patch has no
+    twist along the wire."""
+    from cases import bumped_cone
+    design, cone, cone_rep = (str(tmp_path / n) for n in ("design.step", "cone.step", "cone.json"))
+    face = container_to_face(bumped_cone())
+    write_step(face, design)
+    tol, chord = 0.01, 0.002
+    assert main(["cone", design, "--face", "0", "--fit", "--tol", str(tol), "-o", cone, "--report", cone_rep,
+                 "--quiet"]) == 0
+    with open(cone_rep) as fh:
+        fit_bound = json.load(fh)["fit"]["error_bound"]
+    n_patches = len(faces_of(read_shape(cone)))
+    assert n_patches >= 2
+    ngc, rep, _ = run_cli(tmp_path, cone, "all", "--xyuv", "--ruled", "--axis", "z", "--chord-tol", str(chord))
+    assert rep["face"] == list(range(n_patches)) and len(rep["patches"]) == n_patches
+    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
+    lo, hi = lines_3d(parsed[[k == "cut" for k in kinds]], rep)
+    d = (hi - lo) / np.linalg.norm(hi - lo, axis=1)[:, None]
+    angles = np.degrees(np.arccos(d[:, 2]))
+    lows = [p["taper_min_deg"] for p in rep["patches"]]
+    highs = [p["taper_max_deg"] for p in rep["patches"]]
+    assert min(lows) - 0.05 <= angles.min() and angles.max() <= max(highs) + 0.05
+    assert 44.0 < min(lows) and max(highs) < 46.0            # the cone r = 10 - z: 45 degrees
+    assert max(p["twist_deg"] for p in rep["patches"]) < 1e-5
+    # the lines between the face's heights z = 0 and 3, against the design face; and the face against them
+    s = np.linspace(0, 1, 41)
+    pts = (lo[:, None] + s[None, :, None] * (hi - lo)[:, None]).reshape(-1, 3)
+    pts = pts[(pts[:, 2] >= 0) & (pts[:, 2] <= 3)]
+    bound = fit_bound + tol + chord
+    assert _Projector(face).distances(pts).max() <= bound
+    swept = BRepBuilderAPI_MakeFace(_bilinear(lo, hi), 1e-7).Face()
+    assert _Projector(swept).distances(face_points(face, 20)).max() <= bound
+    # patches that do not follow one another, and several faces without --ruled, are refused in one line
+    capsys.readouterr()
+    for face_arg, extra, needle in (("0,2", ["--ruled"], "face 2 does not start where face 0 ends"),
+                                    ("all", [], "add --ruled")):
+        out = str(tmp_path / "x.ngc")
+        rc = main(["machine", cone, "--face", face_arg, "--xyuv", *extra, "-o", out, "--quiet"])
+        err = capsys.readouterr().err.strip()
+        assert rc == 2 and needle in err and len(err.splitlines()) == 1, err
+        assert not os.path.exists(out)
+
+
+def test_patches_join_exactly_whichever_way_they_run():
+    """Three rational ruled patches in a row, given reversed in u or t: the joined surface is each patch,
+    point for point, and patches that do not meet are refused."""
+    from ruled.machine.chain import join_patches
+    rng = np.random.default_rng(7)
+    ends = [rng.normal(size=(2, 3)) for _ in range(4)]          # the rulings where the patches meet
+    patches, plain = [], []
+    for k in range(3):
+        P = np.stack([ends[k], rng.normal(size=(2, 3)), ends[k + 1]])          # (3, 2, 3): degree 2 along u
+        W = np.array([[1.0, 1.0], [0.6 + k, 0.6 + k], [1.0, 1.0]])
+        R = Surface(P, [0, 0, 0, 1, 1, 1], [0, 0, 1, 1], 2, 1, W)
+        plain.append(R)
+        if k == 1:
+            R = Surface(P[::-1].copy(), [0, 0, 0, 1, 1, 1], [0, 0, 1, 1], 2, 1, W[::-1].copy())     # backwards
+        if k == 2:
+            R = Surface(P[:, ::-1].copy(), [0, 0, 0, 1, 1, 1], [0, 0, 1, 1], 2, 1, W[:, ::-1].copy())  # t flipped
+        patches.append(R)
+    J, sign = join_patches(patches)
+    assert sign == 1.0 and J.domain[:2] == (0.0, 3.0)
+    s, t = np.meshgrid(np.linspace(0, 1, 9), np.linspace(0, 1, 5), indexing="ij")
+    for k, R in enumerate(plain):
+        assert np.abs(J(k + s.ravel(), t.ravel()) - R(s.ravel(), t.ravel())).max() < 1e-12
+    from ruled.core.errors import BadInputError
+    with pytest.raises(BadInputError, match="patch 1 does not start where patch 0 ends"):
+        join_patches([plain[0], plain[2]])
+
+
+# --------------------------------------------------------------------------------------------- CadQuery
+
+def _readme_example() -> str:
+    with open(os.path.join(ROOT, "README.md")) as fh:
+        s = fh.read()
+    i = s.index("<!-- example: cadquery-gcode -->")
+    j = s.index("```python", i) + len("```python")
+    return s[j:s.index("```", j)]
+
+
+@pytest.mark.slow
+def test_readme_cadquery_example(tmp_path, monkeypatch):
+    pytest.importorskip("cadquery")
+    import cadquery as cq
+    from ruled.cq import WORKPLANE_METHODS, unregister
+    src = data_file("kj66_impeller.step")
+    os.makedirs(tmp_path / "tests" / "data")
+    shutil.copy(src, tmp_path / "tests" / "data" / "kj66_impeller.step")
+    script = tmp_path / "example.py"
+    script.write_text(_readme_example())
+    monkeypatch.chdir(tmp_path)
+    try:
+        runpy.run_path(str(script), run_name="__main__")
+        assert all(hasattr(cq.Workplane, k) for k in WORKPLANE_METHODS)
+    finally:
+        unregister()
+    assert not any(hasattr(cq.Workplane, k) for k in WORKPLANE_METHODS)
+    # its G-code passes the round trip: rebuilt from the parsed moves, against the design face
+    face = get_face(src, 6)
+    parsed2, _ = check_sync("blade2.ngc", "blade2.csv")              # the chained Workplane method's file
+    parsed, kinds = check_sync("blade.ngc", "blade.csv")
+    assert np.array_equal(parsed, parsed2)                              # the same path both ways
+    cut = parsed[[k == "cut" for k in kinds]]
+    rep = _report_from_header("blade.ngc")
+    lo, hi = lines_3d(cut, rep)
+    direction = "u"                     # kj66 face 6 rules along u (the CLI's report says so)
+    h = rebuilt_error(rect_face(face)[0], face, lo, hi, direction)
+    cam = faces_of(read_shape("blade-cam.step"))
+    fit = hausdorff(rect_face(face)[0], cam[0], 30).max
+    assert h.max <= fit * (1 + 1e-3) + 0.002
+    assert len(cam) == 1                # the ruled face (its rulings are edges beside it)
+
+
+def _report_from_header(ngc) -> dict:
+    """The frame and the planes as the G-code header states them."""
+    import re
+    with open(ngc) as fh:
+        head = fh.read(2000)
+    h0, h1 = (float(x) for x in re.search(r"at height (\S+), upper guide UV at height (\S+),", head).groups())
+    vec = [np.array([float(x) for x in g.split(",")]) for g in re.findall(r"\(([-\d.e, ]+)\)", head)]
+    axis, e1, e2 = vec[0], vec[1], vec[2]
+    return {"machine": {"frame": {"e1": e1, "e2": e2, "axis": axis}, "plane_heights": [h0, h1]}}
+
+
+# ------------------------------------------------------------------------------------- sync (engine)
+
+def test_sync_params_against_the_circle():
+    """Synchronized points of two circles (radii 10 and 20, the same angle): every move within the
+    tolerance at 2000 samples, and not many more points than the fewest uniform moves that pass."""
+    from ruled.machine.sync import sync_params
+
+    def f(u):
+        u = np.asarray(u, float)
+        c = np.stack([np.cos(u), np.sin(u), np.zeros_like(u)], axis=1)
+        return np.stack([10 * c, 20 * c + [0, 0, 5]], axis=1)
+    tol = 1e-3
+    u = sync_params(f, 0.0, 2 * np.pi, tol, np.linspace(0, 2 * np.pi, 5))
+    s = np.linspace(0, 1, 2000)[1:-1]
+    for a, b in zip(u[:-1], u[1:]):
+        X = f(a + (b - a) * s)
+        lin = f(np.array([a]))[0] + s[:, None, None] * (f(np.array([b]))[0] - f(np.array([a]))[0])
+        assert np.linalg.norm(X - lin, axis=-1).max() <= tol
+    fewest = math.ceil(2 * np.pi / (2 * math.acos(1 - tol / 20)))   # sagitta of the outer circle
+    assert fewest <= len(u) - 1 <= 1.5 * fewest + 2
+    # a straight motion needs no point between its ends, whatever the seeds
+    line = sync_params(lambda x: np.stack([np.stack([x, 2 * x, 0 * x], 1)] * 2, 1), 0.0, 1.0, tol,
+                       np.linspace(0, 1, 33))
+    assert line.tolist() == [0.0, 1.0]
