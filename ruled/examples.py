@@ -52,11 +52,12 @@ YANG_CURVE = [(0.1, 0.1), (0.5, 1.8), (0.8, 0.1)]
 
 
 def yang_surface() -> Surface:
-    return Surface(np.array(YANG_NET, dtype=float), [0, 0, 0, 1, 1, 1], [0, 0, 0, 1, 1, 1], 2, 2)
+    knots = np.array([0, 0, 0, 1, 1, 1], float)
+    return Surface(np.array(YANG_NET, dtype=float), knots, knots.copy(), 2, 2)
 
 
 def yang_curve() -> Curve:
-    return Curve(np.array(YANG_CURVE, dtype=float), [0, 0, 0, 1, 1, 1], 2)
+    return Curve(np.array(YANG_CURVE, dtype=float), np.array([0, 0, 0, 1, 1, 1], float), 2)
 
 
 # Yang & Yang 2006: the three examples' extended boundaries (planar curves v -> (N, 2) with their

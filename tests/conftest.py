@@ -54,6 +54,20 @@ def run_freecadcmd(script: str, tmp_path, timeout: int = 600, env: dict = None):
     return run
 
 
+def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None):
+    """Run body (statements, at no indent, that fill a dict `out`) in freecadcmd with the workbench loaded;
+    the wrapper writes `out` as JSON and exits with the script's outcome (freecadcmd itself exits 0 even
+    when a script raises).  Returns `out`."""
+    import json
+    import textwrap
+    path = tmp_path / "freecad_out.json"
+    script = (WORKBENCH_LOADER + "code = 1\ntry:\n    import json\n    out = {}\n" + textwrap.indent(body.strip(), "    ")
+              + f"\n    json.dump(out, open({str(path)!r}, 'w'))\n    code = 0\nexcept Exception:\n"
+              "    import traceback; traceback.print_exc()\nsys.stdout.flush(); sys.stderr.flush()\nos._exit(code)\n")
+    run_freecadcmd(script, tmp_path, timeout, env)
+    return json.loads(path.read_text())
+
+
 # The fuzz batches (tests/test_fuzz.py) start as soon as the tests are collected, in a process of their own
 # on one worker: the suite runs on one core and their minutes pass on the other.
 FUZZ = {}

@@ -84,7 +84,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                    units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None) -> dict:
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
-    synchronized points, like ``ruled machine --step --rulings``); returns the report."""
+    synchronized points, like ``ruled machine --cam-step --rulings``); returns the report."""
     from ruled.machine.paths import MachineOptions, machine_path
     from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
     from ruled.machine.output import path_report, write_machine

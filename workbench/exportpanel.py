@@ -237,6 +237,7 @@ class ExportTaskPanel:
         from ruled.core.errors import RuledError
 
         from .commands import export
+        from .features import in_our_terms
         v = self.values()
         path = v["Path"].strip()
         if not path or not os.path.isdir(os.path.dirname(os.path.abspath(path))):
@@ -249,7 +250,7 @@ class ExportTaskPanel:
                 params["cam_step"] = os.path.splitext(path)[0] + "_cam.step"
             export(self.objects, path, kind, **params)
         except RuledError as exc:
-            self.result.setText(f"Cannot export: {exc}")
+            self.result.setText(f"Cannot export: {in_our_terms(exc)}")
             return False
         except Exception as exc:  # Part's OCCError, OSError on write failures
             self.result.setText(f"Cannot write {path}: {exc}")

@@ -217,20 +217,23 @@ def ruling_lines(fits) -> list:
     return [FreeCAD.Vector(*map(float, p)) for f in fits for p in f.best.rulings.reshape(-1, 3)]
 
 
-# the engine's messages name the command line's options; in FreeCAD they are properties (until errors
-# carry the option they concern as a field)
-REMEDIES = {"pass --allow-creases": "set AllowCreases",
-            "run 'ruled fit' first, or 'ruled cone --fit'": "cone-spline a Ruled fit of it, or set FitFirst",
-            "--max-strips": "MaxStrips", "--fit-samples": "FitSamples",
-            "--samples": "Samples", "--interior": "Interior", "--tol": "Tolerance", "--elevations": "Elevations",
-            "--step": "Step", "--dims": "Dims", "--max-error": "MaxError", "--direction": "Direction",
-            "--objective": "Objective", "--method": "Method", "--metric": "Metric"}
+# the engine's options as this workbench's properties (the engine names them by key: ruled.core.errors)
+PROPERTIES = {"samples": "Samples", "max_error": "MaxError", "tol": "Tolerance", "elevations": "Elevations",
+              "lift_step": "Step", "arc_step": "Step", "interior": "Interior", "max_strips": "MaxStrips",
+              "fit_samples": "FitSamples", "dims": "Dims", "direction": "Direction", "objective": "Objective",
+              "method": "Method", "metric": "Metric", "rails": "Rails", "allow_creases": "AllowCreases",
+              "fit_first": "FitFirst", "fit_help": "the object's properties",
+              "edges_listing": "the face's outer-wire edges in order", "partition": "a Ruled split with a Tolerance"}
 
 
-def in_our_terms(msg: str) -> str:
-    for cli, ours in REMEDIES.items():
-        msg = msg.replace(cli, ours)
-    return msg
+def _property_name(key: str, value) -> str:
+    name = PROPERTIES.get(key) or "".join(w.capitalize() for w in key.split("_"))
+    return name if value is None else f"{name} = {value}"
+
+
+def in_our_terms(exc) -> str:
+    """An engine error (RuledError) as FreeCAD says it: the options it names are this object's properties."""
+    return exc.in_terms(_property_name) if hasattr(exc, "in_terms") else str(exc)
 
 
 class _Feature:
@@ -260,7 +263,7 @@ class _Feature:
             self.compute(obj)
             obj.Status = "ok"
         except RuledError as exc:
-            obj.Status = in_our_terms(str(exc))
+            obj.Status = in_our_terms(exc)
             obj.Seconds = time.perf_counter() - t0
             FreeCAD.Console.PrintError(f"{obj.Label}: {obj.Status}\n")
             _quiet_traceback()

@@ -19,6 +19,7 @@ import os
 import time
 from typing import Optional
 
+from ruled.cli.common import cli_text
 from ruled.core.errors import BadInputError, RuledError, positive
 
 COLUMNS = ["file", "face", "type", "trimmed_pct", "method", "status", "error_bound", "hausdorff", "seconds",
@@ -30,7 +31,7 @@ def parse_faces(spec: str) -> object:
     """'all', 'bspline', 'ruled-candidates', or indices 'K,L-M' (a sorted list)."""
     if spec in ("all", "bspline", "ruled-candidates"):
         return spec
-    out = set()
+    out: set = set()
     try:
         for part in spec.split(","):
             a, _, b = part.strip().partition("-")
@@ -109,7 +110,7 @@ def face_paths(folder: str, face: int) -> dict:
     return {"step": base + ".step", "json": base + ".json", "png": base + ".png"}
 
 
-_FACES = {}          # a worker's faces of the files it has read: (path, digest) -> faces
+_FACES: dict = {}    # a worker's faces of the files it has read: (path, digest) -> faces
 
 
 def run_face(job: dict) -> dict:
@@ -138,7 +139,7 @@ def run_face(job: dict) -> dict:
                    warnings="; ".join(rep.get("warnings", [])))
     except RuledError as exc:
         rep = {}
-        row.update(status="refused", reason=str(exc))
+        row.update(status="refused", reason=cli_text(exc))
     row["seconds"] = time.perf_counter() - t0
     write_report({**rep, "batch": {"key": job["key"], "row": row}}, paths["json"])
     return row
@@ -195,7 +196,7 @@ class LocalPool:
         import multiprocessing as mp
         self.ctx = mp.get_context("spawn")
         self.n, self.timeout = jobs, timeout
-        self.workers = []
+        self.workers: list = []
 
     def _start(self):
         a, b = self.ctx.Pipe()
@@ -278,7 +279,9 @@ class DaskPool:
         a running task: its thread is counted busy until the face ends, its result then dropped)."""
         from distributed import wait
         slots = max(1, sum(self.client.nthreads().values()))
-        pending, running, overdue = list(jobs), {}, set()
+        pending = list(jobs)
+        running: dict = {}
+        overdue: set = set()
         while pending or running:
             overdue = {f for f in overdue if not f.done()}
             while pending and len(running) + len(overdue) < slots:

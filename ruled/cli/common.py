@@ -5,7 +5,18 @@ from __future__ import annotations
 import os
 import sys
 
-from ruled.core.errors import RuledError
+from ruled.core.errors import RuledError, names_from
+
+# the engine's options in the command line's terms (see ruled.core.errors): --key-with-dashes, but for these
+CLI_NAMES = names_from({"lift_step": "--lift-step", "arc_step": "--arc-step", "fit_first": "--fit",
+                        "edges_listing": "'ruled faces INPUT --edges'", "fit_help": "'ruled fit --help'",
+                        "partition": "'ruled fit --tol T'"},
+                       lambda key: "--" + key.replace("_", "-"), " ", ("True",))
+
+
+def cli_text(exc: RuledError) -> str:
+    """An engine error as the command line says it."""
+    return exc.in_terms(CLI_NAMES)
 
 
 def print_files(output: str, others) -> None:
@@ -31,7 +42,7 @@ def check_outputs(*paths, inputs=()) -> None:
     """Refuse before any work an output that is an input (however spelled), that another output names too,
     that is a folder or a device, or whose folder does not exist or is not writable."""
     ins = {os.path.realpath(p) for p in inputs if p}
-    seen = {}
+    seen: dict = {}
     for path in paths:
         if not path:
             continue

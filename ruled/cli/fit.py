@@ -7,7 +7,7 @@ import sys
 import time
 
 from ruled import __version__
-from ruled.cli.common import check_measure_samples, check_outputs, print_files_only, with_bar
+from ruled.cli.common import check_measure_samples, check_outputs, cli_text, print_files_only, with_bar
 from ruled.cli.split import cmd_partition
 from ruled.core.errors import RuledError
 
@@ -29,7 +29,7 @@ def cmd_faces(args) -> int:
             extra = f"  {trim}  edges {region.size}  holes {len(region.holes)}"
             sides = four_sides(region) if args.edges and not region.is_rectangle() else None
         except RuledError as exc:
-            extra, sides = f"  ({exc})", None
+            extra, sides = f"  ({cli_text(exc)})", None
         print(info.line() + extra)
         if args.edges:
             for line in edge_lines(face):

@@ -29,13 +29,14 @@ import signal
 import sys
 
 # Ctrl-C while the command line starts: noted, acted on (exit 130, quietly) once main() runs
-_SIGINT = []
+_SIGINT: list = []
 if (sys.argv and sys.argv[0].replace("\\", "/").split("/")[-1] in ("ruled", "ruled.exe", "__main__.py")) \
         and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
     signal.signal(signal.SIGINT, lambda *_: _SIGINT.append("early"))
 
 import os  # noqa: E402
 
+from ruled.cli.common import cli_text  # noqa: E402
 from ruled.cli.cone import cmd_cone  # noqa: E402
 from ruled.cli.curves import cmd_curve_on_surface  # noqa: E402
 from ruled.cli.fit import cmd_demo, cmd_faces, cmd_fit  # noqa: E402
@@ -109,7 +110,7 @@ def _main(argv=None) -> int:
         return {"faces": cmd_faces, "fit": cmd_fit, "split": cmd_split, "curve-on-surface": cmd_curve_on_surface,
                 "cone": cmd_cone, "machine": cmd_machine, "batch": cmd_batch, "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:
-        print(f"ruled: error: {exc}", file=sys.stderr)
+        print(f"ruled: error: {cli_text(exc)}", file=sys.stderr)
         return 2
     except MemoryError:
         print("ruled: error: out of memory; use fewer --samples", file=sys.stderr)

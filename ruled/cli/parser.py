@@ -33,8 +33,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "surface normal (Wang & Elber), never worse than 2d")
     g.add_argument("--elevations", type=int, default=None,
                    help="4d: elevation levels on each side of the surface (default 10, i.e. 21 levels)")
-    g.add_argument("--step", type=float, default=None,
-                   help="4d: elevation step in model units (default: the 2d result's distance / elevations)")
+    g.add_argument("--lift-step", dest="step", type=float, default=None, metavar="TAU",
+                   help="4d: elevation step in model units (default: the 2d result's distance / elevations; "
+                        "formerly --step)")
+    _renamed(g, "--step", "--lift-step", "ruled fit", type=float)
     g.add_argument("--metric", choices=["lsad", "sshb"], default="lsad",
                    help="4d cost: lsad, the line-surface distance of each ruling (default, faster); sshb, the "
                         "certified surface-bilinear bound of each patch")
@@ -69,9 +71,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "or 7 (P-, Q- and M-points lifted)")
     s.add_argument("--elevations", type=int, default=2,
                    help="5d/7d: lift levels on each side of the surface (default 2, i.e. 5 levels)")
-    s.add_argument("--step", type=float, default=None,
+    s.add_argument("--lift-step", dest="step", type=float, default=None, metavar="TAU",
                    help="5d/7d: lift per level in model units (default: the one-strip fit's bound / "
-                        "(2 elevations + 1))")
+                        "(2 elevations + 1); formerly --step)")
+    _renamed(s, "--step", "--lift-step", "ruled split", type=float)
     s.add_argument("--samples", type=int, default=30, help="P-, Q- and M-columns of the split DP (default 30)")
     s.add_argument("--interior", type=int, default=10, help="interior M-rows of the split DP (default 10)")
     s.add_argument("--objective", choices=["max", "sum"], default="max",
@@ -109,8 +112,10 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
     k.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
     k.add_argument("--tol", type=float, required=True, help="distance tolerance, model units")
-    k.add_argument("--step", type=float, default=0.1,
-                   help="first forward step along the boundaries, a fraction of their parameter (default 0.1)")
+    k.add_argument("--arc-step", dest="step", type=float, default=0.1, metavar="D",
+                   help="first forward step along the boundaries, a fraction of their parameter (default 0.1; "
+                        "formerly --step)")
+    _renamed(k, "--step", "--arc-step", "ruled cone", type=float)
     k.add_argument("--fit", action="store_true",
                    help="fit the face by a ruled surface first ('ruled fit' defaults), then cone-spline that")
     k.add_argument("--direction", choices=["auto", "u", "v"], default="auto",
@@ -207,12 +212,33 @@ def _machine_parser(sub) -> None:
     m.add_argument("-o", "--output", required=True,
                    help="G-code (.ngc) for --xyuv, APT CL data (.apt) for --flank")
     m.add_argument("--csv", help="CSV of the synchronized pairs or CL points (default: OUTPUT with .csv)")
-    m.add_argument("--step", help="STEP for CAM: the ruled result face")
-    m.add_argument("--rulings", action="store_true", help="with --step: the rulings at the sync points as edges")
+    m.add_argument("--cam-step", dest="step", metavar="CAM.step",
+                   help="STEP file for CAM: the ruled result face (formerly --step)")
+    _renamed(m, "--step", "--cam-step", "ruled machine")
+    m.add_argument("--rulings", action="store_true", help="with --cam-step: the rulings at the sync points as edges")
     m.add_argument("--report", help="JSON report")
     m.add_argument("--plot", help="PNG: the two contours with their synchronisation links")
     m.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
     m.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+class _Renamed(argparse.Action):
+    """An old spelling of an option: it still works for one release, with a deprecation message."""
+
+    def __init__(self, option_strings, dest, new: str = "", command: str = "", **kw):
+        self.new, self.command = new, command
+        super().__init__(option_strings, dest, **kw)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        import sys
+        print(f"ruled: warning: {option_string} of '{self.command}' is now {self.new} (it meant different things "
+              f"in different commands); the old spelling goes in the next release", file=sys.stderr)
+        setattr(namespace, self.dest, values)
+
+
+def _renamed(parser, old: str, new: str, command: str, **kw) -> None:
+    """old (hidden from --help) as a deprecated spelling of new."""
+    parser.add_argument(old, dest="step", action=_Renamed, new=new, command=command, help=argparse.SUPPRESS, **kw)
 
 
 def _face_or_patches(text: str):

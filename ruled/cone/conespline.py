@@ -141,7 +141,7 @@ def ruled_boundaries(S: Surface, direction: str = "auto", rel: float = 1e-9):
         u0, u1, _, _ = T.domain
         return name, [(T.iso_curve("v", u0), T.iso_curve("v", u1))]
     raise BadInputError(f"the face is not ruled: it is {dev:.4g} from the ruled surface between its {name}-boundaries "
-                        f"({dev / size:.2%} of its size); run 'ruled fit' first, or 'ruled cone --fit'")
+                        f"({dev / size:.2%} of its size); fit a ruled surface to it first («fit_first=True»)")
 
 
 # boundaries within this fraction of the size of two parallel planes lie in them (the model's tolerance)
@@ -348,7 +348,7 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
     derivatives, v in [0, 1], rulings joining equal v) within tol (eq. 9 on every patch).  Neighbouring
     patches of one piece are tangent continuous (to 1e-6 rad) or the surface is refused, unless
     allow_creases (pieces of §6 meet at creases in any case)."""
-    positive("--tol", tol)
+    positive("tol", tol)
     if not (np.isfinite(step) and 0 < step <= 1):
         raise BadInputError(f"the step must be in (0, 1] (got {step}); it is a fraction of the boundary's parameter")
     t0 = time.perf_counter()
@@ -383,7 +383,8 @@ def cone_spline(c0, dc0, c1, dc1, tol: float, step: float = 0.1, *, breaks=(), e
         notes.append(f"the surface is divided into {len(ranges)} pieces, each between its own pair of parallel planes "
                      f"(§6): its rulings turn by more than {2 * max_tilt_deg:.0f} degrees, or fan out from one point "
                      f"of a boundary (a cone whose apex the planes must not cross)")
-    plan, queue, folds = [], list(ranges), 0
+    plan: list = []
+    queue, folds = list(ranges), 0
     while queue:                                   # planes per piece; a piece whose fat curve folds is cut there
         a, b = queue.pop(0)
         f0, g0, f1, g1 = _sub(c0, a, b), _sub(dc0, a, b, True), _sub(c1, a, b), _sub(dc1, a, b, True)

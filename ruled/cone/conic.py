@@ -103,7 +103,7 @@ def shared_weight(tri0, pts0, tri1, pts1, default: float = 2.0) -> float:
     return float(np.sqrt(num / den))
 
 
-_UNIT = {}
+_UNIT: dict = {}
 
 
 def _unit_grid(n: int) -> np.ndarray:

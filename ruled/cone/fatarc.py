@@ -443,8 +443,8 @@ def fit_fat_conic(b0, db0, b1, db1, tol: float, delta0: float, *, h0: float = 0.
     tol, else shrink delta by ks (search = "paper").  Beyond the paper: search = "longest" grows an
     accepted step and bisects for the longest accepted one; with balance the fit is repeated with one
     arc fewer (the remaining range spread over the arcs left) for as long as that succeeds."""
-    positive("--tol", tol)
-    positive("--step", delta0)
+    positive("tol", tol)
+    positive("arc_step", delta0)
     if search not in ("longest", "paper"):
         raise BadInputError(f"unknown search {search!r}: use 'longest' or 'paper'")
     tr0, tr1 = Track(b0, db0, breaks), Track(b1, db1, breaks)

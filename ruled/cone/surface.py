@@ -35,8 +35,8 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
     except ToleranceError as exc:
         if not search:
             raise
-        why = str(exc)
-        creases = ", or pass --allow-creases to keep the creases" if exc.creases_help else ""
+        why = exc.template
+        creases = ", or keep the creases («allow_creases=True»)" if exc.creases_help else ""
 
     def works(t: float) -> bool:
         if progress is not None:
@@ -54,7 +54,7 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
     tighter = rounded(tol / SEARCH_FACTOR)
     if works(tighter):
         raise ToleranceError(f"{why}; a tighter tolerance works (the patches then fall differently): "
-                             f"--tol {tighter:g}{creases}")
+                             f"«tol={tighter:g}»{creases}")
     size = S.diagonal()
     lo, hi, t = tol, None, tol
     while hi is None and t < size:
@@ -76,7 +76,7 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
             hi = mid
         else:
             lo = mid
-    raise ToleranceError(f"{why}; the smallest tolerance above it that works is about {hi:g} (tried: --tol "
+    raise ToleranceError(f"{why}; the smallest tolerance above it that works is about {hi:g} (tried: «tol» "
                          f"{hi:g}){creases}")
 
 

@@ -1,11 +1,52 @@
 """Errors raised by Ruled.
 
 Every error a user can cause is a :class:`RuledError` whose message is one line
-that names the problem and says what to do.  The command line maps every
-RuledError to exit code 2; the FreeCAD workbench shows it on the object.
+that names the problem and says what to do.  The engine names the options it
+concerns by key (``opt("samples", 40)`` in a message): each front door renders
+them in its own terms, ``samples=40`` in Python (``str(exc)``), ``--samples 40``
+on the command line (which maps every RuledError to exit code 2), ``Samples = 40``
+on a FreeCAD object (its Status).  The fields: ``problem`` (what went wrong),
+``remedy`` (what to do, after the first '; '), ``option`` (the first option named)
+and ``options`` (all of them), each of the last two a key.
 """
 
 from __future__ import annotations
+
+import re
+from typing import Any, Callable, Mapping, Optional
+
+# an option in a message: «key» or «key=value» (value as the message shows it)
+_MARK = re.compile(r"«([a-z_0-9]+)(?:=([^»]*))?»")
+
+# the Python keywords of the options whose key is not the keyword itself, and the remedies that name a call
+PYTHON_NAMES = {"lift_step": "step", "arc_step": "step", "fit_first": "fit", "fit_help": "help(ruled.FitOptions)",
+                "edges_listing": "the edge indices 'ruled faces INPUT --edges' lists",
+                "partition": "ruled.partition(surface, tol=T)"}
+
+
+def opt(key: str, value: Any = None) -> str:
+    """An option (and its value) in an engine message, for each front door to name in its own terms."""
+    return f"«{key}»" if value is None else f"«{key}={value}»"
+
+
+def render(text: str, name: Callable[[str, Optional[str]], str]) -> str:
+    """text with each option mark replaced by name(key, value or None)."""
+    return _MARK.sub(lambda m: name(m.group(1), m.group(2)), text)
+
+
+def python_name(key: str, value: Optional[str]) -> str:
+    kw = PYTHON_NAMES.get(key, key)
+    return kw if value is None else f"{kw}={value}"
+
+
+def names_from(table: Mapping[str, str], default: Callable[[str], str], sep: str = " ",
+               flag_values: tuple = ()) -> Callable[[str, Optional[str]], str]:
+    """A front door's namer: its name of each key (table, else default(key)) and 'name<sep>value';
+    a value in flag_values (a switch's 'True') shows the name alone."""
+    def name(key: str, value: Optional[str]) -> str:
+        n = table.get(key) or default(key)
+        return n if value is None or value in flag_values else f"{n}{sep}{value}"
+    return name
 
 
 class RuledError(Exception):
@@ -14,7 +55,34 @@ class RuledError(Exception):
     kind = "error"
 
     def __init__(self, message: str):
-        super().__init__(" ".join(str(message).split()))
+        self.template = " ".join(str(message).split())
+        super().__init__(render(self.template, python_name))
+
+    @property
+    def options(self) -> tuple:
+        """The keys of the options the message names, in order."""
+        return tuple(dict.fromkeys(m.group(1) for m in _MARK.finditer(self.template)))
+
+    @property
+    def option(self) -> Optional[str]:
+        """The key of the option the error concerns first (None: no option)."""
+        return self.options[0] if self.options else None
+
+    def _parts(self) -> tuple:
+        head, sep, tail = self.template.partition("; ")
+        return head, tail
+
+    @property
+    def problem(self) -> str:
+        return render(self._parts()[0], python_name)
+
+    @property
+    def remedy(self) -> str:
+        return render(self._parts()[1], python_name)
+
+    def in_terms(self, name: Callable[[str, Optional[str]], str]) -> str:
+        """The message with its options named by a front door (see names_from)."""
+        return render(self.template, name)
 
 
 class BadInputError(RuledError):
@@ -58,11 +126,12 @@ class CancelledError(RuledError):
     kind = "cancelled"
 
 
-def positive(name: str, value, what: str = "a distance in model units", zero_ok: bool = False) -> float:
+def positive(name: str, value: Any, what: str = "a distance in model units", zero_ok: bool = False) -> float:
     """value as a float, or the one wording every command uses for a bad size:
     '<name> must be a positive finite number (<what>), not <value>' ('zero or a positive ...' where
-    zero is allowed)."""
+    zero is allowed).  name: the option's key."""
     import math
+    name = opt(name)
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -73,10 +142,10 @@ def positive(name: str, value, what: str = "a distance in model units", zero_ok:
     return x
 
 
-def whole(name: str, value, lo: float, hi: float, what: str) -> int:
+def whole(name: str, value: Any, lo: float, hi: float, what: str) -> int:
     """value as an int in [lo, hi], or the one wording every option uses for a count:
-    '<name> <value> <what>' (booleans and fractions are not counts)."""
+    '<name> <value> <what>' (booleans and fractions are not counts).  name: the option's key."""
     import numbers
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= value <= hi:
-        raise BadInputError(f"{name} {value!r} {what}")
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= int(value) <= hi:
+        raise BadInputError(f"{opt(name, repr(value))} {what}")
     return int(value)

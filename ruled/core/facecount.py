@@ -77,7 +77,7 @@ def out_of_range(path: str, index: int, count: int) -> Optional[BadInputError]:
     if count == 0:
         return BadInputError(f"{path}: the file holds no faces")
     if index < 0 or index >= count:
-        return BadInputError(f"--face {index} is out of range: {path} has {count} faces (0..{count - 1}); "
+        return BadInputError(f"«face={index}» is out of range: {path} has {count} faces (0..{count - 1}); "
                              f"run 'ruled faces {path}' to list them")
     return None
 

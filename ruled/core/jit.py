@@ -41,7 +41,7 @@ if os.environ.get("RULED_NO_NUMBA", "") not in ("1", "true", "yes"):
         # numba's TBB layer, when a system libtbb is present (FreeCAD's packages bring one), spins for
         # ever in its finalizer at interpreter exit: use numba's own thread pool unless told otherwise
         if "NUMBA_THREADING_LAYER" not in os.environ:
-            numba.config.THREADING_LAYER = "workqueue"
+            numba.config.THREADING_LAYER = "workqueue"  # type: ignore[attr-defined]
     except Exception:  # numba missing or broken: NumPy path
         AVAILABLE = False
 

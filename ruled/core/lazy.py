@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from typing import Any, Callable
 
-def lazy_getattr(package: str, table: dict, namespace: dict):
+
+def lazy_getattr(package: str, table: dict, namespace: dict) -> Callable[[str], Any]:
     """A module ``__getattr__`` for ``package``: name -> the submodule (in table) that defines it,
     imported on first use and then kept in the package's namespace."""
-    def __getattr__(name):
+    def __getattr__(name: str) -> Any:
         if name in table:
             import importlib
             value = getattr(importlib.import_module(f".{table[name]}", package), name)

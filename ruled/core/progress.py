@@ -4,18 +4,18 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Callable, Optional
+from typing import Callable, Optional, TextIO
 
 # what the engine's long functions take: progress(stage, fraction in [0, 1]), or None
 Progress = Optional[Callable[[str, float], None]]
 
 
 class Bar:
-    def __init__(self, stream=None, enabled: bool = True, width: int = 28):
+    def __init__(self, stream: Optional[TextIO] = None, enabled: bool = True, width: int = 28) -> None:
         self.stream = stream or sys.stderr
         self.enabled = enabled
         self.width = width
-        self.stage = None
+        self.stage: Optional[str] = None
         self.last = 0.0
         self.t0 = time.perf_counter()
 

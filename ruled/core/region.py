@@ -79,7 +79,7 @@ class Region:
         speed = None
         out = []
         for k, c in enumerate(self.loop):
-            P = c(np.linspace(*c.domain, 33))
+            P = c(np.linspace(c.domain[0], c.domain[1], 33))
             best = None
             for ax, names, (a, b) in ((0, ("u0", "u1"), (u0, u1)), (1, ("v0", "v1"), (v0, v1))):
                 for name, x in zip(names, (a, b)):
@@ -375,12 +375,12 @@ def four_sides(region: Region, rails: Optional[tuple] = None, corner_deg: float 
         a, b = (int(x) for x in rails)
         for x in (a, b):
             if not 0 <= x < n:
-                raise BadInputError(f"--rails: the face has no edge {x}; its outer wire has edges 0..{n - 1} "
-                                    f"(see 'ruled faces INPUT --edges')")
+                raise BadInputError(f"«rails»: the face has no edge {x}; its outer wire has edges 0..{n - 1} "
+                                    f"(see «edges_listing»)")
         if a == b:
-            raise BadInputError(f"--rails {a},{b} names one edge twice; name two opposite edges")
+            raise BadInputError(f"«rails={a},{b}» names one edge twice; name two opposite edges")
         if (a + 1) % n == b or (b + 1) % n == a:
-            raise BadInputError(f"--rails {a},{b}: edges {a} and {b} are neighbours, not opposite; name two edges "
+            raise BadInputError(f"«rails={a},{b}»: edges {a} and {b} are neighbours, not opposite; name two edges "
                                 f"with other edges between them on both sides")
         runs = _runs(region, [(a - 1) % n, a, (b - 1) % n, b])
         # the runs start after joint a-1 (edge a), after a, after b-1 (edge b) and after b, in sorted order

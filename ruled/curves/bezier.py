@@ -280,7 +280,7 @@ def domain_pieces(D: Curve, S: Surface) -> list[Piece]:
         axis.append(np.full(sg.size, ax))
         val.append(ks[kk])
     seg, axis, val = np.concatenate(seg), np.concatenate(axis), np.concatenate(val)
-    cuts = {}
+    cuts: dict = {}
     if seg.size:
         b = H[seg, :, axis] - val[:, None] * H[seg, :, 2]
         R = _roots01(b @ _b2p(H.shape[1] - 1).T)

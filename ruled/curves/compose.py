@@ -127,7 +127,11 @@ class SpanPatches:
         self.S = S
         self.p, self.q = S.degree_u, S.degree_v
         self.index: dict = {}
-        self.nets, self.du, self.dv, self.lo, self.hi = [], [], [], [], []
+        self.nets: list = []
+        self.du: list = []
+        self.dv: list = []
+        self.lo: list = []
+        self.hi: list = []
         self._arrays = None
 
     def of(self, X: np.ndarray) -> np.ndarray:

@@ -210,7 +210,7 @@ def approximate(S: Surface, D: Curve, tol: float, angle_deg: float = 10.0, *, bo
                 progress: Progress = None, max_segments: int = 200_000) -> CurveOnSurface:
     """Approximate the image S(D(t)) of the domain curve D by a curve of degree p + q lying on S
     exactly, within tol of it (Hausdorff, certified) and with joint tangents within angle_deg."""
-    positive("--tol", tol)
+    positive("tol", tol)
     if not (np.isfinite(angle_deg) and 0 < angle_deg < 180):
         raise BadInputError(f"the angle tolerance must be between 0 and 180 degrees, got {angle_deg}")
     if bound not in ("local", "span"):

@@ -46,9 +46,9 @@ def parse_uv(text: str) -> Curve:
     try:
         pts = [[float(x) for x in item.split(",")] for item in text.replace(" ", "").strip(";").split(";")]
     except ValueError:
-        raise BadInputError(f"cannot read --uv {text!r}; write points as \"u0,v0;u1,v1;...\"") from None
+        raise BadInputError(f"cannot read «uv={text!r}»; write points as \"u0,v0;u1,v1;...\"") from None
     if any(len(p) != 2 for p in pts):
-        raise BadInputError(f"cannot read --uv {text!r}: every point needs two numbers, as \"u0,v0;u1,v1;...\"")
+        raise BadInputError(f"cannot read «uv={text!r}»: every point needs two numbers, as \"u0,v0;u1,v1;...\"")
     return polyline_curve(pts)
 
 

@@ -101,8 +101,8 @@ class CoonsMap:
             more = " ..." if cu.size > 3 or cv.size > 3 else ""
             return (f"the surface has creases (knots where it is only C0: {where}{more}) that cross the face's "
                     f"curved sides, and a smooth parametrization of the face cannot follow them; split the "
-                    f"face along its creases, or pick rails that run along them (--rails)")
-        return "the face's boundary is too wiggly to parametrize; pick other rails (--rails)"
+                    f"face along its creases, or pick rails that run along them («rails»)")
+        return "the face's boundary is too wiggly to parametrize; pick other rails («rails»)"
 
     def __post_init__(self):
         pcs = self.sides.pieces
@@ -240,7 +240,7 @@ def coons_map(region: Region, sides: Sides) -> CoonsMap:
         x = (bad + 0.5) / J.shape[0]
         uv = m._raw(np.array([x[0]]), np.array([x[1]]))[0]
         edges = "; ".join(f"side {i}: edges {','.join(map(str, sides.edges(i))) or 'a point'}" for i in range(4))
-        what = ("pick two other opposite edges as rails (--rails A,B, see 'ruled faces INPUT --edges')"
+        what = ("pick two other opposite edges as rails («rails=A,B», see «edges_listing»)"
                 if region.size > 4 else "cut the face into simpler four-sided faces in your CAD system")
         raise DegenerateFaceError(f"the face's four sides ({edges}) do not bound a region that a Coons map "
                                   f"parametrizes without folding (it folds near (u, v) = ({uv[0]:.4g}, {uv[1]:.4g})); "

@@ -176,8 +176,8 @@ def solve(cost: np.ndarray, closed: bool, objective: str = "sum", max_error: Opt
         return res
     best = f(cost, "max", None)
     raise InfeasibleError(
-        f"no ruling path keeps every ruling within --max-error {max_error:.6g}: the best achievable "
-        f"largest ruling distance at these samples is {best.max_cost:.6g}; raise --max-error or add --samples")
+        f"no ruling path keeps every ruling within «max_error={max_error:.6g}»: the best achievable "
+        f"largest ruling distance at these samples is {best.max_cost:.6g}; raise «max_error» or add «samples»")
 
 
 def table_bytes(n: int, closed: bool) -> int:

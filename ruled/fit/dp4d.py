@@ -28,7 +28,7 @@ a diagonal depends only on the two previous diagonals.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Callable, Optional
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -50,7 +50,7 @@ class Tables:
     K: int
     lc: Optional[np.ndarray] = None
     ruling: Optional[tuple] = None      # (c, es, dku, dkv)
-    terms: Optional[object] = None      # metrics4d.PatchTerms
+    terms: Optional[Any] = None         # metrics4d.PatchTerms
     limit: float = np.inf  # moves costlier than this are forbidden (the max-error constraint)
     start: int = -1        # when >= 0, the only allowed start levels k * K + l
 
@@ -359,5 +359,5 @@ def solve(T: Tables, closed: bool, objective: str = "sum", max_error: Optional[f
     best = solve_closed(T, "max") if closed else solve_open(T, "max")
     raise InfeasibleError(
         f"no elevated ruling path keeps every {'patch bound' if T.sshb else 'ruling distance'} within "
-        f"--max-error {max_error:.6g}: the best achievable at these samples is {best.max_cost:.6g}; "
-        f"raise --max-error, add --samples or --elevations")
+        f"«max_error={max_error:.6g}»: the best achievable at these samples is {best.max_cost:.6g}; "
+        f"raise «max_error», add «samples» or «elevations»")

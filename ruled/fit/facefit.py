@@ -64,7 +64,7 @@ def region_size(region: Region) -> float:
     S = region.surface
     pts = []
     for k, c in enumerate(region.loop):
-        uv = region.uv(k, np.linspace(*c.domain, 33))
+        uv = region.uv(k, np.linspace(c.domain[0], c.domain[1], 33))
         pts.append(S(uv[:, 0], uv[:, 1]))
     P = np.concatenate(pts)
     return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
@@ -75,13 +75,13 @@ def _rect_direction(region: Region, rails) -> str:
     a, b = (int(x) for x in rails)
     for k in (a, b):
         if not 0 <= k < region.size:
-            raise BadInputError(f"--rails: the face has no edge {k}; its outer wire has edges 0..{region.size - 1} "
-                                f"(see 'ruled faces INPUT --edges')")
+            raise BadInputError(f"«rails»: the face has no edge {k}; its outer wire has edges 0..{region.size - 1} "
+                                f"(see «edges_listing»)")
     sides = region.rect_sides()
     na, nb = sides[a][0], sides[b][0]
     if na[0] != nb[0] or na == nb:
-        raise BadInputError(f"--rails {a},{b}: edges {a} and {b} are not opposite sides of the face; name two "
-                            f"opposite edges (see 'ruled faces INPUT --edges')")
+        raise BadInputError(f"«rails={a},{b}»: edges {a} and {b} are not opposite sides of the face; name two "
+                            f"opposite edges (see «edges_listing»)")
     return na[0]
 
 
@@ -140,7 +140,7 @@ def _choose_sides(region: Region, rails, size: float):
             best, score = (sd, m), q
     if best is None:
         raise DegenerateFaceError("no grouping of the face's edges into four sides can be fitted; pick two "
-                                  "opposite edges as rails (--rails A,B, see 'ruled faces INPUT --edges')")
+                                  "opposite edges as rails («rails=A,B», see «edges_listing»)")
     return best
 
 
@@ -187,7 +187,7 @@ def far_from_ruled(bound: float, size: float) -> Optional[str]:
     if not (size > 0 and bound >= FAR * size):
         return None
     return (f"no ruled surface comes near this face: the best is within {bound:.4g} of it, {100 * bound / size:.0f} % "
-            f"of its size ({size:.4g}); a line cannot cut it as one face: split it into strips (ruled fit --tol T) "
+            f"of its size ({size:.4g}); a line cannot cut it as one face: split it into strips («partition») "
             f"or machine it another way")
 
 
@@ -214,7 +214,7 @@ def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:
     if not ok:
         raise DegenerateFaceError("; ".join(reasons) + "; the face's edges do not bound a four-sided region "
                                   "a ruled surface can span (check the face in a CAD viewer, or name other rails "
-                                  "with --rails A,B)")
+                                  "with «rails=A,B»)")
     best = min(ok, key=lambda c: c.error_bound)
     return res if best is res.best else replace(res, best=best, candidates=cands)
 

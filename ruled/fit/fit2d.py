@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -65,7 +65,7 @@ class FitResult:
     timings: dict = field(default_factory=dict)
     notes: tuple = ()             # what the fit decided on its own (e.g. 4D fell back to 2D)
     other: Optional[DirectionFit] = None   # 4D: the fit it was compared with (2D, or the 4D attempt if 2D won)
-    patch: Optional[object] = None         # the face's patch (ruled.fit.facefit.FacePatch) when fitted as a face
+    patch: Optional[Any] = None            # the face's patch (ruled.fit.facefit.FacePatch) when fitted as a face
 
     @property
     def surface(self) -> Surface:
@@ -142,8 +142,8 @@ def check_memory(n: int, closed: bool, cap: Optional[float] = None) -> None:
                 lo = mid
             else:
                 hi = mid - 1
-        raise TooBigError(f"--samples {n} needs about {need / 2**30:.1f} GiB for the DP tables but only "
-                          f"{have / 2**30:.1f} GiB is allowed; use --samples {lo} or fewer")
+        raise TooBigError(f"«samples={n}» needs about {need / 2**30:.1f} GiB for the DP tables but only "
+                          f"{have / 2**30:.1f} GiB is allowed; use «samples={lo}» or fewer")
 
 
 def _stage(progress: Progress, name: str, frac: float) -> None:
@@ -158,7 +158,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     closed, why = check_direction(So)
     if why is not None:
         raise DegenerateFaceError(f"cannot fit rulings along {direction}: {why}; "
-                                  f"use --direction {'u' if direction == 'v' else 'v'} or repair the face")
+                                  f"use «direction={'u' if direction == 'v' else 'v'}» or repair the face")
     n = opts.samples
     check_memory(n, closed, opts.memory_cap)
     T = {}
@@ -353,7 +353,7 @@ def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Pro
         if len(errors) == 2 and all("closed across the rulings" in str(e) for e in errors):
             raise DegenerateFaceError("the face is closed in both directions (like a torus): there are no two "
                                       "boundaries to rule between; split the face first")
-        raise DegenerateFaceError("degenerate face: " + "; ".join(str(e) for e in errors))
+        raise DegenerateFaceError("degenerate face: " + "; ".join(e.template for e in errors))
     if len(ok) > 1:     # ... then S's side too, where it can make the direction win
         for d, c in list(ok.items()):
             rival = min([o.error_bound for e, o in ok.items() if e != d] + [cutoff])

@@ -76,9 +76,9 @@ def check_memory_4d(n: int, m: int, closed: bool, sshb: bool, cap: Optional[floa
         return lo
     n_fit = largest(lambda k: dp4d.table_bytes(k, 2 * m + 1, closed, sshb, NS_RANGE[1]), n)
     m_fit = largest(lambda k: dp4d.table_bytes(n, 2 * k + 1, closed, sshb, NS_RANGE[1]), m)
-    hint = f"use --samples {n_fit} or fewer" if n_fit >= 3 else "too big at any sample count"
-    hint += f", or --elevations {m_fit} or fewer" if dp4d.table_bytes(n, 1, closed, sshb) <= have else ""
-    raise TooBigError(f"--samples {n} with --elevations {m} needs about {need / 2**20:.0f} MiB for the 4D tables "
+    hint = f"use «samples={n_fit}» or fewer" if n_fit >= 3 else "too big at any sample count"
+    hint += f", or «elevations={m_fit}» or fewer" if dp4d.table_bytes(n, 1, closed, sshb) <= have else ""
+    raise TooBigError(f"«samples={n}» with «elevations={m}» needs about {need / 2**20:.0f} MiB for the 4D tables "
                       f"but only {have / 2**20:.0f} MiB is allowed; {hint}")
 
 

@@ -42,7 +42,7 @@ class FitOptions:
     memory) beyond which a table is refused."""
 
     samples: int = 40
-    objective: Objective = Objective.SUM
+    objective: Objective = Objective.SUM       # each enumeration also takes its value as a str
     max_error: Optional[float] = None
     direction: Direction = Direction.AUTO
     refine: bool = True
@@ -53,29 +53,29 @@ class FitOptions:
     metric: Metric = Metric.LSAD
     memory_cap: Optional[float] = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         """Validates every option on construction (one BadInputError line naming it) and normalises the
         enumerations and whole numbers in place."""
         put = object.__setattr__
-        put(self, "samples", whole("--samples", self.samples, 3, np.inf,
+        put(self, "samples", whole("samples", self.samples, 3, np.inf,
                                    "must be a whole number of at least 3 (40 is a good start)"))
         put(self, "points_per_ruling", whole("points_per_ruling", self.points_per_ruling, 2, 1000,
                                              "must be a whole number of points from 2 to 1000 (9 is the default)"))
         if self.max_error is not None:
-            put(self, "max_error", positive("--max-error", self.max_error))
+            put(self, "max_error", positive("max_error", self.max_error))
         if self.elevations is not None:
-            put(self, "elevations", whole("--elevations", self.elevations, 0, 200,
+            put(self, "elevations", whole("elevations", self.elevations, 0, 200,
                                           "must be a whole number of levels from 0 to 200 (10 gives 21 levels)"))
         if self.step is not None:
-            put(self, "step", positive("--step", self.step))
+            put(self, "step", positive("lift_step", self.step))
         if self.memory_cap is not None:
-            put(self, "memory_cap", positive("--memory-cap", self.memory_cap / 2.0 ** 20, "a size in MiB") * 2.0 ** 20)
+            put(self, "memory_cap", positive("memory_cap", self.memory_cap / 2.0 ** 20, "a size in MiB") * 2.0 ** 20)
         try:
             for name, kind in (("method", Method), ("metric", Metric), ("objective", Objective),
                                ("direction", Direction)):
                 put(self, name, kind(getattr(self, name)))
         except ValueError as exc:
-            raise BadInputError(f"{exc}; see 'ruled fit --help'") from None
+            raise BadInputError(f"{exc}; see «fit_help»") from None
         put(self, "refine", bool(self.refine))
 
     def checked(self) -> "FitOptions":

@@ -91,7 +91,9 @@ def join_patches(patches: list[Surface], names: list[str] | None = None) -> tupl
                 f"{names[k]} does not start where {names[k - 1]} ends (its nearest ruling is {g:.3g} away, more than "
                 f"{tol:.3g}): join only patches that follow one another, in their order (as 'ruled cone' writes "
                 f"them), or machine them one at a time")
-    poles, weights, knots = [], [], [0.0] * (p + 1)
+    poles: list = []
+    weights: list = []
+    knots = [0.0] * (p + 1)
     for k, R in enumerate(chain):
         W = _weights(R)
         if k:

@@ -75,26 +75,26 @@ class MachineOptions:
             try:
                 planes = tuple(float(h) for h in planes)
             except (TypeError, ValueError):
-                raise BadInputError(f"--planes takes two heights a,b, not {self.planes!r}") from None
+                raise BadInputError(f"«planes» takes two heights a,b, not {self.planes!r}") from None
             if len(planes) != 2 or not all(math.isfinite(h) for h in planes) or planes[0] == planes[1]:
-                raise BadInputError(f"--planes takes two different heights a,b, not {self.planes!r}")
+                raise BadInputError(f"«planes» takes two different heights a,b, not {self.planes!r}")
             planes = tuple(sorted(planes))
-        r = size("--tool-radius", self.tool_radius)
+        r = size("tool_radius", self.tool_radius)
         if self.mode == "flank" and r is None:
-            raise BadInputError("flank milling needs the tool radius (--tool-radius R)")
+            raise BadInputError("flank milling needs the tool radius («tool_radius» R)")
         try:
             taper = float(self.taper_deg)
         except (TypeError, ValueError):
             taper = math.nan
         if not (0.0 <= taper < 45.0):
-            raise BadInputError(f"--taper must be from 0 to 45 degrees (the tool's half angle), not {self.taper_deg!r}")
-        feed = size("--feed", self.feed, what="model units per minute")
+            raise BadInputError(f"«taper» must be from 0 to 45 degrees (the tool's half angle), not {self.taper_deg!r}")
+        feed = size("feed", self.feed, what="model units per minute")
         if self.tip not in ("auto", "first", "second"):
-            raise BadInputError(f"--tip is auto, first or second, not {self.tip!r}")
+            raise BadInputError(f"«tip» is auto, first or second, not {self.tip!r}")
         max_points = whole("max_points", self.max_points, 100, 10 ** 8, "must be a whole number from 100 to 100000000")
-        values = dict(chord_tol=size("--chord-tol", self.chord_tol), planes=planes, axis=_axis_spec(self.axis),
-                      margin=size("--margin", self.margin), kerf=size("--kerf", self.kerf, True), tool_radius=r,
-                      taper_deg=taper, lead=size("--lead", self.lead, True), feed=feed,
+        values = dict(chord_tol=size("chord_tol", self.chord_tol), planes=planes, axis=_axis_spec(self.axis),
+                      margin=size("margin", self.margin), kerf=size("kerf", self.kerf, True), tool_radius=r,
+                      taper_deg=taper, lead=size("lead", self.lead, True), feed=feed,
                       max_points=max_points)
         for name, value in values.items():
             object.__setattr__(self, name, value)
@@ -112,10 +112,10 @@ def _axis_spec(axis):
         try:
             axis = [float(s) for s in a.split(",")]
         except ValueError:
-            raise BadInputError(f"--axis is auto, x, y, z or a vector 'ax,ay,az', not {axis!r}") from None
+            raise BadInputError(f"«axis» is auto, x, y, z or a vector 'ax,ay,az', not {axis!r}") from None
     v = np.asarray(axis, float).ravel()
     if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
-        raise BadInputError(f"--axis is auto, x, y, z or a non-zero vector 'ax,ay,az', not {axis!r}")
+        raise BadInputError(f"«axis» is auto, x, y, z or a non-zero vector 'ax,ay,az', not {axis!r}")
     return tuple(v / np.linalg.norm(v))
 
 
@@ -348,12 +348,12 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
         raise BadInputError(f"ruling {i} of {_DENSE} ({_where(ud[i], A[i])}) is "
                             f"{math.degrees(math.acos(cosang[i])):.1f} degrees from the machine axis "
                             f"({d[0]:.4g}, {d[1]:.4g}, {d[2]:.4g}): it (almost) never crosses the planes; "
-                            f"choose another --axis")
+                            f"choose another «axis»")
     if np.any(np.sign(span) != np.sign(span[0])):
         i = int(np.argmax(np.sign(span) != np.sign(span[0])))
         raise BadInputError(f"the rulings turn over along the machine axis (ruling {i} of {_DENSE}, "
                             f"{_where(ud[i], A[i])}): one pair of planes cannot hold both guides; choose another "
-                            f"--axis or split the face")
+                            f"«axis» or split the face")
     lo_h, hi_h = np.minimum(ha, hb), np.maximum(ha, hb)
     margin = opts.margin if opts.margin is not None else 0.02 * R.diagonal()
     if opts.planes is None:
@@ -366,7 +366,7 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
                 raise BadInputError(
                     f"the plane at height {h:g} crosses ruling {i} of {_DENSE} ({_where(ud[i], A[i])}, heights "
                     f"{lo_h[i]:.6g} to {hi_h[i]:.6g}): the planes must lie outside the part, the lower below "
-                    f"{lo_h.min():.6g} and the upper above {hi_h.max():.6g} (--planes a,b)")
+                    f"{lo_h.min():.6g} and the upper above {hi_h.max():.6g} («planes» a,b)")
 
     def on_planes(u):
         a, b, _ = lines.ends(u)

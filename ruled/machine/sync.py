@@ -59,7 +59,7 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds: np.ndarray = (), max
             break
         if u.size + bad.size > 4 * max_points:
             raise BadInputError(f"the chord tolerance {user_tol:.3g} needs more than {max_points} synchronized "
-                                f"points; raise --chord-tol")
+                                f"points; raise «chord_tol»")
         a, b = u[bad], u[bad + 1]
         mid = 0.5 * (a + b)
         fm = f(mid)
@@ -78,8 +78,8 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds: np.ndarray = (), max
         po = np.argsort(pts, kind="stable")
         u, vals = pts[po], np.concatenate([vals, fm])[po]
     else:
-        raise BadInputError(f"the contours cannot be followed within --chord-tol {user_tol:.3g} (a kink or a "
-                            f"jump); raise --chord-tol")
+        raise BadInputError(f"the contours cannot be followed within «chord_tol={user_tol:.3g}» (a kink or a "
+                            f"jump); raise «chord_tol»")
     # every sample in parameter order: the points themselves and the samples inside each move
     n = u.size
     U = np.concatenate([u[:-1, None], su], axis=1).ravel()

@@ -157,4 +157,4 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
 
 
 def check_tolerance(tol) -> float:
-    return positive("--tol", tol)
+    return positive("tol", tol)

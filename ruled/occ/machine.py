@@ -76,7 +76,7 @@ def given_ruled(S):
     if S.degree_u == 1:
         return S.transposed()
     raise BadInputError(f"the face is not a ruled surface of Ruled's (degrees {S.degree_u} x {S.degree_v}, neither "
-                        f"is 1): fit it instead (leave out --ruled)")
+                        f"is 1): fit it instead (leave out «ruled»)")
 
 
 def machine_of_patches(faces: list, names: list, opts: MachineOptions, progress=None,
@@ -135,7 +135,7 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     t2 = time.perf_counter()
     out_face = face if given else container_to_face(R)
     if given:
-        fit_rep = {"method": "given (the face is a ruled result)", "direction": "v" if S.degree_v == 1 else "u",
+        fit_rep: dict = {"method": "given (the face is a ruled result)", "direction": "v" if S.degree_v == 1 else "u",
                    "closed": bool(R.periodic_u), "error_bound": slack, "notes": []}
     else:
         fit_rep = {"method": res.best.method, "direction": res.direction, "closed": res.best.closed,

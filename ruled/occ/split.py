@@ -10,7 +10,7 @@ and the surface itself.  The faces are checked with BRepCheck, sewn, and their a
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 from OCP.BRep import BRep_Builder
@@ -38,7 +38,7 @@ class SplitFaces:
     faces: list                # TopoDS_Face per strip, in order from v0 to v1 (oriented coordinates)
     edges: list                # the shared split edges (TopoDS_Edge), between faces k and k + 1
     curves: list               # CurveOnSurface of each split edge
-    surface: object            # the Geom_BSplineSurface every face lies on
+    surface: Any               # the Geom_BSplineSurface every face lies on
     edge_tol: float
 
 
@@ -190,7 +190,7 @@ def _area(face) -> float:
 # ------------------------------------------------------------------------------ whole jobs
 @dataclass
 class FaceSplit:
-    result: object             # ruled.split.partition.SplitResult
+    result: Any                # ruled.split.partition.SplitResult
     chosen: str                # the candidate with the lowest measured error
     faces: dict                # name -> SplitFaces
     fits: dict                 # name -> [TopoDS_Face of each side's ruled fit]
@@ -252,7 +252,7 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
 
 @dataclass
 class FacePartition:
-    partition: object          # ruled.split.partition.Partition
+    partition: Any             # ruled.split.partition.Partition
     faces: SplitFaces
     check: SplitCheck
     fits: list

@@ -81,7 +81,7 @@ def split_tables(S: Surface, n: int, d: int, m: int = 9, iters: int = 3, dims: i
     projection, as the 2D cost table).  5D: M lifted along the normal by step k, k = -levels..levels;
     7D: P, Q and M lifted so.  Tables (n, n, d) for 4D, (n, mp, n, d, mm) otherwise."""
     if dims not in (4, 5, 7):
-        raise BadInputError(f"--dims {dims}: the split DP is 4D, 5D (M elevated) or 7D (P, Q and M elevated)")
+        raise BadInputError(f"«dims={dims}»: the split DP is 4D, 5D (M elevated) or 7D (P, Q and M elevated)")
     u, vl = m_grid(S, n, d)
     _, _, v0, v1 = S.domain
     if dims == 4 or levels == 0:
@@ -93,7 +93,7 @@ def split_tables(S: Surface, n: int, d: int, m: int = 9, iters: int = 3, dims: i
         if dims != 4:
             A, B = A[:, None, :, :, None], B[:, None, :, :, None]
         return SplitTables(u, vl, A, B)
-    positive("--step", step)
+    positive("lift_step", step)
     h = step * (np.arange(2 * levels + 1) - levels)
     hp = h if dims == 7 else np.zeros(1)
     i, e, a, b, f = (x.ravel() for x in np.meshgrid(np.arange(n), np.arange(hp.size), np.arange(n), np.arange(d),

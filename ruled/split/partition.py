@@ -43,22 +43,22 @@ class SplitOptions:
 
     def __post_init__(self):
         """Validates every option on construction (one BadInputError line naming it)."""
-        whole("--samples", self.samples, 4, np.inf, "is too small for a split; use at least 4 (30 is the paper's)")
-        whole("--interior", self.interior, 1, np.inf,
+        whole("samples", self.samples, 4, np.inf, "is too small for a split; use at least 4 (30 is the paper's)")
+        whole("interior", self.interior, 1, np.inf,
               "must be a whole number of M-rows, at least 1 (10 is the paper's)")
         if self.objective not in ("sum", "max"):
             raise BadInputError(f"unknown split objective {self.objective!r}: use 'sum' or 'max'")
         if self.dims not in (4, 5, 7):
-            raise BadInputError(f"--dims {self.dims}: use 4 (nothing elevated), 5 (M elevated) or 7 (P, Q and M)")
-        whole("--elevations", self.levels, 1, 6, "must be a whole number from 1 to 6 (levels on each side of the "
+            raise BadInputError(f"«dims={self.dims}»: use 4 (nothing elevated), 5 (M elevated) or 7 (P, Q and M)")
+        whole("elevations", self.levels, 1, 6, "must be a whole number from 1 to 6 (levels on each side of the "
               "surface; 2 gives the paper's 5)")
         if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
-            positive("--step", self.step)
-        whole("--max-strips", self.max_strips, 1, np.inf, "must be at least 1")
+            positive("lift_step", self.step)
+        whole("max_strips", self.max_strips, 1, np.inf, "must be at least 1")
         if not isinstance(self.fit, FitOptions):
             raise BadInputError("the split's fit options must be a FitOptions")
         if self.memory_cap is not None:
-            positive("--memory-cap", self.memory_cap / 2.0 ** 20, "a size in MiB")
+            positive("memory_cap", self.memory_cap / 2.0 ** 20, "a size in MiB")
 
     def checked(self) -> "SplitOptions":
         """The options, refused with the estimate when the split's tables would not fit in memory."""
@@ -210,7 +210,7 @@ def split_strip(S: Surface, sf: StripFit, opts: SplitOptions, progress: Progress
     """Split one strip: every candidate curve with both sides fitted; of the optimal M-curve's smoothings
     the one whose fits are best is kept as "optimal"."""
     curves, m_uv = split_curves(S, sf.strip, sf.side, opts, sf.bound, sf.fit.best.closed)
-    cands = {}
+    cands: dict = {}
     curves = [c for c in curves if c[0].split(":")[0] in names]
     best = np.inf       # the best candidate's bound so far: a side sampled above it cannot win
     for k, (name, curve, score, t) in enumerate(curves):
@@ -271,7 +271,7 @@ def partition(S: Surface, tol: float, opts: SplitOptions = SplitOptions(), progr
     of its optimal M-curve and its best iso-parametric curve, until every strip's bound is within tol;
     then the fewest uniform iso-parametric strips for the same tolerance, and keep whichever is fewer."""
     opts = opts.checked()
-    positive("--tol", tol)
+    positive("tol", tol)
     t0 = time.perf_counter()
     So, transposed, whole = whole_fit(S, opts.fit, progress)
     strips = [whole]
@@ -284,7 +284,7 @@ def partition(S: Surface, tol: float, opts: SplitOptions = SplitOptions(), progr
             break
         if len(strips) >= opts.max_strips:
             raise InfeasibleError(f"the tolerance {tol:.4g} is not met with {opts.max_strips} strips (the best reached "
-                                  f"is {max(bounds):.4g}); raise --max-strips or the tolerance")
+                                  f"is {max(bounds):.4g}); raise «max_strips» or the tolerance")
         cands, _ = split_strip(So, strips[k], opts, None, names=("optimal", "best-iso"))
         best = min(cands.values(), key=lambda c: c.bound)
         history.append((k, best.name, best.bound))

@@ -95,7 +95,7 @@ class Strip:
         return u, (lo + t.ravel() * (hi - lo)).reshape(u.shape)
 
     name = "strip's surface"
-    refine_hint = "the split curve is too wiggly: use fewer interior rows (--interior)"
+    refine_hint = "the split curve is too wiggly: use fewer interior rows («interior»)"
 
     @property
     def whole(self) -> bool:

@@ -186,7 +186,8 @@ def test_4d_argument_errors_exit_2(tmp_path):
     o = str(tmp_path / "o.step")
     assert "--elevations" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--elevations",
                                                    "-2", "-o", o))
-    assert "--step" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--step", "0", "-o", o))
+    assert "--lift-step" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--lift-step", "0",
+                                                  "-o", o))
     assert "invalid choice" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--metric",
                                                      "vd", "-o", o))
     msg = _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--samples", "120", "--elevations",
@@ -267,7 +268,7 @@ def test_one_wording_for_a_size_that_must_be_positive(tmp_path):
          "(a distance in model units), not -1"),
         (["fit", kj, "--face", "6", "--tol", "0", "-o", out], "--tol must be a positive finite number "
          "(a distance in model units), not 0"),
-        (["split", kj, "--face", "6", "--dims", "5", "--step", "-1", "-o", out], "--step must be a positive "
+        (["split", kj, "--face", "6", "--dims", "5", "--lift-step", "-1", "-o", out], "--lift-step must be a positive "
          "finite number (a distance in model units), not -1"),
         (["curve-on-surface", kj, "--face", "6", "--tol", "nan", "--uv", "0.1,0.1;0.9,0.9", "-o", out],
          "--tol must be a positive finite number (a distance in model units), not nan"),

@@ -52,7 +52,7 @@ def run_cli(tmp_path, face_file, face, *args, name="out"):
     out = str(tmp_path / f"{name}.ngc") if "--xyuv" in args else str(tmp_path / f"{name}.apt")
     rep = str(tmp_path / f"{name}.json")
     cam = str(tmp_path / f"{name}-cam.step")
-    rc = main(["machine", face_file, "--face", str(face), *args, "-o", out, "--report", rep, "--step", cam,
+    rc = main(["machine", face_file, "--face", str(face), *args, "-o", out, "--report", rep, "--cam-step", cam,
                "--quiet"])
     assert rc == 0
     with open(rep) as fh:

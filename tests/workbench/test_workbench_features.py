@@ -3,6 +3,7 @@ recomputes when its parameters or its source change, it survives save and reopen
 invalid with a message, and on a face of a STEP read by FreeCAD it gives the command line's bound
 and measured Hausdorff distance."""
 import json
+import re
 import subprocess
 import sys
 import textwrap
@@ -144,12 +145,14 @@ SPLIT_SCRIPT = textwrap.dedent("""
         src.Shape = surface_to_face(elber_ex2())
         sp = make_ruled_split(doc, src, "Face1", Samples=10, Interior=4, FitSamples=12)
         bad = make_ruled_split(doc, src, "Edge1")
+        small = make_ruled_split(doc, src, "Face1", Samples=2)
         doc.recompute()
         on_face = max(src.Shape.Faces[0].distToShape(Part.Vertex(p))[0] for p in sp.SplitCurve)
         out = {{"valid": sp.isValid(), "status": sp.Status, "chosen": sp.Chosen, "bound": float(sp.ErrorBound),
                "whole": float(sp.WholeBound), "candidates": list(sp.Candidates), "faces": len(sp.Shape.Faces),
                "edges": len(sp.Shape.Edges), "curve": len(sp.SplitCurve), "on_face": on_face,
-               "bad": [bad.isValid(), bad.Status]}}
+               "bad": [bad.isValid(), bad.Status],
+               "small": [small.isValid(), small.Status, small.PropertiesList]}}
         path = os.path.join({tmp!r}, "s.FCStd")
         doc.saveAs(path)
         FreeCAD.closeDocument("S")
@@ -183,6 +186,12 @@ def test_ruled_split_object_in_freecadcmd(tmp_path):
     assert r["bound"] == pytest.approx(best.bound, rel=1e-6) and r["bound"] < r["whole"]
     assert len(r["candidates"]) == len(res.candidates)
     assert r["bad"][0] is False and "exactly one face" in r["bad"][1]
+    # an engine refusal names the remedy in FreeCAD's terms: the object's own properties, no flags
+    valid, status, props = r["small"]
+    assert valid is False and status.startswith("Samples = 2 is too small for a split; use at least 4"), status
+    assert "--" not in status and "samples=" not in status
+    named = set(re.findall(r"\b([A-Z][A-Za-z]+) = ", status))
+    assert named == {"Samples"} and named <= set(props)
     assert r["reopened"] == "ruled_workbench.features.RuledSplit"
 
 
