@@ -61,7 +61,8 @@ def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None):
     import json
     import textwrap
     path = tmp_path / "freecad_out.json"
-    script = (WORKBENCH_LOADER + "code = 1\ntry:\n    import json\n    out = {}\n" + textwrap.indent(body.strip(), "    ")
+    script = (WORKBENCH_LOADER + "code = 1\ntry:\n    import json\n    out = {}\n"
+              + textwrap.indent(body.strip(), "    ")
               + f"\n    json.dump(out, open({str(path)!r}, 'w'))\n    code = 0\nexcept Exception:\n"
               "    import traceback; traceback.print_exc()\nsys.stdout.flush(); sys.stderr.flush()\nos._exit(code)\n")
     run_freecadcmd(script, tmp_path, timeout, env)
