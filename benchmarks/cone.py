@@ -17,8 +17,8 @@ import time
 
 import numpy as np
 
-from ruled.cone.fatarc import fit_fat_conic
 from ruled.cone.conespline import cone_spline
+from ruled.cone.fatarc import fit_fat_conic
 from ruled.examples import cone_examples
 
 TARGET_S = 0.2

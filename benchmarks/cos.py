@@ -17,9 +17,9 @@ import time
 
 import numpy as np
 
+from ruled.core.nurbs import Curve, Surface
 from ruled.curves.curve_on_surface import approximate, sampled_error
 from ruled.examples import yang_curve, yang_surface
-from ruled.core.nurbs import Curve, Surface
 
 
 def ear_like_surface(n: int = 19) -> Surface:

@@ -14,9 +14,10 @@ import sys
 import tracemalloc
 
 from cone import _best
+
 from ruled import FitOptions, fit_surface
-from ruled.machine.paths import MachineOptions, flank_path, side_sign, xyuv_path
 from ruled.machine.envelope import tool_envelope
+from ruled.machine.paths import MachineOptions, flank_path, side_sign, xyuv_path
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests"))
 from cases import hyperboloid  # noqa: E402

@@ -15,6 +15,7 @@ import time
 import tracemalloc
 
 from cone import _best
+
 from ruled.examples import elber_ex2
 from ruled.split.mcurve import split_dp, split_tables, table_bytes
 

@@ -14,6 +14,7 @@ import os
 import time
 
 from cone import _best
+
 from ruled import FitOptions, fit_surface
 from ruled.fit.facefit import face_patch, with_iso
 from ruled.occ.io import get_face

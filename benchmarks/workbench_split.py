@@ -24,8 +24,9 @@ def main() -> int:
     _load_workbench()
     import FreeCAD
     import Part
-    from ruled.core import jit
     from ruled_workbench.features import make_ruled_split
+
+    from ruled.core import jit
     doc = FreeCAD.newDocument("Bench")
     src = doc.addObject("Part::Feature", "Src")
     src.Shape = Part.read(os.path.join(ROOT, "tests", "data", "kj66_impeller.step"))

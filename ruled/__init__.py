@@ -6,8 +6,15 @@ and the CadQuery entry points through it); FreeCAD only in ``workbench/``.
 Data crosses every boundary as plain arrays in small frozen containers.
 """
 
-from ruled.core.errors import (BadInputError, CancelledError, DegenerateFaceError, InfeasibleError, RuledError,
-                               ToleranceError, TooBigError)
+from ruled.core.errors import (
+    BadInputError,
+    CancelledError,
+    DegenerateFaceError,
+    InfeasibleError,
+    RuledError,
+    ToleranceError,
+    TooBigError,
+)
 from ruled.core.lazy import lazy_getattr
 
 __version__ = "0.1.0"

@@ -41,9 +41,11 @@ from typing import Any, Optional
 import numpy as np
 
 from ruled.core.errors import BadInputError, RuledError
-from ruled.fit.fit2d import FitOptions, FitResult, Progress
-from ruled.fit.surface import fit_surface
 from ruled.core.nurbs import Surface
+from ruled.core.progress import Progress
+from ruled.fit.fit2d import FitResult
+from ruled.fit.options import FitOptions
+from ruled.fit.surface import fit_surface
 
 
 @dataclass(frozen=True)
@@ -118,8 +120,8 @@ def curve_on_face(face, uv, tol: float = 1e-3, angle: float = 1.0, bound: str = 
     """The image on the face of a (u, v) curve: uv is a polyline ((N, 2) points) or a 2D
     :class:`ruled.Curve`; the result is a curve of degree p + q on the face's surface exactly (Yang et
     al. 2008), within tol of the exact image and G1 within angle degrees at its joints."""
-    from ruled.curves.domain import polyline_curve
     from ruled.core.nurbs import Curve
+    from ruled.curves.domain import polyline_curve
     from ruled.occ.cos import curve_on_face as _on_face
 
     src = _face_of(face)

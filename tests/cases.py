@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-import numpy as np
 from math import comb
+
+import numpy as np
 
 from ruled.core.nurbs import Surface
 

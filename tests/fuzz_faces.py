@@ -11,12 +11,12 @@ from __future__ import annotations
 import numpy as np
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.Geom import Geom_BSplineSurface
+from OCP.gp import gp_Pnt
 from OCP.TColgp import TColgp_Array2OfPnt
 from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array2OfReal
-from OCP.gp import gp_Pnt
+from trimmed_faces import curve2d, face_from_loops, graph2d
 
 from ruled.occ.convert import occ_array
-from trimmed_faces import curve2d, face_from_loops, graph2d
 
 
 def _knots(rng, n: int, p: int, periodic: bool):

@@ -14,11 +14,11 @@ from OCP.Geom import Geom_BSplineSurface
 from OCP.Geom2dAPI import Geom2dAPI_PointsToBSpline
 from OCP.GeomAbs import GeomAbs_Shape
 from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface
+from OCP.gp import gp_Pnt, gp_Pnt2d
 from OCP.ShapeFix import ShapeFix_Face
 from OCP.TColgp import TColgp_Array1OfPnt2d, TColgp_Array2OfPnt
 from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
 from OCP.TopoDS import TopoDS
-from OCP.gp import gp_Pnt, gp_Pnt2d
 
 
 def bspline_surface(poles, uknots, umults, vknots, vmults, pu, pv, uperiodic=False) -> Geom_BSplineSurface:
@@ -122,8 +122,8 @@ def measure(face, shape, n: int) -> float:
     from OCP.TopAbs import TopAbs_ShapeEnum
     from OCP.TopExp import TopExp_Explorer
 
-    from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
     from ruled.occ.faceset import FaceSet, sample_faces
+    from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
     faces = []
     ex = TopExp_Explorer(shape, TopAbs_ShapeEnum.TopAbs_FACE)
     while ex.More():

@@ -6,10 +6,10 @@ ruled.core.hostform's, the same the OCP adapter uses, so both hosts see the same
 
 from __future__ import annotations
 
-import numpy as np
-
 import FreeCAD
+import numpy as np
 import Part
+
 from ruled.core.errors import BadInputError
 from ruled.core.hostform import curve_from_kernel_form, from_kernel_form, kernel_form
 from ruled.core.nurbs import Curve, Surface

@@ -9,9 +9,8 @@ from __future__ import annotations
 import json
 import os
 
-import numpy as np
-
 import FreeCAD
+import numpy as np
 import Part
 
 # file-dialog filter -> what is written
@@ -85,11 +84,10 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
     synchronized points, like ``ruled machine --cam-step --rulings``); returns the report."""
-    from ruled.machine.paths import MachineOptions, machine_path
+    from ruled.fit.facefit import face_patch
     from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
     from ruled.machine.output import path_report, write_machine
-
-    from ruled.fit.facefit import face_patch
+    from ruled.machine.paths import MachineOptions, machine_path
 
     from .adapter import face_region, face_to_arrays, surface_to_face
     from .features import value

@@ -219,7 +219,7 @@ def ruling_lines(fits) -> list:
 
 # the engine's options as this workbench's properties (the engine names them by key: ruled.core.errors)
 PROPERTIES = {"samples": "Samples", "max_error": "MaxError", "tol": "Tolerance", "elevations": "Elevations",
-              "lift_step": "Step", "arc_step": "Step", "interior": "Interior", "max_strips": "MaxStrips",
+              "lift_step": "Step", "arc_step": "Step", "split_elevations": "Elevations", "interior": "Interior", "max_strips": "MaxStrips",
               "fit_samples": "FitSamples", "dims": "Dims", "direction": "Direction", "objective": "Objective",
               "method": "Method", "metric": "Metric", "rails": "Rails", "allow_creases": "AllowCreases",
               "fit_first": "FitFirst", "fit_help": "the object's properties",
@@ -334,8 +334,8 @@ class RuledFit(_Feature):
                           metric=str(obj.Metric)).checked()
 
     def compute(self, obj):
-        from ruled.fit.facefit import fit_region
         from ruled.core.hostform import bounds_slack
+        from ruled.fit.facefit import fit_region
 
         from .adapter import face_region, outer_edges, surface_to_face
         face, opts, S, progress = self.inputs(obj, "fitting")
@@ -408,8 +408,9 @@ class RuledSplit(_Feature):
     def finish(self, obj, face, S, res, progress, dev: float):
         """The kept split's faces, measure and rulings; the bounds against the face as bounded by its edges
         (the split's, against the face's four-sided patch, plus the patch's deviation dev)."""
-        import Part
         import numpy as np
+        import Part
+
         from ruled.curves.curve_on_surface import approximate
         from ruled.split.strips import EDGE_TOL, input_curve
 

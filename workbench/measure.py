@@ -6,10 +6,10 @@ by OCCT's BRepExtrema (Part's distToShape).  The same points and faces as the co
 
 from __future__ import annotations
 
-import numpy as np
-
 import FreeCAD
+import numpy as np
 import Part
+
 from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
 
 

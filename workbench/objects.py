@@ -19,8 +19,20 @@ from __future__ import annotations
 
 import FreeCAD
 
-from .features import (RESULT_GROUP, _add, _enum, _Feature, _make, _Progress, add_results, measure_into,
-                       ruling_lines, say_kernels, source_face, value)
+from .features import (
+    RESULT_GROUP,
+    _add,
+    _enum,
+    _Feature,
+    _make,
+    _Progress,
+    add_results,
+    measure_into,
+    ruling_lines,
+    say_kernels,
+    source_face,
+    value,
+)
 
 
 class RuledPartition(_Feature):
@@ -54,8 +66,9 @@ class RuledPartition(_Feature):
 
     def compute(self, obj):
         import Part
-        from ruled.curves.curve_on_surface import approximate
+
         from ruled.core.errors import BadInputError
+        from ruled.curves.curve_on_surface import approximate
         from ruled.fit.facefit import face_patch
         from ruled.split.partition import partition
         from ruled.split.strips import EDGE_TOL, input_curve
@@ -142,10 +155,11 @@ class RuledConeSpline(_Feature):
 
     def compute(self, obj):
         import Part
+
+        from ruled import FitOptions
         from ruled.cone.surface import cone_spline_of_surface
         from ruled.core.errors import BadInputError
         from ruled.fit.facefit import face_patch, fit_region
-        from ruled import FitOptions
 
         from .adapter import face_region, surface_to_face
         tol = value(obj.Tolerance)
@@ -218,8 +232,8 @@ class RuledCurveOnFace(_Feature):
 
     def domain_curves(self, obj, face, S) -> list:
         """The (u, v) curves: the sketch's edges mapped onto the face, or a polyline through the points."""
-        from ruled.curves.domain import domain_curve_from_json, polyline_curve
         from ruled.core.errors import BadInputError
+        from ruled.curves.domain import domain_curve_from_json, polyline_curve
         u0, u1, v0, v1 = S.domain
         if obj.Sketch is not None:
             unit = obj.Mapping == "unit square"
@@ -248,11 +262,12 @@ class RuledCurveOnFace(_Feature):
         return [polyline_curve(uv)]
 
     def compute(self, obj):
-        import Part
         import numpy as np
+        import Part
+
+        from ruled.core.distance import to_polyline
         from ruled.curves.curve_on_surface import approximate
         from ruled.curves.domain import check_inside
-        from ruled.core.distance import to_polyline
 
         from .adapter import curve_to_edge, face_region, face_to_arrays
         from .measure import distances

@@ -5,9 +5,8 @@ task panel."""
 
 from __future__ import annotations
 
-import numpy as np
-
 import FreeCAD
+import numpy as np
 
 
 def colour_ramp(t: np.ndarray) -> np.ndarray:

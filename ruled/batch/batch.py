@@ -117,8 +117,8 @@ def run_face(job: dict) -> dict:
     """The face task: fit one face as ``ruled fit`` does, write its STEP, report and plot; return its
     summary row.  A refusal (RuledError) is a row with its reason, not an exception."""
     from ruled.cli.fit import run_fit
-    from ruled.occ.io import read_faces
     from ruled.fit.report import write_report
+    from ruled.occ.io import read_faces
     t0 = time.perf_counter()
     row = _row(job, "ok")
     paths = face_paths(job["folder"], job["face"])

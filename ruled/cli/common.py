@@ -9,6 +9,7 @@ from ruled.core.errors import RuledError, names_from
 
 # the engine's options in the command line's terms (see ruled.core.errors): --key-with-dashes, but for these
 CLI_NAMES = names_from({"lift_step": "--lift-step", "arc_step": "--arc-step", "fit_first": "--fit",
+                        "split_elevations": "--elevations",
                         "edges_listing": "'ruled faces INPUT --edges'", "fit_help": "'ruled fit --help'",
                         "partition": "'ruled fit --tol T'"},
                        lambda key: "--" + key.replace("_", "-"), " ", ("True",))

@@ -11,7 +11,7 @@ from ruled.core.errors import RuledError
 
 def run_machine(args) -> dict:
     """Read a face, fit it, make the machine path, measure it, write the G-code / APT, CSV, STEP."""
-    from ruled.fit.fit2d import FitOptions
+    from ruled.fit.options import FitOptions
     from ruled.fit.report import write_report
     from ruled.machine.output import plot_path, write_machine
     from ruled.machine.paths import MachineOptions

@@ -11,7 +11,7 @@ from ruled.core.errors import RuledError
 
 
 def _split_options(args, fit_samples: int = 40, objective: str = "sum"):
-    from ruled.fit.fit2d import FitOptions
+    from ruled.fit.options import FitOptions
     from ruled.split.partition import SplitOptions
     return SplitOptions(samples=getattr(args, "split_samples", None) or 30, interior=getattr(args, "interior", 10),
                         objective=getattr(args, "split_objective", "max"),

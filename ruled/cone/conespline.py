@@ -27,7 +27,6 @@ from ruled.core.errors import BadInputError, ToleranceError, positive
 from ruled.core.nurbs import Curve, Surface
 from ruled.core.progress import Progress
 
-
 MAX_TILT_DEG = 60.0          # a ruling may lean at most this much from the planes' normal
 G1_DEG = float(np.degrees(1e-6))   # neighbouring patches' normals agree to 1e-6 rad
 MAX_PIECES = 16             # §6 splits beyond this many pieces are refused

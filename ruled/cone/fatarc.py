@@ -21,11 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ruled.core import jit
 from ruled.cone import kernels as kernels_cone
+from ruled.cone.conic import _cross, _grid, _unit_grid, choose_tangent, shared_weight, tangent_lines_meet
+from ruled.core import jit
 from ruled.core.distance import to_polyline
 from ruled.core.errors import BadInputError, ToleranceError, positive
-from ruled.cone.conic import _cross, _grid, _unit_grid, choose_tangent, shared_weight, tangent_lines_meet
 
 _NOT, _NOP, _NOQ = np.zeros(2), np.zeros((2, 2)), np.zeros((3, 2))     # unused arguments of the kernel
 

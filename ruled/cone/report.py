@@ -7,8 +7,8 @@ from typing import Optional
 
 import numpy as np
 
-from ruled.cone.conic import conic
 from ruled.cone.conespline import ConeSpline
+from ruled.cone.conic import conic
 
 
 def _vec(x) -> Optional[list]:

@@ -7,10 +7,10 @@ import time
 
 import numpy as np
 
-from ruled.cone.conespline import ConeSpline, Progress, cone_spline_of_curves, ruled_boundaries
+from ruled.cone.conespline import ConeSpline, cone_spline_of_curves, ruled_boundaries
 from ruled.core.errors import ToleranceError
 from ruled.core.nurbs import Surface
-
+from ruled.core.progress import Progress
 
 SEARCH_FACTOR = 3.0          # the tolerances tried after a refusal: tol / 3, tol x 3, x 9, ... up to the face's size
 

@@ -19,7 +19,8 @@ from typing import Any, Callable, Mapping, Optional
 _MARK = re.compile(r"«([a-z_0-9]+)(?:=([^»]*))?»")
 
 # the Python keywords of the options whose key is not the keyword itself, and the remedies that name a call
-PYTHON_NAMES = {"lift_step": "step", "arc_step": "step", "fit_first": "fit", "fit_help": "help(ruled.FitOptions)",
+PYTHON_NAMES = {"lift_step": "step", "arc_step": "step", "fit_first": "fit", "taper": "taper_deg",
+                "split_elevations": "levels", "fit_help": "help(ruled.FitOptions)",
                 "edges_listing": "the edge indices 'ruled faces INPUT --edges' lists",
                 "partition": "ruled.partition(surface, tol=T)"}
 

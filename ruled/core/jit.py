@@ -8,8 +8,6 @@ from __future__ import annotations
 import os
 
 
-
-
 def _separate_cache() -> None:
     """Inside FreeCAD (its own Python and numba, Debian's 0.56) the compiled kernels go to a cache of their
     own: numba's default, __pycache__ beside the sources, holds index files of the same names for the

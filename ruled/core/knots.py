@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ruled.core.nurbs import Curve
 from ruled.core.basis import find_spans
+from ruled.core.nurbs import Curve
 
 
 def insert_knot(C: Curve, u: float, times: int = 1) -> Curve:

@@ -21,9 +21,9 @@ from typing import Optional
 import numpy as np
 
 from ruled.core import jit, kernels
+from ruled.core.basis import _as_f64, _deriv_net, basis_derivatives, find_spans, refine_axis, taylor_table
 from ruled.core.checks import MAX_COORD, positive_weights, real_array, whole_degree
 from ruled.core.errors import BadInputError
-from ruled.core.basis import _as_f64, _deriv_net, basis_derivatives, find_spans, refine_axis, taylor_table
 
 _CHUNK = 40000
 

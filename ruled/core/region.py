@@ -19,9 +19,9 @@ from typing import Optional
 
 import numpy as np
 
+from ruled.core.basis import bspline_basis_matrix
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Curve, Surface
-from ruled.core.basis import bspline_basis_matrix
 
 CORNER_DEG = 15.0          # a joint where the loop's image turns more than this is a corner
 _TABLE = 96                # arc-length table points per edge piece

@@ -6,13 +6,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from math import comb
+
 import numpy as np
+
 from ruled.core import jit
-from ruled.curves import kernels as kernels_cos
+from ruled.core.basis import find_spans
 from ruled.core.errors import BadInputError
 from ruled.core.knots import span_bezier
 from ruled.core.nurbs import Curve, Surface
-from ruled.core.basis import find_spans
+from ruled.curves import kernels as kernels_cos
 
 _B2P: dict = {}
 

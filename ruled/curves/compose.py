@@ -19,11 +19,11 @@ from math import comb
 import numpy as np
 
 from ruled.core import jit
-from ruled.curves import kernels as kernels_cos
+from ruled.core.basis import find_spans
 from ruled.core.errors import BadInputError
 from ruled.core.knots import span_bezier
 from ruled.core.nurbs import Curve, Surface
-from ruled.core.basis import find_spans
+from ruled.curves import kernels as kernels_cos
 
 
 def restrict_matrices(p: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -29,18 +29,30 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ruled.core import jit
-from ruled.curves import kernels as kernels_cos
-from ruled.curves.compose import SpanPatches, compose_stack
+from ruled.core.basis import find_spans
 from ruled.core.distance import to_polyline
 from ruled.core.errors import BadInputError, TooBigError, positive
 from ruled.core.nurbs import Curve, Surface
 from ruled.core.progress import Progress
-from ruled.core.basis import find_spans
-from ruled.curves.bezier import (Piece, _add, _b2p, _der, _hom, _mul, _polyval, _roots01,
-                                 _single_sided_stack, _split_stack, bezier_eval, bezier_split, domain_pieces,
-                                 single_sided)
+from ruled.curves import kernels as kernels_cos
+from ruled.curves.bezier import (
+    Piece,
+    _add,
+    _b2p,
+    _der,
+    _hom,
+    _mul,
+    _polyval,
+    _roots01,
+    _single_sided_stack,
+    _split_stack,
+    bezier_eval,
+    bezier_split,
+    domain_pieces,
+    single_sided,
+)
+from ruled.curves.compose import SpanPatches, compose_stack
 from ruled.curves.domain import domain_curve_from_json, parse_uv, polyline_curve
-
 
 # ---------------------------------------------------------------------------------------------
 # Bézier and power-basis helpers (stacks: axis 0 runs over pieces)

@@ -4,6 +4,7 @@ lies inside the face's domain."""
 from __future__ import annotations
 
 import numpy as np
+
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Curve
 

@@ -5,11 +5,12 @@ a cell's rulings cross a knot or a joint of the fit."""
 from __future__ import annotations
 
 import numpy as np
+
 from ruled.core import jit, kernels
-from ruled.core.nurbs import Curve, Surface
 from ruled.core.basis import SpanRangeMax, _deriv_net, pieces_for
-from ruled.fit.reparam import Boundaries
+from ruled.core.nurbs import Curve, Surface
 from ruled.fit.pairing import Pairing
+from ruled.fit.reparam import Boundaries
 
 # Newton iterations for the feet of points on the fit's rulings
 FEET_ITERS = 40

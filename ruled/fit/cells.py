@@ -4,8 +4,8 @@ where its bound is loose."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-import numpy as np
 
+import numpy as np
 
 # bounds below this fraction of the face's size are not refined further (no machine holds less)
 FLOOR = 1e-6

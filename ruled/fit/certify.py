@@ -35,14 +35,26 @@ from dataclasses import replace
 import numpy as np
 
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.reparam import Boundaries
-from ruled.fit.pairing import Pairing
-from ruled.fit.bounds import (_contains, _crossing, _joint_jumps, _knot_grid, _local_net_max, _pairing_s,
-                              _polished_feet, _rail, _range_max, _segment_feet, _snap, _soft_knots, _spanmax,
-                              _twin)
+from ruled.fit.bounds import (
+    _contains,
+    _crossing,
+    _joint_jumps,
+    _knot_grid,
+    _local_net_max,
+    _pairing_s,
+    _polished_feet,
+    _rail,
+    _range_max,
+    _segment_feet,
+    _snap,
+    _soft_knots,
+    _spanmax,
+    _twin,
+)
+from ruled.fit.cells import FLOOR, Certificate, _cells_to_split, _corner_max
 from ruled.fit.certify_reverse import certify_reverse
-from ruled.fit.cells import Certificate, FLOOR, _cells_to_split, _corner_max
-
+from ruled.fit.pairing import Pairing
+from ruled.fit.reparam import Boundaries
 
 # the second-order remainder is tried where the bound exceeds the node maximum by this factor
 SECOND_ORDER_WHEN = 1.1

@@ -15,8 +15,8 @@ from typing import Callable, Optional
 import numpy as np
 
 from ruled.core import jit
-from ruled.fit import kernels
 from ruled.core.errors import InfeasibleError
+from ruled.fit import kernels
 
 # move codes stored in the back-pointer table
 _DIAG, _UP_I, _UP_J = 0, 1, 2

@@ -33,8 +33,8 @@ from typing import Any, Callable, Optional
 import numpy as np
 
 from ruled.core import jit
-from ruled.fit import kernels as kernels4d
 from ruled.core.errors import InfeasibleError
+from ruled.fit import kernels as kernels4d
 from ruled.fit.kernels import DK_COL, DL_COL, MOVES, PATTERN_OF
 
 _TIE = 1e-12

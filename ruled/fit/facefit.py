@@ -17,11 +17,13 @@ import numpy as np
 
 from ruled.core.blas import one_thread
 from ruled.core.errors import BadInputError, DegenerateFaceError, RuledError
-from ruled.fit.fit2d import GRID_COARSE, GRID_FINE, Direction, FitOptions, FitResult, Progress, iso_fit, recertify
-from ruled.fit.surface import fit_surface
 from ruled.core.nurbs import Surface
-from ruled.fit.coons import coons_map
+from ruled.core.progress import Progress
 from ruled.core.region import Region, Sides, four_sides, side_candidates
+from ruled.fit.coons import coons_map
+from ruled.fit.fit2d import GRID_COARSE, GRID_FINE, FitResult, iso_fit, recertify
+from ruled.fit.options import Direction, FitOptions
+from ruled.fit.surface import fit_surface
 from ruled.split.strips import side_surface
 
 PATCH_TOL = 1e-6         # the sampled patch's target deviation from S o Omega, a fraction of the face's size

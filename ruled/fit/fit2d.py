@@ -8,17 +8,17 @@ from typing import Any, Optional
 
 import numpy as np
 
-from ruled.fit import dp
 from ruled.core.blas import one_thread
-from ruled.fit.certify import certified_bound
-from ruled.fit.cells import Certificate
 from ruled.core.distance import ruling_distances
 from ruled.core.errors import DegenerateFaceError, TooBigError
-from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
-from ruled.fit.reparam import Boundaries, exact_boundaries, fit_boundaries, ruled_surface
+from ruled.fit import dp
+from ruled.fit.cells import Certificate
+from ruled.fit.certify import certified_bound
+from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
 from ruled.fit.pairing import MAX_DELTA_COEFS, Pairing, delta_coefs, fit_delta, refine_pairing
+from ruled.fit.reparam import Boundaries, exact_boundaries, fit_boundaries, ruled_surface
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
 GRID_FINE = (240, 80)

@@ -29,18 +29,19 @@ from typing import Optional
 
 import numpy as np
 
-from ruled.fit import dp4d
-from ruled.fit.certify import certified_bound, sampled_distance
+from ruled.core.basis import bspline_basis_matrix
 from ruled.core.distance import ruling_distances, wrap_u
 from ruled.core.errors import InfeasibleError, TooBigError
-from ruled.fit.fit2d import (GRID_FINE, DirectionFit, FitOptions, FitResult, Method, Metric, Progress, _stage,
-                  fit_surface_2d, memory_budget)
-from ruled.fit.metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
 from ruled.core.nurbs import Surface
-from ruled.core.basis import bspline_basis_matrix
-from ruled.fit.reparam import fit_boundaries, ruled_surface
-from ruled.fit.pairing import _GOLD, delta_coefs, fit_delta
+from ruled.core.progress import Progress
 from ruled.core.sampling import elevated_samples, unit_normals
+from ruled.fit import dp4d
+from ruled.fit.certify import certified_bound, sampled_distance
+from ruled.fit.fit2d import GRID_FINE, DirectionFit, FitResult, _stage, fit_surface_2d, memory_budget
+from ruled.fit.metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
+from ruled.fit.options import FitOptions, Method, Metric
+from ruled.fit.pairing import _GOLD, delta_coefs, fit_delta
+from ruled.fit.reparam import fit_boundaries, ruled_surface
 
 DEFAULT_LEVELS = 10          # m: 21 elevation levels
 RANGE_FACTOR = 1.0           # default elevation range: +-(factor x the 2D measured distance)

@@ -53,10 +53,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ruled.core import jit
-from ruled.fit import kernels as kernels4d
 from ruled.core.distance import ruling_distances
 from ruled.core.nurbs import Surface
 from ruled.core.sampling import PATTERNS, Elevated
+from ruled.fit import kernels as kernels4d
 
 
 def f32_up(x: np.ndarray) -> np.ndarray:

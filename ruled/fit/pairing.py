@@ -6,11 +6,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Callable, Optional
+
 import numpy as np
+
+from ruled.core.basis import bspline_basis_matrix
 from ruled.core.distance import ruling_distances
 from ruled.core.nurbs import Curve, Surface
-from ruled.core.basis import bspline_basis_matrix
-
 
 _GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
 

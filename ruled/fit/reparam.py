@@ -27,9 +27,9 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from ruled.core.basis import bspline_basis_matrix
 from ruled.core.knots import clamp_segment, insert_knot, knot_multiplicity
 from ruled.core.nurbs import Curve, Surface
-from ruled.core.basis import bspline_basis_matrix
 from ruled.fit.pairing import Pairing
 
 

@@ -18,8 +18,8 @@ import math
 import numpy as np
 
 from ruled.core.errors import BadInputError
-from ruled.machine.paths import reversed_t
 from ruled.core.nurbs import Surface
+from ruled.machine.paths import reversed_t
 
 JOIN_TOL = 1e-7           # of the patches' diagonal: rulings farther apart do not meet
 

@@ -4,7 +4,9 @@ points of the cut for the independent measure."""
 from __future__ import annotations
 
 import math
+
 import numpy as np
+
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.machine.paths import MachinePath

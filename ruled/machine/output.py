@@ -11,8 +11,8 @@ from typing import Optional
 import numpy as np
 
 from ruled.core.errors import BadInputError
-from ruled.machine.paths import MachinePath, frame_of
 from ruled.core.outputs import atomic, write_text
+from ruled.machine.paths import MachinePath, frame_of
 
 
 def _fmt(x: float, digits: int = 6) -> str:

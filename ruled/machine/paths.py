@@ -39,7 +39,6 @@ from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.machine.sync import _seeds, sync_params
 
-
 _LINE_SAMPLES = 9          # samples along a ruling for its offset line
 _DENSE = 513               # rulings checked for plane crossings and curvature
 _LAWSON = 8                # reweightings of an offset line towards the minimax line

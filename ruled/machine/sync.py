@@ -4,6 +4,7 @@ tolerance of the contours (the XYUV pairs and the flank path's stations)."""
 from __future__ import annotations
 
 import numpy as np
+
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress

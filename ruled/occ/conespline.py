@@ -12,12 +12,13 @@ import numpy as np
 from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
 from OCP.BRepCheck import BRepCheck_Analyzer
 
-from ruled.cone.conespline import ConeSpline, Progress
+from ruled.cone.conespline import ConeSpline
 from ruled.cone.surface import cone_spline_of_surface
 from ruled.core.errors import positive
+from ruled.core.progress import Progress
 from ruled.occ.convert import container_to_face, face_surface_type, face_to_container
-from ruled.occ.measure import face_points
 from ruled.occ.faceset import FaceSet, sample_faces, to_lines
+from ruled.occ.measure import face_points
 
 
 @dataclass
@@ -118,7 +119,7 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
         warnings.append(f"the face is a {kind}; it is taken as its exact B-spline conversion")
     fitted = None
     if fit:
-        from ruled.fit.fit2d import FitOptions
+        from ruled.fit.options import FitOptions
         from ruled.occ.region import fit_face
         fitted, _ = fit_face(face, fit_options or FitOptions(), progress, S=S)
         warnings += list(fitted.patch.warnings)

@@ -3,17 +3,23 @@ pcurve on that face, measured independently (used by the command line and the Ca
 
 from __future__ import annotations
 
-
 import time
-
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
-from ruled.curves.curve_on_surface import CurveOnSurface, Progress, approximate, sampled_error
-from ruled.curves.domain import check_inside
 from ruled.core.nurbs import Curve, Surface
-from ruled.occ.convert import (container_to_bspline, container_to_face, curve2d_to_bspline, curve_to_bspline,
-                               edge_on_face, face_surface_type, face_to_container)
+from ruled.core.progress import Progress
+from ruled.curves.curve_on_surface import CurveOnSurface, approximate, sampled_error
+from ruled.curves.domain import check_inside
+from ruled.occ.convert import (
+    container_to_bspline,
+    container_to_face,
+    curve2d_to_bspline,
+    curve_to_bspline,
+    edge_on_face,
+    face_surface_type,
+    face_to_container,
+)
 from ruled.occ.curve_measure import CurveMeasure, curve_on_surface_measure
 
 

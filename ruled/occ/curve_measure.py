@@ -4,6 +4,7 @@ curve, and the angles at its joints, against OCCT's own evaluation and projectio
 from __future__ import annotations
 
 from dataclasses import dataclass
+
 import numpy as np
 from OCP.Adaptor3d import Adaptor3d_CurveOnSurface
 from OCP.Extrema import Extrema_ExtPC

@@ -10,11 +10,11 @@ from OCP.BRepGProp import BRepGProp
 from OCP.BRepTools import BRepTools
 from OCP.GProp import GProp_GProps
 from OCP.IFSelect import IFSelect_ReturnStatus
-from OCP.STEPControl import STEPControl_Reader, STEPControl_Writer, STEPControl_StepModelType
 from OCP.Interface import Interface_Static
+from OCP.Message import Message, Message_Gravity
+from OCP.STEPControl import STEPControl_Reader, STEPControl_StepModelType, STEPControl_Writer
 from OCP.TopAbs import TopAbs_ShapeEnum
 from OCP.TopExp import TopExp_Explorer
-from OCP.Message import Message, Message_Gravity
 from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 
 from ruled.core.errors import BadInputError

@@ -13,13 +13,14 @@ from typing import Any, Optional
 import numpy as np
 from OCP.TopAbs import TopAbs_REVERSED
 
-from ruled.fit.fit2d import FitOptions, FitResult
-from ruled.machine.paths import Lines, MachineOptions, MachinePath, machine_path
+from ruled.fit.fit2d import FitResult
+from ruled.fit.options import FitOptions
 from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
 from ruled.machine.output import path_report
+from ruled.machine.paths import Lines, MachineOptions, MachinePath, machine_path
 from ruled.occ.convert import container_to_face, conversion_slack, face_to_container, segment_edge
-from ruled.occ.region import fit_face
 from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
+from ruled.occ.region import fit_face
 
 
 @dataclass

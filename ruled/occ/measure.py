@@ -8,17 +8,17 @@ from dataclasses import replace
 
 import numpy as np
 from OCP.BRep import BRep_Tool
+from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepTools import BRepTools
+from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
 from OCP.Extrema import Extrema_GenLocateExtPS
 from OCP.GeomAdaptor import GeomAdaptor_Surface
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 from OCP.ShapeAnalysis import ShapeAnalysis_Surface
-from OCP.BRepAdaptor import BRepAdaptor_Curve
-from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
 from OCP.TopAbs import TopAbs_ShapeEnum, TopAbs_State
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
-from OCP.gp import gp_Pnt, gp_Pnt2d, gp_Vec
 
 from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
 from ruled.occ.curve_measure import _golden_min, _p3

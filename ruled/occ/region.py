@@ -6,11 +6,11 @@ from __future__ import annotations
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
+from OCP.GCPnts import GCPnts_AbscissaPoint
 from OCP.Geom import Geom_TrimmedCurve
 from OCP.Geom2d import Geom2d_TrimmedCurve
 from OCP.Geom2dConvert import Geom2dConvert
 from OCP.GeomConvert import GeomConvert
-from OCP.GCPnts import GCPnts_AbscissaPoint
 from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS

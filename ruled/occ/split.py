@@ -18,19 +18,19 @@ from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Curve2d
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeVertex, BRepBuilderAPI_Sewing
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepGProp import BRepGProp
+from OCP.gp import gp_Pnt
 from OCP.GProp import GProp_GProps
-from OCP.TopAbs import TopAbs_FORWARD, TopAbs_REVERSED, TopAbs_EDGE
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FORWARD, TopAbs_REVERSED
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Wire
-from OCP.gp import gp_Pnt
 
-from ruled.curves.curve_on_surface import approximate
 from ruled.core.hostform import Hausdorff
 from ruled.core.nurbs import Curve, Surface
-from ruled.split.strips import EDGE_TOL, input_curve, iso_curve
+from ruled.curves.curve_on_surface import approximate
 from ruled.occ.convert import container_to_bspline, curve2d_to_bspline, curve_to_bspline
 from ruled.occ.measure import _Projector, hausdorff
+from ruled.split.strips import EDGE_TOL, input_curve, iso_curve
 
 
 @dataclass

@@ -20,13 +20,13 @@ from typing import Optional
 import numpy as np
 
 from ruled.core.errors import BadInputError, InfeasibleError, positive, whole
-from ruled.fit.fit2d import Direction, FitOptions, FitResult
-from ruled.fit.surface import fit_surface
 from ruled.core.nurbs import Curve, Surface
 from ruled.core.progress import Progress
+from ruled.fit.fit2d import FitResult
+from ruled.fit.options import Direction, FitOptions
+from ruled.fit.surface import fit_surface
 from ruled.split.mcurve import check_memory, row_scores, split_dp, split_tables
 from ruled.split.strips import SideSurface, Strip, graph_curve, side_surface
-
 
 
 @dataclass(frozen=True)
@@ -50,7 +50,7 @@ class SplitOptions:
             raise BadInputError(f"unknown split objective {self.objective!r}: use 'sum' or 'max'")
         if self.dims not in (4, 5, 7):
             raise BadInputError(f"«dims={self.dims}»: use 4 (nothing elevated), 5 (M elevated) or 7 (P, Q and M)")
-        whole("elevations", self.levels, 1, 6, "must be a whole number from 1 to 6 (levels on each side of the "
+        whole("split_elevations", self.levels, 1, 6, "must be a whole number from 1 to 6 (levels on each side of the "
               "surface; 2 gives the paper's 5)")
         if self.step is not None and not (np.isfinite(self.step) and self.step > 0):
             positive("lift_step", self.step)

@@ -25,9 +25,9 @@ from typing import Optional
 
 import numpy as np
 
+from ruled.core.basis import bspline_basis_matrix
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Curve, Surface
-from ruled.core.basis import bspline_basis_matrix
 
 DEGREE = 3
 # split edges follow the smooth split curves within this fraction of the surface's size

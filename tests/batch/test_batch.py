@@ -11,7 +11,6 @@ import sys
 import time
 
 import pytest
-
 from conftest import ROOT, data_file
 
 FAST = ["--samples", "12", "--measure-samples", "6"]      # quick fits: the batch, not the fit, is under test
@@ -190,9 +189,10 @@ def test_ruled_candidates_are_the_nearly_ruled_faces(tmp_path):
     size: of a cone's side, a plane and Elber's ex2 (0.27 from its boundaries' ruled surface, 14 % of its
     size), the first two."""
     pytest.importorskip("OCP")
-    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCone
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCone
     from OCP.gp import gp_Pln
+
     from ruled.batch.batch import select
     from ruled.examples import elber_ex2
     from ruled.occ.convert import container_to_face

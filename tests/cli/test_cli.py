@@ -7,7 +7,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, SHARED_DATA, data_file
 
 pytest.importorskip("OCP")
@@ -88,6 +87,7 @@ def _degenerate_files(tmp_path):
             Pz[i, j] = (i + j, 0, 0)
     flat = Surface(Pz, [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 1, 1, 1], 3, 2)
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+
     from ruled.occ.convert import container_to_bspline
     mk = BRepBuilderAPI_MakeFace(container_to_bspline(flat), 0, 1, 0, 1, 1e-7)
     write_step(mk.Face(), str(tmp_path / "flat.step"))
@@ -97,6 +97,7 @@ def test_a_wrong_face_of_a_file_read_before_is_answered_without_occt(tmp_path, m
     """The face count is remembered (ruled.core.facecount): a second wrong --face does not load OCCT, and a
     changed file is read again."""
     import shutil
+
     from ruled import cli
     from ruled.core.facecount import known_count
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
@@ -252,6 +253,7 @@ def test_a_face_closed_in_both_directions_is_refused_as_such(tmp_path):
     """A torus's face has no two boundaries to rule between: said so, not 'degenerate ... use --direction'."""
     pytest.importorskip("OCP")
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeTorus
+
     from ruled.occ.io import faces_of, write_step
     path = str(tmp_path / "torus.step")
     write_step(faces_of(BRepPrimAPI_MakeTorus(10.0, 3.0).Shape())[0], path)

@@ -3,11 +3,17 @@ tangent rules, parallel polygons and Theorem 1, checked against closed-form geom
 import numpy as np
 import pytest
 
-from ruled.examples import cone_examples
-
+from ruled.cone.conic import (
+    barycentric,
+    choose_tangent,
+    conic,
+    locally_convex,
+    reflect,
+    shared_weight,
+    tangent_lines_meet,
+)
 from ruled.cone.fatarc import generators_concurrent, hausdorff_2d, parallel_step
-from ruled.cone.conic import (barycentric, choose_tangent, conic, locally_convex, reflect, shared_weight,
-                              tangent_lines_meet)
+from ruled.examples import cone_examples
 
 
 def test_conic_points_satisfy_the_implicit_form_and_the_weight_is_recovered():
@@ -197,8 +203,8 @@ def test_paper_examples_2_and_3_stay_within_the_error_estimate(case):
 @pytest.mark.parametrize("case", cone_examples(), ids=lambda c: "example " + c[0])
 def test_numba_and_numpy_twins_fit_the_same_arcs(case, monkeypatch):
     """The kernels (kernels_cone) and their NumPy twins in cone.py give bit-identical fits."""
-    from ruled.core import jit
     from ruled.cone.fatarc import fit_fat_conic
+    from ruled.core import jit
     name, b0, db0, b1, db1, tol, step, height, _ = case
     fast = fit_fat_conic(b0, db0, b1, db1, tol, step, h1=height)
     monkeypatch.setattr(jit, "enabled", lambda: False)

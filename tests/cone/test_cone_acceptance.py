@@ -7,13 +7,14 @@ Theorem 1 from the OCCT poles, G1 from OCCT's derivatives along the common rulin
 
 import numpy as np
 import pytest
-
 from test_cone import _spiral, paper_examples
+
 from ruled.cone.conespline import cone_spline
 
 OCP = pytest.importorskip("OCP")
 from OCP.BRep import BRep_Tool  # noqa: E402
 from OCP.gp import gp_Pnt, gp_Vec  # noqa: E402
+
 from ruled.occ.conespline import cone_faces, sew  # noqa: E402
 from ruled.occ.faceset import FaceSet, sample_faces, to_lines  # noqa: E402
 

@@ -7,17 +7,17 @@ import sys
 
 import numpy as np
 import pytest
-
 from test_cone import _spiral
+
 from ruled.cone.conespline import cone_spline
 from ruled.core.errors import BadInputError
 
 OCP = pytest.importorskip("OCP")
+from conftest import ROOT  # noqa: E402
+from test_cone_acceptance import _check_patches, _concurrent, _lift, _measured, _normal, _occ_poles, _original  # noqa: E402,F401
+
 from ruled.occ.conespline import cone_faces  # noqa: E402
 from ruled.occ.faceset import FaceSet, sample_faces, to_lines  # noqa: E402
-
-from conftest import ROOT  # noqa: E402
-from test_cone_acceptance import _check_patches, _measured, _normal, _occ_poles, _concurrent, _lift, _original  # noqa: E402,F401
 
 
 def _run(*args):
@@ -134,6 +134,7 @@ def _lines(P0, P1, bend=0.0):
 def test_each_cone_refusal_says_what_is_meant():
     """Word for word: each refusal names what is wrong with this face and what to do, in a user's terms."""
     from cases import bumped_cone
+
     from ruled.cone.surface import cone_spline_of_surface
     square = _lines([[0, 0, 0], [1, 0, 0]], [[0, 0.2, 1], [1, 0.2, 1]])
     cases = [
@@ -159,6 +160,7 @@ def test_fit_then_cone_in_one_call():
     """A face that is not ruled (a cone section with a bump): fitted, then cone-splined; every point of
     the face is within the fit's bound plus the cone tolerance of the patches."""
     from cases import bumped_cone
+
     from ruled.occ.conespline import cone_of_face
     from ruled.occ.convert import container_to_face
     face = container_to_face(bumped_cone())
@@ -310,9 +312,10 @@ def test_kj66_blades_at_5x_the_fit_error_are_cone_splined_tangent_smooth_in_each
     fit's bound + the tolerance of the patches.  (Faces 1 and 6 twist: their fat curves fold on the
     extended planes, so they are cut into pieces where they fold rather than fitted without the §5
     extension, whose collapsed patches met at up to 180 deg.)"""
+    from conftest import data_file
+
     from ruled.occ.conespline import cone_of_face
     from ruled.occ.io import get_face
-    from conftest import data_file
     tol = KJ66_TOL[index]
     design = get_face(data_file("kj66_impeller.step"), index)
     fc = cone_of_face(design, tol, fit=True, measure_samples=None)

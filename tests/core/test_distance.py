@@ -1,11 +1,11 @@
 """Line–surface distance against an independent brute force (dense samples + OCCT projection)."""
 import numpy as np
 import pytest
-
 from cases import hyperboloid
+
 from ruled.core.distance import ruling_distances
-from ruled.examples import elber_ex1, elber_ex2
 from ruled.core.nurbs import Surface
+from ruled.examples import elber_ex1, elber_ex2
 
 OCP = pytest.importorskip("OCP")
 
@@ -14,6 +14,7 @@ def _brute(S, uP, uQ, closed=False, n_line=60):
     """max over dense points of the segment of the exact distance to S (OCCT projection + dense grid)."""
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
     from OCP.gp import gp_Pnt
+
     from ruled.occ.convert import container_to_bspline
     bs = container_to_bspline(S)
     u0, u1, v0, v1 = S.domain

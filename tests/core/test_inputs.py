@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 from ruled.core.errors import BadInputError
-from ruled.machine.paths import MachineOptions
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.options import FitOptions
-from ruled.split.partition import SplitOptions
 from ruled.core.region import Region
+from ruled.fit.options import FitOptions
+from ruled.machine.paths import MachineOptions
+from ruled.split.partition import SplitOptions
 
 KNOTS = [0, 0, 0, 1, 1, 1]
 
@@ -105,23 +105,23 @@ def test_a_region_refuses_fields_of_the_wrong_kind():
 
 OPTIONS = [
     (lambda: FitOptions(points_per_ruling=0),
-     "points_per_ruling 0 must be a whole number of points from 2 to 1000 (9 is the default)"),
+     "points_per_ruling=0 must be a whole number of points from 2 to 1000 (9 is the default)"),
     (lambda: FitOptions(points_per_ruling=-3),
-     "points_per_ruling -3 must be a whole number of points from 2 to 1000 (9 is the default)"),
+     "points_per_ruling=-3 must be a whole number of points from 2 to 1000 (9 is the default)"),
     (lambda: FitOptions(memory_cap=float("inf")),
-     "--memory-cap must be a positive finite number (a size in MiB), not inf"),
-    (lambda: FitOptions(samples=40.5), "--samples 40.5 must be a whole number of at least 3 (40 is a good start)"),
+     "memory_cap must be a positive finite number (a size in MiB), not inf"),
+    (lambda: FitOptions(samples=40.5), "samples=40.5 must be a whole number of at least 3 (40 is a good start)"),
     (lambda: FitOptions(max_error=float("nan")),
-     "--max-error must be a positive finite number (a distance in model units), not nan"),
-    (lambda: FitOptions(method="3d"), "'3d' is not a valid Method; see 'ruled fit --help'"),
+     "max_error must be a positive finite number (a distance in model units), not nan"),
+    (lambda: FitOptions(method="3d"), "'3d' is not a valid Method; see help(ruled.FitOptions)"),
     (lambda: SplitOptions(memory_cap=-1.0),
-     "--memory-cap must be a positive finite number (a size in MiB), not -9.53674e-07"),
-    (lambda: SplitOptions(interior=0), "--interior 0 must be a whole number of M-rows, at least 1 (10 is the paper's)"),
-    (lambda: MachineOptions(taper_deg="steep"), "--taper must be from 0 to 45 degrees (the tool's half angle), not "
+     "memory_cap must be a positive finite number (a size in MiB), not -9.53674e-07"),
+    (lambda: SplitOptions(interior=0), "interior=0 must be a whole number of M-rows, at least 1 (10 is the paper's)"),
+    (lambda: MachineOptions(taper_deg="steep"), "taper_deg must be from 0 to 45 degrees (the tool's half angle), not "
                                                 "'steep'"),
-    (lambda: MachineOptions(max_points=10.5), "max_points 10.5 must be a whole number from 100 to 100000000"),
+    (lambda: MachineOptions(max_points=10.5), "max_points=10.5 must be a whole number from 100 to 100000000"),
     (lambda: MachineOptions(kerf=float("inf")),
-     "--kerf must be zero or a positive finite number (a distance in model units), not inf"),
+     "kerf must be zero or a positive finite number (a distance in model units), not inf"),
 ]
 
 

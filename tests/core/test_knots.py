@@ -1,7 +1,7 @@
 """Knot insertion and segments leave the curve unchanged (evaluation before/after)."""
 import numpy as np
-
 from cases import hyperboloid, random_surface
+
 from ruled.core.knots import clamp_segment, insert_knot, knot_multiplicity, span_bezier
 from ruled.core.nurbs import Curve
 

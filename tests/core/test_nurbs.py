@@ -1,11 +1,11 @@
 """NURBS core: evaluation against OCCT as the oracle, invariants, bounds, numba/NumPy twins."""
 import numpy as np
 import pytest
-
 from cases import hyperboloid, random_surface
+
 from ruled.core import jit
-from ruled.core.nurbs import Curve, Surface
 from ruled.core.basis import basis_derivatives, find_spans, periodic_knots
+from ruled.core.nurbs import Curve, Surface
 
 OCP = pytest.importorskip("OCP")
 
@@ -116,6 +116,7 @@ def test_third_derivative_bounds_hold_against_occt(rng, degrees):
     """Per-span bounds of the third derivatives (the certificate's second-order remainder) against
     OCCT's own third derivatives (Geom_BSplineSurface::D3) at random points, rational surfaces too."""
     from OCP.gp import gp_Pnt, gp_Vec
+
     from ruled.occ.convert import container_to_bspline
     for rational in (False, True):
         S = random_surface(rng, pu=degrees[0], pv=degrees[1], nu=8, nv=6, rational=rational)
@@ -139,6 +140,7 @@ def test_subdivided_twin_is_the_same_surface_with_sound_local_bounds(rng, period
     """The certificate's bounding twin (knot spans split, S.subdivided): the same surface by OCCT's
     evaluation, and its per-span bounds still hold against dense samples (brute force)."""
     from OCP.gp import gp_Pnt
+
     from ruled.occ.convert import container_to_bspline
     S = random_surface(rng, pu=3, pv=2, nu=7, nv=5, rational=True, periodic_u=periodic)
     T = S.subdivided(5, 3)

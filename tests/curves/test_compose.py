@@ -1,15 +1,16 @@
 """Exact composition of domain segments with B-spline surfaces, checked against OCCT's evaluation."""
 import numpy as np
 import pytest
-
 from cases import random_surface
-from ruled.curves.compose import compose_segment
+
+from ruled.core.basis import find_spans
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
-from ruled.core.basis import find_spans
+from ruled.curves.compose import compose_segment
 
 OCP = pytest.importorskip("OCP")
 from OCP.gp import gp_Pnt  # noqa: E402
+
 from ruled.occ.convert import container_to_bspline  # noqa: E402
 
 YANG_NET = np.array([[(0, 2, -1), (2.5, 1, 0), (1, 0, 1.5)],

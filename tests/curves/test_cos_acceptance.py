@@ -7,21 +7,27 @@ import os
 
 import numpy as np
 import pytest
-
 from cases import random_surface
 from conftest import data_file
+
+from ruled.core.basis import find_spans
+from ruled.core.errors import BadInputError
+from ruled.core.nurbs import Curve
 from ruled.curves.curve_on_surface import approximate
 from ruled.curves.domain import polyline_curve
-from ruled.core.errors import BadInputError
 from ruled.examples import yang_curve, yang_surface
-from ruled.core.nurbs import Curve
-from ruled.core.basis import find_spans
 
 OCP = pytest.importorskip("OCP")
 from OCP.BRep import BRep_Tool  # noqa: E402
 from OCP.BRepCheck import BRepCheck_Analyzer  # noqa: E402
-from ruled.occ.convert import (container_to_bspline, container_to_face, curve2d_to_bspline,  # noqa: E402
-                               curve_to_bspline, edge_on_face)
+
+from ruled.occ.convert import (  # noqa: E402
+    container_to_bspline,
+    container_to_face,
+    curve2d_to_bspline,
+    curve_to_bspline,
+    edge_on_face,
+)
 from ruled.occ.curve_measure import curve_on_surface_measure  # noqa: E402
 
 
@@ -156,11 +162,11 @@ def test_polyline_domain_curve_keeps_its_corners_and_is_exact():
 def test_kj66_face_with_interior_knots(tmp_path):
     from ruled.cli import main
     path = data_file("kj66_impeller.step")
+    from ruled.core.region import four_sides
+    from ruled.fit.coons import coons_map
     from ruled.occ.convert import face_to_container
     from ruled.occ.io import get_face
     from ruled.occ.region import face_region
-    from ruled.fit.coons import coons_map
-    from ruled.core.region import four_sides
     face = get_face(path, 6)
     S = face_to_container(face)
     u0, u1, v0, v1 = S.domain
@@ -190,9 +196,10 @@ def test_kj66_face_with_interior_knots(tmp_path):
     assert r["degree"] == 6 and r["segments"] > 10
     assert r["hausdorff"] <= tol and r["error_bound"] >= r["hausdorff"]
     assert r["max_distance_to_surface"] <= 1e-9 and r["max_joint_angle_deg"] <= 1.0 + 1e-9
-    from ruled.occ.io import read_shape
     from OCP.TopAbs import TopAbs_EDGE
     from OCP.TopExp import TopExp_Explorer
+
+    from ruled.occ.io import read_shape
     ex = TopExp_Explorer(read_shape(str(out)), TopAbs_EDGE)
     n = 0
     while ex.More():

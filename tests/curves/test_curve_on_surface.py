@@ -1,13 +1,13 @@
 """Curves on surfaces, domain side (Yang et al. §§3–4): pieces, single-sidedness, chord distance."""
 import numpy as np
 import pytest
-
 from cases import random_surface
-from ruled.curves.curve_on_surface import chord_distance, span_tolerance
-from ruled.curves.bezier import Piece, _roots01, bezier_eval, domain_pieces, single_sided
+
+from ruled.core.basis import find_spans
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Curve
-from ruled.core.basis import find_spans
+from ruled.curves.bezier import Piece, _roots01, bezier_eval, domain_pieces, single_sided
+from ruled.curves.curve_on_surface import chord_distance, span_tolerance
 
 YANG_CURVE = Curve(np.array([(0.1, 0.1), (0.5, 1.8), (0.8, 0.1)]), [0, 0, 0, 1, 1, 1], 2)  # the paper's example
 

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from ruled.fit import dp
 from ruled.core.errors import InfeasibleError
+from ruled.fit import dp
 
 
 def _all_paths(ni, nj):

@@ -3,16 +3,13 @@
 import numpy as np
 import pytest
 
-from ruled.fit import dp
-from ruled.fit import dp4d
-from ruled.core import jit
-from ruled.fit import metrics4d
-from ruled.core import sampling
+from ruled.core import jit, sampling
 from ruled.core.distance import ruling_distances
 from ruled.core.errors import InfeasibleError
-from ruled.examples import elber_ex1, elber_ex2
-from ruled.fit.kernels import MOVES
 from ruled.core.sampling import PATTERNS
+from ruled.examples import elber_ex1, elber_ex2
+from ruled.fit import dp, dp4d, metrics4d
+from ruled.fit.kernels import MOVES
 
 
 def _tables(S, n, m, tau, closed=False, sshb=True, ns=12):

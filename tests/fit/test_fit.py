@@ -2,12 +2,12 @@
 only OCCT), the engine's certified bound must be at least the measure."""
 import numpy as np
 import pytest
-
 from cases import hyperboloid, reparametrized_ruled
 from conftest import data_file
+
 from ruled import FitOptions, fit_surface
-from ruled.examples import elber_ex1, elber_ex2
 from ruled.core.nurbs import Surface
+from ruled.examples import elber_ex1, elber_ex2
 
 OCP = pytest.importorskip("OCP")
 from ruled.cq import fit_face  # noqa: E402
@@ -113,6 +113,7 @@ def test_ruled_fit_on_every_bspline_face_of_the_impeller(tmp_path):
     sixth, and the closed hub face 87; the nine blades repeat each other, and tests/test_trimmed.py fits
     faces 0-20 of the first ones): the bound holds against the bounded face."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
+
     from ruled.cli.fit import run_fit
     path = data_file("kj66_impeller.step")
     faces = faces_of(read_shape(path))
@@ -225,6 +226,7 @@ def test_bounded_least_squares_matches_scipy(rng):
     """The pairing's bounded least squares (its own active-set solver, so that scipy.optimize is not
     loaded): feasible, and never a larger residual than scipy's bounded-variable least squares."""
     from scipy.optimize import lsq_linear
+
     from ruled.fit.pairing import bounded_lstsq
     for _ in range(200):
         m = int(rng.integers(10, 80))

@@ -3,15 +3,14 @@ SSHB is an upper bound of the discrete ruled surface's distance, 4D beats 2D on 
 never loses to 2D, closes closed faces, and refuses tables that do not fit."""
 import numpy as np
 import pytest
-
 from cases import barrel, random_surface, reparametrized_ruled, wavy_sheet
 from conftest import data_file
+
 from ruled import FitOptions, TooBigError, fit_surface
-from ruled.fit import dp4d
-from ruled.fit import metrics4d
 from ruled.core import sampling
-from ruled.examples import elber_ex1, elber_ex2
 from ruled.core.nurbs import Surface
+from ruled.examples import elber_ex1, elber_ex2
+from ruled.fit import dp4d, metrics4d
 
 OCP = pytest.importorskip("OCP")
 from ruled.occ.convert import container_to_face, face_to_container  # noqa: E402

@@ -19,11 +19,10 @@ import pytest
 pytest.importorskip("OCP")
 
 from conftest import data_file  # noqa: E402
-from trimmed_faces import (bspline_surface, coons_reference, curve2d, face_from_loops, graph2d,  # noqa: E402
-                           measure, part_ruled)
+from trimmed_faces import bspline_surface, coons_reference, curve2d, face_from_loops, graph2d, measure, part_ruled  # noqa: E402
 
 from ruled.core.errors import RuledError  # noqa: E402
-from ruled.fit.fit2d import FitOptions  # noqa: E402
+from ruled.fit.options import FitOptions  # noqa: E402
 from ruled.occ.convert import container_to_face  # noqa: E402
 from ruled.occ.io import face_area, get_face, write_step  # noqa: E402
 from ruled.occ.measure import hausdorff  # noqa: E402
@@ -142,17 +141,21 @@ def test_closed_trimmed_face_is_fitted_round():
     """A band of a closed B-spline (a cylinder of radius 5) between two wavy closed curves and the seam:
     fitted round (the seam is not a side), exactly (its rulings are the cylinder's lines)."""
     from OCP.BRep import BRep_Builder
-    from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeVertex,
-                                    BRepBuilderAPI_MakeWire)
+    from OCP.BRepBuilderAPI import (
+        BRepBuilderAPI_MakeEdge,
+        BRepBuilderAPI_MakeFace,
+        BRepBuilderAPI_MakeVertex,
+        BRepBuilderAPI_MakeWire,
+    )
     from OCP.BRepCheck import BRepCheck_Analyzer
     from OCP.BRepLib import BRepLib
     from OCP.GCE2d import GCE2d_MakeSegment
     from OCP.Geom import Geom_CylindricalSurface, Geom_RectangularTrimmedSurface
     from OCP.GeomAbs import GeomAbs_Shape
     from OCP.GeomConvert import GeomConvert
+    from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Pnt2d
     from OCP.TopLoc import TopLoc_Location
     from OCP.TopoDS import TopoDS
-    from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Pnt2d
 
     P = 2 * np.pi
     cyl = Geom_CylindricalSurface(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 5.0)

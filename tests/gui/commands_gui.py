@@ -9,6 +9,7 @@ import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
 from guitools import toolbar_run  # noqa: E402
+
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
 os.makedirs(OUT, exist_ok=True)

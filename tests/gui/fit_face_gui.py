@@ -2,11 +2,13 @@
 face of a STEP selected, "Fit ruled surface" through its task panel, the result's properties, a
 screenshot of the coloured result with its rulings, and the STEP export.  Writes result.json and the
 pictures to $RULED_GUI_OUT; ends with os._exit (FreeCAD exits 0 even when a script raises)."""
-import sys
-import os
 import json
+import os
+import sys
+
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
 from guitools import toolbar_run  # noqa: E402
+
 OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
 code = 1
@@ -17,6 +19,7 @@ def extra_checks(doc, imp, obj, res):
     """Progress during a fit, Cancel of a running fit, the colour legend, the panel's width, double-click
     to edit, and save / reopen with a clean report view."""
     import time
+
     import FreeCAD
     import FreeCADGui
     from PySide import QtCore, QtGui

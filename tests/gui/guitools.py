@@ -3,8 +3,8 @@
 
 def toolbar_run(name):
     """Trigger the command's button in the Ruled toolbar, as a click does (True), or run it (False)."""
-    from PySide import QtGui
     import FreeCADGui
+    from PySide import QtGui
     mw = FreeCADGui.getMainWindow()
     for bar in mw.findChildren(QtGui.QToolBar):
         if bar.objectName() == "Ruled" or bar.windowTitle() == "Ruled":
@@ -19,6 +19,7 @@ def _click(action, wait: float = 3.0) -> bool:
     """Trigger the action once FreeCAD has enabled it (it updates the buttons' state on a timer after the
     selection changes); False when it stays disabled."""
     import time
+
     from PySide import QtGui
     end = time.time() + wait
     while not action.isEnabled() and time.time() < end:

@@ -10,8 +10,8 @@ import os
 
 import numpy as np
 import pytest
-
 from cases import hyperboloid
+
 from ruled.cli import main
 
 gcodeparser = pytest.importorskip("gcodeparser")
@@ -21,14 +21,13 @@ from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace  # noqa: E402
 from OCP.BRepTools import BRepTools  # noqa: E402
 from OCP.Geom import Geom_Line, Geom_OffsetSurface  # noqa: E402
 from OCP.GeomAPI import GeomAPI_ExtremaCurveCurve  # noqa: E402
-from OCP.TopAbs import TopAbs_REVERSED  # noqa: E402
 from OCP.gp import gp_Ax3, gp_Cone, gp_Cylinder, gp_Dir, gp_Lin, gp_Pnt  # noqa: E402
+from OCP.TopAbs import TopAbs_REVERSED  # noqa: E402
 
 from ruled.core.nurbs import Surface  # noqa: E402
 from ruled.occ.convert import container_to_face  # noqa: E402
 from ruled.occ.io import faces_of, get_face, read_shape, write_step  # noqa: E402
 from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided  # noqa: E402
-
 
 # ------------------------------------------------------------------------------------------- helpers
 

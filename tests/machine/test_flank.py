@@ -14,10 +14,11 @@ from ruled.cli import main
 gcodeparser = pytest.importorskip("gcodeparser")
 
 
+from machine_helpers import hyp_file, patches, read_csv, run_cli  # noqa: E402,F401 (fixtures)
+
 from ruled.core.nurbs import Surface  # noqa: E402
 from ruled.occ.convert import container_to_face  # noqa: E402
 from ruled.occ.io import write_step  # noqa: E402
-from machine_helpers import hyp_file, patches, read_csv, run_cli  # noqa: E402,F401 (fixtures)
 
 
 def parse_apt(path):

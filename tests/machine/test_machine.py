@@ -15,23 +15,31 @@ import shutil
 
 import numpy as np
 import pytest
-
-from conftest import ROOT, data_file
 from cases import hyperboloid
+from conftest import ROOT, data_file
+
 from ruled.cli import main
 
 gcodeparser = pytest.importorskip("gcodeparser")
 
+from machine_helpers import (  # noqa: E402
+    _bilinear,
+    check_sync,
+    hyp_file,  # noqa: E402,F401 (a fixture)
+    lines_3d,
+    read_csv,
+    rebuilt_error,
+    rect_face,
+    run_cli,
+    trace_deviation,
+    xyuv_round_trip,
+)
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace  # noqa: E402
 
 from ruled.core.nurbs import Surface  # noqa: E402
 from ruled.occ.convert import container_to_face  # noqa: E402
 from ruled.occ.io import faces_of, get_face, read_shape, write_step  # noqa: E402
 from ruled.occ.measure import _Projector, face_points, hausdorff  # noqa: E402
-from machine_helpers import hyp_file  # noqa: E402,F401 (a fixture)
-from machine_helpers import (_bilinear, check_sync, lines_3d, read_csv, rebuilt_error, rect_face,  # noqa: E402
-                             run_cli, trace_deviation, xyuv_round_trip)
-
 
 # --------------------------------------------------------------------------------------------- XYUV
 
@@ -199,6 +207,7 @@ def _readme_example() -> str:
 def test_readme_cadquery_example(tmp_path, monkeypatch):
     pytest.importorskip("cadquery")
     import cadquery as cq
+
     from ruled.cq import WORKPLANE_METHODS, unregister
     src = data_file("kj66_impeller.step")
     os.makedirs(tmp_path / "tests" / "data")

@@ -10,7 +10,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, data_file
 
 from ruled.core.errors import InfeasibleError
@@ -157,6 +156,7 @@ def test_split_bounds_hold_against_the_split_faces_of_an_exactly_ruled_face(tmp_
     error bound includes it, so it holds against the measure (the optimal curve's bound read 4.1e-6 against
     a measured 4.6e-5)."""
     from conftest import data_file
+
     from ruled.cli import main
     rep_path = tmp_path / "r.json"
     assert main(["split", data_file("occt_wing.brep"), "--face", "0", "--samples", "16", "--interior", "6",

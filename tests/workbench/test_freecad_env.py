@@ -6,7 +6,6 @@ import textwrap
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_freecadcmd
 
 pytestmark = pytest.mark.freecad

@@ -6,9 +6,9 @@ import textwrap
 
 import numpy as np
 import pytest
-
 from cases import random_surface
 from conftest import WORKBENCH_LOADER, run_freecadcmd
+
 from ruled.core.nurbs import Surface
 
 pytestmark = pytest.mark.freecad

@@ -9,7 +9,6 @@ import sys
 import textwrap
 
 import pytest
-
 from conftest import ROOT, WORKBENCH_LOADER, data_file, run_freecadcmd
 
 pytestmark = pytest.mark.freecad

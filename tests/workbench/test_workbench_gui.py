@@ -8,7 +8,6 @@ import shutil
 import subprocess
 
 import pytest
-
 from conftest import ROOT, data_file
 
 pytestmark = [pytest.mark.freecad, pytest.mark.gui]
@@ -116,6 +115,7 @@ def _step_geometry(path):
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_VERTEX
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopoDS import TopoDS
+
     from ruled.occ.io import read_shape
     shape = read_shape(path)
 

@@ -7,7 +7,6 @@ import textwrap
 
 import numpy as np
 import pytest
-
 from conftest import WORKBENCH_LOADER, run_freecadcmd
 
 pytestmark = pytest.mark.freecad
@@ -45,13 +44,14 @@ SCRIPT = textwrap.dedent("""
 
 
 def test_export_for_machining_in_freecadcmd(tmp_path):
-    from conftest import HERE
-    from test_machine import check_sync, lines_3d, parse_apt, rebuilt_error
     from cases import hyperboloid
-    from ruled.occ.convert import container_to_face
-    from ruled.occ.io import read_shape
+    from conftest import HERE
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
     from OCP.TopExp import TopExp_Explorer
+    from test_machine import check_sync, lines_3d, parse_apt, rebuilt_error
+
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import read_shape
 
     run = run_freecadcmd(WORKBENCH_LOADER + SCRIPT.format(tmp=str(tmp_path), tests=HERE), tmp_path, 900)
     assert "Traceback" not in run.stdout + run.stderr, run.stdout + run.stderr

@@ -9,7 +9,6 @@ import textwrap
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, WORKBENCH_LOADER, run_freecadcmd
 
 pytestmark = pytest.mark.freecad
