@@ -219,7 +219,8 @@ def ruling_lines(fits) -> list:
 
 # the engine's options as this workbench's properties (the engine names them by key: ruled.core.errors)
 PROPERTIES = {"samples": "Samples", "max_error": "MaxError", "tol": "Tolerance", "elevations": "Elevations",
-              "lift_step": "Step", "arc_step": "Step", "split_elevations": "Elevations", "interior": "Interior", "max_strips": "MaxStrips",
+              "lift_step": "Step", "arc_step": "Step", "split_elevations": "Elevations", "interior": "Interior",
+              "max_strips": "MaxStrips",
               "fit_samples": "FitSamples", "dims": "Dims", "direction": "Direction", "objective": "Objective",
               "method": "Method", "metric": "Metric", "rails": "Rails", "allow_creases": "AllowCreases",
               "fit_first": "FitFirst", "fit_help": "the object's properties",
