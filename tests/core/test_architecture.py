@@ -2,8 +2,8 @@
 CadQuery, no import cycle between Ruled's modules (imports inside functions count), no module past 500
 lines, and the engine runs with every CAD host blocked."""
 import ast
-import re
 import os
+import re
 import subprocess
 import sys
 
