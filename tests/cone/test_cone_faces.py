@@ -322,17 +322,17 @@ def test_kj66_blades_at_5x_the_fit_error_are_cone_splined_tangent_smooth_in_each
     res = fc.result
     assert res.bound <= tol
     assert _check_patches(fc.faces, [p.piece for p in res.patches]) <= 1e-6
-    fs = FaceSet(fc.faces, 12)
     s = np.linspace(0, 1, 9)
     worst = 0.0
     for k, piece in enumerate(res.pieces):
         A, B = piece.rulings(np.linspace(0, 1, 40))
         ruled_pts = (A[:, None, :] + s[None, :, None] * (B - A)[:, None, :]).reshape(-1, 3)
         own = [f for f, p in zip(fc.faces, res.patches) if p.piece == k]
-        worst = max(worst, float(fs.distances(ruled_pts).max()),
+        # to the piece's own patches only: no nearer than to all of them, so the check is the stricter
+        worst = max(worst, float(FaceSet(own, 12).distances(ruled_pts).max()),
                     float(to_lines(sample_faces(own, 8), piece.rulings).max()))
     assert worst <= tol
-    d = float(fs.distances(sample_faces([design], 12)).max())
+    d = float(FaceSet(fc.faces, 12).distances(sample_faces([design], 12)).max())
     assert d <= fc.fit.error_bound + tol
     print(f"face {index} at {tol}: {len(res.patches)} patches in {len(res.pieces)} pieces, bound {res.bound:.4g}, "
           f"measured {worst:.4g} to the fit, {d:.4g} to the design; creases between pieces up to "
