@@ -69,7 +69,7 @@ def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None):
     return json.loads(path.read_text())
 
 
-# The fuzz batches (tests/test_fuzz.py) start as soon as the tests are collected, in a process of their own
+# The fuzz batches (tests/batch/test_fuzz.py) start as soon as the tests are collected, in a process of their own
 # on one worker: the suite runs on one core and their minutes pass on the other.
 FUZZ = {}
 

@@ -24,7 +24,7 @@ from fuzz_faces import COUNTS, random_faces  # noqa: E402
 @pytest.fixture(scope="module")
 def batches():
     proc = FUZZ.get("proc")
-    assert proc is not None, "the fuzz batches start with the first test past tests/test_batch.py (conftest.py)"
+    assert proc is not None, "the fuzz batches start with the first test past tests/batch/test_batch.py (conftest.py)"
     assert proc.wait(timeout=3000) == 0, [open(os.path.join(FUZZ["dir"], f)).read()[-3000:]
                                           for f in os.listdir(FUZZ["dir"]) if f.endswith(".log")]
     return FUZZ["dir"]
