@@ -1,5 +1,5 @@
 """Cone splines of ruled surfaces in space (Yang & Yang 2006, §§3–6), on top of the planar fat conic
-fitting of cone.py.
+fitting of fatarc.py.
 
 A ruled surface r(u, v) = (1 - u) c0(v) + u c1(v) is cut by two parallel planes crossed by every
 ruling: when both boundaries already lie in parallel planes those are the planes; otherwise the

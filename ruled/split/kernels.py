@@ -1,4 +1,4 @@
-"""Optional numba kernel of the split DP (ruled/split.py), 4D, 5D and 7D alike: the same cells in the
+"""Optional numba kernel of the split DP (ruled/split/mcurve.py), 4D, 5D and 7D alike: the same cells in the
 same order as its NumPy twin split._fill_numpy, the reductions over freed elevations in increasing
 combined index, moves in split.MOVES order, a candidate replacing the best only when strictly better
 (primary, then secondary).  Tests compare the twins."""

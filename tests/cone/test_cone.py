@@ -202,7 +202,7 @@ def test_paper_examples_2_and_3_stay_within_the_error_estimate(case):
 @pytest.mark.skipif(not __import__("ruled.core.jit", fromlist=["AVAILABLE"]).AVAILABLE, reason="numba not installed")
 @pytest.mark.parametrize("case", cone_examples(), ids=lambda c: "example " + c[0])
 def test_numba_and_numpy_twins_fit_the_same_arcs(case, monkeypatch):
-    """The kernels (kernels_cone) and their NumPy twins in cone.py give bit-identical fits."""
+    """The kernels (cone/kernels.py) and their NumPy twins in fatarc.py give bit-identical fits."""
     from ruled.cone.fatarc import fit_fat_conic
     from ruled.core import jit
     name, b0, db0, b1, db1, tol, step, height, _ = case
