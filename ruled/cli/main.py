@@ -2,19 +2,19 @@
 
     ruled faces INPUT
     ruled fit INPUT --face K [--method 2d|4d] [--samples N] [--objective sum|max]
-              [--max-error E] [--direction auto|u|v] [--elevations M] [--step TAU]
+              [--max-error E] [--direction auto|u|v] [--elevations M] [--lift-step TAU]
               [--metric lsad|sshb] [--memory-cap MB] -o OUTPUT.step [--report R.json] [--plot P.png]
     ruled curve-on-surface INPUT --face K (--uv "u0,v0;u1,v1;..." | --uv-curve CURVE.json)
               [--tol EPS] [--angle DEG] -o OUTPUT.step [--report R.json]
-    ruled cone INPUT --face K --tol T [--step D] [--fit] [--direction auto|u|v] [--allow-creases] -o OUTPUT.step
+    ruled cone INPUT --face K --tol T [--arc-step D] [--fit] [--direction auto|u|v] [--allow-creases] -o OUTPUT.step
               [--report R.json] [--plot P.png]
-    ruled split INPUT --face K [--dims 4|5|7] [--elevations M] [--step TAU] [--samples N] [--interior D]
+    ruled split INPUT --face K [--dims 4|5|7] [--elevations M] [--lift-step TAU] [--samples N] [--interior D]
               [--objective max|sum] -o OUTPUT.step
               [--split-faces FACES.step] [--report R.json] [--plot P.png]
     ruled fit INPUT --face K --tol T [--max-strips N] -o OUTPUT.step [--split-faces FACES.step] [--report R.json]
     ruled machine INPUT --face K (--xyuv [--planes a,b] [--kerf k] | --flank --tool-radius r [--taper deg] [--tip T])
               [--chord-tol t] [--units mm|inch] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv]
-              [--step CAM.step [--rulings]]
+              [--cam-step CAM.step [--rulings]]
               [--report R.json] [--plot P.png]
     ruled batch INPUT... [--faces all|bspline|ruled-candidates|K,L-M] [fit options] [--jobs N]
               [--scheduler tcp://HOST:PORT] [--resume] [--face-timeout S] -o OUTDIR
