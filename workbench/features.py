@@ -223,7 +223,8 @@ PROPERTIES = {"samples": "Samples", "max_error": "MaxError", "tol": "Tolerance",
               "max_strips": "MaxStrips",
               "fit_samples": "FitSamples", "dims": "Dims", "direction": "Direction", "objective": "Objective",
               "method": "Method", "metric": "Metric", "rails": "Rails", "allow_creases": "AllowCreases",
-              "fit_first": "FitFirst", "fit_help": "the object's properties",
+              "fit_first": "cone-spline a Ruled fit of it, or set FitFirst",
+              "keep_creases": "set AllowCreases to keep the creases", "fit_help": "the object's properties",
               "edges_listing": "the face's outer-wire edges in order", "partition": "a Ruled split with a Tolerance"}
 
 
@@ -232,9 +233,11 @@ def _property_name(key: str, value) -> str:
     return name if value is None else f"{name} = {value}"
 
 
-def in_our_terms(exc) -> str:
-    """An engine error (RuledError) as FreeCAD says it: the options it names are this object's properties."""
-    return exc.in_terms(_property_name) if hasattr(exc, "in_terms") else str(exc)
+def in_our_terms(message) -> str:
+    """An engine error, warning or note as FreeCAD says it: the options it names are this object's
+    properties."""
+    from ruled.core.errors import in_terms
+    return in_terms(message, _property_name)
 
 
 class _Feature:
@@ -350,7 +353,7 @@ class RuledFit(_Feature):
             obj.Trimmed = not p.identity
             obj.PatchDeviation = float(p.deviation)
             for w in p.warnings:
-                FreeCAD.Console.PrintWarning(f"{obj.Label}: {w}\n")
+                FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             obj.Rulings = int(len(res.best.rulings))
             obj.RulingLines = ruling_lines([res])
             measure_into(obj, [result], face, lambda f: progress("measuring (distances to the source)", f))
@@ -399,7 +402,7 @@ class RuledSplit(_Feature):
         try:
             patch = face_patch(face_region(face, S))     # the face as bounded by its edges
             for w in patch.warnings:
-                FreeCAD.Console.PrintWarning(f"{obj.Label}: {w}\n")
+                FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             S = patch.surface
             res = split_face(S, opts, progress)
             self.finish(obj, face, S, res, progress, float(patch.deviation))

@@ -27,6 +27,7 @@ from .features import (
     _make,
     _Progress,
     add_results,
+    in_our_terms,
     measure_into,
     ruling_lines,
     say_kernels,
@@ -82,7 +83,7 @@ class RuledPartition(_Feature):
         try:
             patch = face_patch(face_region(face, S))
             for w in patch.warnings:
-                FreeCAD.Console.PrintWarning(f"{obj.Label}: {w}\n")
+                FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             S, dev = patch.surface, float(patch.deviation)
             if dev >= 0.5 * tol:
                 raise BadInputError(f"the Tolerance {tol:.4g} mm is too tight for this trimmed face: its own "

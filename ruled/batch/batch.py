@@ -434,7 +434,7 @@ def run_batch(inputs: list, outdir: str, *, faces: str = "all", fraction: float 
         jobs = os.cpu_count() or 1
     if jobs < 1:
         raise BadInputError(f"--jobs {jobs} must be at least 1")
-    positive("--face-timeout", face_timeout, "seconds")
+    positive("face_timeout", face_timeout, "seconds")
     spec = parse_faces(faces)
     # the cluster reachable first
     pool = DaskPool(scheduler, face_timeout) if scheduler else LocalPool(jobs, face_timeout)

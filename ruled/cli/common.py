@@ -5,19 +5,21 @@ from __future__ import annotations
 import os
 import sys
 
-from ruled.core.errors import RuledError, names_from
+from ruled.core.errors import RuledError, in_terms, names_from
 
 # the engine's options in the command line's terms (see ruled.core.errors): --key-with-dashes, but for these
-CLI_NAMES = names_from({"lift_step": "--lift-step", "arc_step": "--arc-step", "fit_first": "--fit",
+CLI_NAMES = names_from({"lift_step": "--lift-step", "arc_step": "--arc-step",
+                        "fit_first": "run 'ruled fit' first, or 'ruled cone --fit'",
+                        "keep_creases": "pass --allow-creases to keep the creases",
                         "split_elevations": "--elevations",
                         "edges_listing": "'ruled faces INPUT --edges'", "fit_help": "'ruled fit --help'",
-                        "partition": "'ruled fit --tol T'"},
+                        "partition": "ruled fit --tol T"},
                        lambda key: "--" + key.replace("_", "-"), " ", ("True",))
 
 
-def cli_text(exc: RuledError) -> str:
-    """An engine error as the command line says it."""
-    return exc.in_terms(CLI_NAMES)
+def cli_text(message) -> str:
+    """An engine error, warning or note as the command line says it."""
+    return in_terms(message, CLI_NAMES)
 
 
 def print_files(output: str, others) -> None:
@@ -72,7 +74,7 @@ def with_bar(quiet: bool, face_index: int, work):
         out = work(bar)
     finally:
         bar.done()
-    for w in out.warnings:
+    for w in map(cli_text, out.warnings):
         print(f"ruled: warning: {label(face_index)}: {w}", file=sys.stderr)
     return out
 

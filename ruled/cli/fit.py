@@ -70,7 +70,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     finally:
         bar.done()
     t_fit = time.perf_counter() - t_fit
-    warnings = list(res.patch.warnings)
+    warnings = [cli_text(w) for w in res.patch.warnings]
     for w in warnings if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
     t1 = time.perf_counter()

@@ -140,7 +140,7 @@ def ruled_boundaries(S: Surface, direction: str = "auto", rel: float = 1e-9):
         u0, u1, _, _ = T.domain
         return name, [(T.iso_curve("v", u0), T.iso_curve("v", u1))]
     raise BadInputError(f"the face is not ruled: it is {dev:.4g} from the ruled surface between its {name}-boundaries "
-                        f"({dev / size:.2%} of its size); fit a ruled surface to it first («fit_first=True»)")
+                        f"({dev / size:.2%} of its size); «fit_first»")
 
 
 # boundaries within this fraction of the size of two parallel planes lie in them (the model's tolerance)

@@ -36,7 +36,7 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
         if not search:
             raise
         why = exc.template
-        creases = ", or keep the creases («allow_creases=True»)" if exc.creases_help else ""
+        creases = ", or «keep_creases»" if exc.creases_help else ""
 
     def works(t: float) -> bool:
         if progress is not None:
@@ -76,8 +76,8 @@ def cone_spline_of_surface(S: Surface, tol: float, step: float = 0.1, *, directi
             hi = mid
         else:
             lo = mid
-    raise ToleranceError(f"{why}; the smallest tolerance above it that works is about {hi:g} (tried: «tol» "
-                         f"{hi:g}){creases}")
+    raise ToleranceError(f"{why}; the smallest tolerance above it that works is about {hi:g} (tried: «tol={hi:g}»)"
+                         f"{creases}")
 
 
 def _cone_spline_of_surface(S: Surface, tol: float, step: float, direction: str, progress: Progress,

@@ -19,7 +19,9 @@ from typing import Any, Callable, Mapping, Optional
 _MARK = re.compile(r"«([a-z_0-9]+)(?:=([^»]*))?»")
 
 # the Python keywords of the options whose key is not the keyword itself, and the remedies that name a call
-PYTHON_NAMES = {"lift_step": "step", "arc_step": "step", "fit_first": "fit", "taper": "taper_deg",
+PYTHON_NAMES = {"lift_step": "step", "arc_step": "step",
+                "fit_first": "fit a ruled surface to it first (fit=True)",
+                "keep_creases": "pass allow_creases=True to keep the creases", "taper": "taper_deg",
                 "split_elevations": "levels", "fit_help": "help(ruled.FitOptions)",
                 "edges_listing": "the edge indices 'ruled faces INPUT --edges' lists",
                 "partition": "ruled.partition(surface, tol=T)"}
@@ -48,6 +50,24 @@ def names_from(table: Mapping[str, str], default: Callable[[str], str], sep: str
         n = table.get(key) or default(key)
         return n if value is None or value in flag_values else f"{n}{sep}{value}"
     return name
+
+
+class Text(str):
+    """An engine message that is not an error (a warning, a note) naming options by key: as a str it reads in
+    Python's terms; a front door renders it with in_terms(text, its namer)."""
+
+    template: str
+
+    def __new__(cls, template: str) -> "Text":
+        t = " ".join(str(template).split())
+        obj = super().__new__(cls, render(t, python_name))
+        obj.template = t
+        return obj
+
+
+def in_terms(message: Any, name: Callable[[str, Optional[str]], str]) -> str:
+    """An engine error (RuledError), Text or plain str in a front door's terms."""
+    return render(getattr(message, "template", str(message)), name)
 
 
 class RuledError(Exception):

@@ -16,7 +16,7 @@ from typing import Optional
 import numpy as np
 
 from ruled.core.blas import one_thread
-from ruled.core.errors import BadInputError, DegenerateFaceError, RuledError
+from ruled.core.errors import BadInputError, DegenerateFaceError, RuledError, Text
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.core.region import Region, Sides, four_sides, side_candidates
@@ -188,9 +188,9 @@ def far_from_ruled(bound: float, size: float) -> Optional[str]:
     """The warning for a face no ruled surface comes near, said as soon as the fit is known."""
     if not (size > 0 and bound >= FAR * size):
         return None
-    return (f"no ruled surface comes near this face: the best is within {bound:.4g} of it, {100 * bound / size:.0f} % "
-            f"of its size ({size:.4g}); a line cannot cut it as one face: split it into strips («partition») "
-            f"or machine it another way")
+    return Text(f"no ruled surface comes near this face: the best is within {bound:.4g} of it, "
+                f"{100 * bound / size:.0f} % of its size ({size:.4g}); a line cannot cut it as one face: split it "
+                f"into strips («partition») or machine it another way")
 
 
 def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:

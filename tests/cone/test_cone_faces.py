@@ -107,7 +107,7 @@ def test_twisted_surfaces_are_refused_with_the_reason():
         cone_spline(s0, ds0, s1, ds1, 0.01)
     assert str(err.value) == ("the rulings turn too far to split the surface into pieces between parallel planes: "
                               "32 pieces would be needed (at most 16); fit a part of it")
-    with pytest.raises(BadInputError, match="--tol must be a positive finite number"):
+    with pytest.raises(BadInputError, match="^tol must be a positive finite number"):
         cone_spline(c0, d0, c1, d1, -1.0)
 
 
@@ -150,10 +150,13 @@ def test_each_cone_refusal_says_what_is_meant():
          "the face is not ruled: it is 0.015 from the ruled surface between its u-boundaries (0.10% of its "
          "size); run 'ruled fit' first, or 'ruled cone --fit'"),
     ]
+    from ruled.cli.common import cli_text
     for run, text in cases:
         with pytest.raises(BadInputError) as err:
             run()
-        assert str(err.value) == text
+        assert cli_text(err.value) == text                  # the command line's words
+    # in Python, the remedy is the call's keyword
+    assert str(err.value).endswith("size); fit a ruled surface to it first (fit=True)"), str(err.value)
 
 
 def test_fit_then_cone_in_one_call():
@@ -221,12 +224,14 @@ def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
     with pytest.raises(BadInputError, match=(
             r"^the cone spline would not be tangent continuous: neighbouring patches meet at up to [0-9.]+ deg \(the "
             r"surface twists so much that patches collapse to triangles and the §5 extension cannot be used\); "
-            r"(a tighter tolerance works \(the patches then fall differently\): --tol [0-9.e-]+|the smallest "
-            r"tolerance above it that works is about [0-9.e-]+ \(tried: --tol [0-9.e-]+\)|no tolerance up to the "
+            r"(a tighter tolerance works \(the patches then fall differently\): tol=[0-9.e-]+|the smallest "
+            r"tolerance above it that works is about [0-9.e-]+ \(tried: tol=[0-9.e-]+\)|no tolerance up to the "
             r"face's size \([0-9.]+\) gives a cone spline: split the face where the surface twists \(ruled split\))"
-            r", or pass --allow-creases to keep the creases$")) as exc:
+            r", or pass allow_creases=True to keep the creases$")) as exc:
         cone_of_face(face, 0.05, fit=True, measure_samples=None)
-    assert "allow_creases" not in str(exc.value)      # no Python argument names in a user's message
+    assert "--" not in str(exc.value)                  # Python's terms: no command-line flags
+    from ruled.cli.common import cli_text
+    assert cli_text(exc.value).endswith(", or pass --allow-creases to keep the creases")
     fc = cone_of_face(face, 0.05, fit=True, measure_samples=None, allow_creases=True)
     assert len(fc.result.pieces) >= 2 and fc.result.bound <= 0.05
     _check_patches(fc.faces, [p.piece for p in fc.result.patches])
@@ -291,7 +296,7 @@ def test_a_refusal_names_a_tolerance_that_works_and_it_does():
         cone_spline_of_surface(S, 0.2)
     msg = str(err.value)
     assert msg.startswith("no fat conic arc within 0.2 from v = ") and "tangents differ by 13.3 deg" in msg, msg
-    t = float(re.search(r"--tol ([0-9.e+-]+)\)?$", msg).group(1))
+    t = float(re.search(r"tol=([0-9.e+-]+)\)?$", msg).group(1))
     res = cone_spline_of_surface(S, t, search=False)
     assert res.bound <= t
     faces = cone_faces(res)

@@ -236,7 +236,7 @@ def test_bad_input_is_refused_in_one_line(tmp_path):
     with pytest.raises(BadInputError, match="zero length"):
         polyline_curve([(0.2, 0.2), (0.2, 0.2)])
     for tol in (0.0, -1.0, float("nan")):
-        with pytest.raises(BadInputError, match="--tol must be a positive finite number"):
+        with pytest.raises(BadInputError, match="^tol must be a positive finite number"):
             approximate(S, D, tol, 10)
     for ang in (0.0, 180.0, -5.0):
         with pytest.raises(BadInputError, match="angle tolerance"):

@@ -142,14 +142,15 @@ def _both_paths(fn, monkeypatch):
 
 @pytest.mark.parametrize("deg,rational", [(2, False), (3, True), (5, False), (5, True)])
 def test_numba_kernels_and_numpy_twins_agree_bit_for_bit(deg, rational, monkeypatch):
+    from ruled.curves import bezier
     from ruled.curves import curve_on_surface as cos
     rng = np.random.default_rng(deg)
     P = rng.uniform(0, 1, (150, deg + 1, 2))
     w = rng.uniform(0.5, 2, (150, deg + 1)) if rational else np.ones((150, deg + 1))
     H = np.concatenate([P * w[..., None], w[..., None]], axis=2)
-    c0, c1 = _both_paths(lambda: cos._first_cross(H), monkeypatch)
+    c0, c1 = _both_paths(lambda: bezier._first_cross(H), monkeypatch)
     assert np.array_equal(c0, c1, equal_nan=True)
-    H, t0, t1, _ = cos._single_sided_stack(H, np.zeros(150), np.ones(150))
+    H, t0, t1, _ = bezier._single_sided_stack(H, np.zeros(150), np.ones(150))
     (h0, t0_), (h1, t1_) = _both_paths(lambda: cos._farthest(H), monkeypatch)
     assert np.array_equal(h0, h1) and np.array_equal(t0_, t1_)
     S = random_surface(np.random.default_rng(4), pu=3, pv=2, nu=8, nv=7, rational=rational)

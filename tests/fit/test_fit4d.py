@@ -143,7 +143,7 @@ def test_closed_face_has_coincident_first_and_last_ruling():
 
 def test_tables_beyond_the_memory_cap_are_refused_with_the_estimate():
     S = elber_ex2()
-    with pytest.raises(TooBigError, match=r"MiB.*--samples \d+ or fewer"):
+    with pytest.raises(TooBigError, match=r"MiB.*use samples=\d+ or fewer"):
         fit_surface(S, FitOptions(samples=100, method="4d", elevations=20, metric="sshb", memory_cap=64 * 2 ** 20))
 
 
