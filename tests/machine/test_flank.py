@@ -14,22 +14,11 @@ from ruled.cli import main
 gcodeparser = pytest.importorskip("gcodeparser")
 
 
-from machine_helpers import hyp_file, patches, read_csv, run_cli  # noqa: E402,F401 (fixtures)
+from machine_helpers import hyp_file, parse_apt, patches, read_csv, run_cli  # noqa: E402,F401 (fixtures)
 
 from ruled.core.nurbs import Surface  # noqa: E402
 from ruled.occ.convert import container_to_face  # noqa: E402
 from ruled.occ.io import write_step  # noqa: E402
-
-
-def parse_apt(path):
-    tip, axis = [], []
-    with open(path) as fh:
-        for ln in fh:
-            if ln.startswith("GOTO/"):
-                v = [float(x) for x in ln[5:].split(",")]
-                tip.append(v[:3])
-                axis.append(v[3:])
-    return np.array(tip), np.array(axis)
 
 
 def tool_cut(tip, axis, r, taper_deg, length, sd, moves=False, slices=17, angles=721):

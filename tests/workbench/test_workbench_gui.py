@@ -134,7 +134,7 @@ def test_commands_and_the_export_panel(tmp_path):
     face 7 (and a cone), undo; the export panel writes the command line's G-code, CSV, APT and STEP for
     CAM with the same settings, remembers them across a restart, and the preferences page shows them."""
     import numpy as np
-    from test_machine import check_sync, parse_apt
+    from machine_helpers import check_sync, parse_apt
     home = tmp_path / "home"
     run_gui("commands_gui.py", home)
     r = json.load(open(os.path.join(OUT, "commands.json")))

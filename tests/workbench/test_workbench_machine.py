@@ -46,9 +46,9 @@ SCRIPT = textwrap.dedent("""
 def test_export_for_machining_in_freecadcmd(tmp_path):
     from cases import hyperboloid
     from conftest import HERE
+    from machine_helpers import check_sync, lines_3d, parse_apt, rebuilt_error
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
     from OCP.TopExp import TopExp_Explorer
-    from test_machine import check_sync, lines_3d, parse_apt, rebuilt_error
 
     from ruled.occ.convert import container_to_face
     from ruled.occ.io import read_shape

@@ -227,3 +227,14 @@ def _bilinear(lo, hi):
 
 
 # ---------------------------------------------------------------------------------------------- flank
+
+
+def parse_apt(path):
+    tip, axis = [], []
+    with open(path) as fh:
+        for ln in fh:
+            if ln.startswith("GOTO/"):
+                v = [float(x) for x in ln[5:].split(",")]
+                tip.append(v[:3])
+                axis.append(v[3:])
+    return np.array(tip), np.array(axis)
