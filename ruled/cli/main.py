@@ -30,7 +30,9 @@ import sys
 
 # Ctrl-C while the command line starts: noted, acted on (exit 130, quietly) once main() runs
 _SIGINT: list = []
-if (sys.argv and sys.argv[0].replace("\\", "/").split("/")[-1] in ("ruled", "ruled.exe", "__main__.py")) \
+# (the `ruled` script, or `python -m ruled.cli`, whose package imports run while argv[0] is still "-m")
+if (sys.argv and sys.argv[0].replace("\\", "/").split("/")[-1] in ("ruled", "ruled.exe")
+        or "ruled.cli" in getattr(sys, "orig_argv", ())[1:3]) \
         and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
     signal.signal(signal.SIGINT, lambda *_: _SIGINT.append("early"))
 
