@@ -228,16 +228,15 @@ PROPERTIES = {"samples": "Samples", "max_error": "MaxError", "tol": "Tolerance",
               "edges_listing": "the face's outer-wire edges in order", "partition": "a Ruled split with a Tolerance"}
 
 
-def _property_name(key: str, value) -> str:
-    name = PROPERTIES.get(key) or "".join(w.capitalize() for w in key.split("_"))
-    return name if value is None else f"{name} = {value}"
+def _camel(key: str) -> str:
+    return "".join(w.capitalize() for w in key.split("_"))
 
 
 def in_our_terms(message) -> str:
     """An engine error, warning or note as FreeCAD says it: the options it names are this object's
     properties."""
-    from ruled.core.errors import in_terms
-    return in_terms(message, _property_name)
+    from ruled.core.errors import in_terms, names_from
+    return in_terms(message, names_from(PROPERTIES, _camel, " = "))
 
 
 class _Feature:

@@ -37,11 +37,6 @@ def render(text: str, name: Callable[[str, Optional[str]], str]) -> str:
     return _MARK.sub(lambda m: name(m.group(1), m.group(2)), text)
 
 
-def python_name(key: str, value: Optional[str]) -> str:
-    kw = PYTHON_NAMES.get(key, key)
-    return kw if value is None else f"{kw}={value}"
-
-
 def names_from(table: Mapping[str, str], default: Callable[[str], str], sep: str = " ",
                flag_values: tuple = ()) -> Callable[[str, Optional[str]], str]:
     """A front door's namer: its name of each key (table, else default(key)) and 'name<sep>value';
@@ -50,6 +45,10 @@ def names_from(table: Mapping[str, str], default: Callable[[str], str], sep: str
         n = table.get(key) or default(key)
         return n if value is None or value in flag_values else f"{n}{sep}{value}"
     return name
+
+
+# the Python door's namer: the keyword, and keyword=value
+python_name = names_from(PYTHON_NAMES, str, "=")
 
 
 class Text(str):
