@@ -69,29 +69,79 @@ def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None):
     return json.loads(path.read_text())
 
 
-# The fuzz batches (tests/batch/test_fuzz.py) start as soon as the tests are collected, in a process of their own
-# on one worker: the suite runs on one core and their minutes pass on the other.
-FUZZ = {}
+# How the suite shares the two cores (``-n auto``, pyproject.toml; the scheduler below):
+# - each module is a group that runs whole on one worker, so that its module fixtures are computed once;
+#   the FreeCAD tests (freecadcmd and the GUI under Xvfb, marked freecad) are one group: they share
+#   FreeCAD's own numba cache (Debian's numba 0.56), which the first of them compiles in a clean clone;
+# - a worker takes the next group when it is almost done with one; the longest go first (the FreeCAD
+#   group's subprocesses overlapping the in-process tests on the other core), so that the last to
+#   finish is a short one;
+# - the venv's numba kernels are compiled once, by tests/warm_kernels.py, started with the session; the
+#   tests that run the engine wait for it (in a clean clone every process compiled them anew).
+# Seconds per group (the sum of its tests' durations) measured on this 2-core machine with -n 2 and cold
+# caches; a module not listed counts as 5 s.
+GROUP_SECONDS = {
+    "freecad": 380, "batch/test_fuzz.py": 300, "split/test_split_faces.py": 250, "batch/test_batch.py": 200,
+    "cone/test_cone_faces.py": 100, "machine/test_machine.py": 85, "fit/test_trimmed.py": 75,
+    "cli/test_cli.py": 70, "fit/test_fit.py": 60, "fit/test_fit4d.py": 50, "curves/test_cos_acceptance.py": 45,
+    "cone/test_cone_acceptance.py": 40, "split/test_split.py": 30, "machine/test_flank.py": 25,
+    "cli/test_lint.py": 15, "fit/test_dp4d.py": 10,
+}
+
+
+def _group(nodeid: str) -> str:
+    """A test's group: its module, or "freecad" for the FreeCAD tests (all of tests/workbench)."""
+    path = nodeid.split("::")[0]
+    path = path[len("tests/"):] if path.startswith("tests/") else path
+    return "freecad" if path.startswith("workbench/") else path
 
 
 def pytest_collection_modifyitems(session, config, items):
-    """The fuzz batches run in the background on the core the suite leaves idle (the suite runs on one):
-    their checks come last, so that the batches have the whole suite's time."""
-    FUZZ["wanted"] = any("test_fuzz.py" in item.nodeid for item in items)
-    items.sort(key=lambda item: "test_fuzz.py" in item.nodeid)        # stable: the rest keep their order
+    """The longest groups first (stable: inside a group the tests keep their order), and in the FreeCAD
+    group the GUI's first: they use no kernels of the venv, which are still compiling."""
+    items.sort(key=lambda item: (-GROUP_SECONDS.get(_group(item.nodeid), 5.0), "gui" not in item.nodeid))
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """pytest-xdist's loadscope with our groups as its scopes (its own loadgroup does not group under
+    pytest 9, which ignores the group it writes into a test's id)."""
+    from xdist.scheduler import LoadScopeScheduling
+
+    class GroupScheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return _group(nodeid)
+    return GroupScheduling(config, log)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto``: one worker per core, at most 4 (each FreeCAD subprocess and batch takes a core too)."""
+    return max(1, min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1))
+
+
+WARM = os.path.join(os.environ["RULED_TEST_CACHE"], "kernels-compiled")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionstart(session):
+    """The controller (or the only process) compiles the kernels in the background."""
+    if hasattr(session.config, "workerinput") or os.path.exists(WARM + ".log") or os.environ.get("RULED_NO_NUMBA"):
+        return
+    import subprocess
+    with open(WARM + ".log", "w") as log:
+        subprocess.Popen([sys.executable, os.path.join(HERE, "warm_kernels.py"), WARM], cwd=ROOT, stdout=log,
+                         stderr=subprocess.STDOUT)
+
+
+_WAITED = []
 
 
 def pytest_runtest_setup(item):
-    """Start the fuzz batches at the first test past the batch tests (which use both cores)."""
-    if FUZZ.get("wanted") and "proc" not in FUZZ and "test_batch.py" not in item.nodeid:
-        import subprocess
-        import tempfile
-        FUZZ["dir"] = tempfile.mkdtemp(prefix="ruled-fuzz-")
-        FUZZ["proc"] = subprocess.Popen([sys.executable, os.path.join(HERE, "fuzz_faces.py"), FUZZ["dir"], "1"],
-                                        cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-
-
-def pytest_sessionfinish(session):
-    proc = FUZZ.get("proc")
-    if proc is not None and proc.poll() is None:
-        proc.kill()
+    """Tests that run the venv's engine start once its kernels are compiled (at most 10 minutes' wait)."""
+    if _WAITED or item.get_closest_marker("freecad"):
+        return
+    import time
+    end = time.monotonic() + 600
+    while not os.path.exists(WARM) and time.monotonic() < end and os.path.exists(WARM + ".log"):
+        time.sleep(0.5)
+    _WAITED.append(True)

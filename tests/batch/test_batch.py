@@ -38,6 +38,7 @@ def pool_batch(tmp_path_factory):
     return step, out, time.perf_counter() - t0, r
 
 
+@pytest.mark.slow
 def test_pool_batch_summary_matches_single_fits(pool_batch, tmp_path):
     step, out, seconds, run = pool_batch
     with open(os.path.join(out, "summary.json")) as fh:
@@ -71,6 +72,7 @@ def test_pool_batch_summary_matches_single_fits(pool_batch, tmp_path):
     assert "sortBy(" in page and "http" not in page.split("<body>")[1]          # self-contained
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_summary(pool_batch, tmp_path):
     """Eight of the faces (the worst, the best, between) through a Dask LocalCluster of 2 workers: the
     pool's rows, figure for figure."""
@@ -106,6 +108,7 @@ def _intact(folder) -> None:
             assert open(path, "rb").read()[-8:] == b"IEND\xaeB`\x82", path
 
 
+@pytest.mark.slow
 def test_killed_and_resumed_gives_the_uninterrupted_summary(pool_batch, tmp_path):
     step, out, _, _ = pool_batch
     chosen = sorted(r["face"] for r in _rows(out))[:8]             # eight of the B-spline faces

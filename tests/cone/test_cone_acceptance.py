@@ -162,6 +162,7 @@ def test_exact_cones_and_cylinders_full_turn(kind):
     print(f"{kind}: {len(res.patches)} patches, measured {max(d1, d2):.3g} ({max(d1, d2) / size:.2g} of the size)")
 
 
+@pytest.mark.slow
 def test_rulings_that_turn_are_split_into_pieces():
     """§6: rulings turning by 150 degrees cannot all cross one pair of planes; the surface is cut into
     pieces, each between its own planes, and every piece is within the tolerance."""

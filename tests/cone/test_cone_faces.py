@@ -212,6 +212,7 @@ def test_cli_refuses_a_folding_face(tmp_path):
     assert not os.path.exists(out)
 
 
+@pytest.mark.slow
 def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
     """Elber's ex2 fitted (2D, 40 samples) gives fans of rulings at both ends and a strong twist: the
     surface is cut into pieces (§6); its patches collapse and are not tangent continuous, so it is
@@ -309,6 +310,7 @@ def test_a_refusal_names_a_tolerance_that_works_and_it_does():
 KJ66_TOL = {1: 0.1245, 6: 0.0073, 8: 0.1244}     # 5x the fit's measured error: 0.0249, 0.00146, 0.0249
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("index", sorted(KJ66_TOL))
 def test_kj66_blades_at_5x_the_fit_error_are_cone_splined_tangent_smooth_in_each_piece(index):
     """kj66 blade faces fitted, at 5x the fit's measured error: a cone spline within the tolerance,

@@ -69,6 +69,7 @@ def test_paper_first_example(angle):
     assert res.segments <= (60 if angle == 10.0 else 210)
 
 
+@pytest.mark.slow
 def test_tolerance_sweep_measured_error_stays_under_the_tolerance():
     S, D = yang_surface(), yang_curve()
     rows = []

@@ -105,6 +105,7 @@ def test_exactly_ruled_faces_lose_nothing_to_elevation():
         assert r4.best.method == "2d" and r4.notes
 
 
+@pytest.mark.slow
 def test_4d_is_never_worse_than_2d_by_the_independent_measure():
     """Random sheets: the 4D result is kept only where its certified bound is below the 2D result's
     measured distance, so by OCCT's measure it is never worse than the 2D fit of the same face; where the

@@ -239,6 +239,7 @@ def _shared(name):
     return p if os.path.exists(p) else None
 
 
+@pytest.mark.slow
 def test_real_trimmed_faces_fit_the_face_never_worse_than_part(real_fits):
     if len(real_fits) < 13:
         pytest.skip(f"{SHIP} is not available (needs ../shared/data beside the repository)")
@@ -257,6 +258,7 @@ def test_real_trimmed_faces_fit_the_face_never_worse_than_part(real_fits):
     print("\n" + "\n".join(rows))
 
 
+@pytest.mark.slow
 def test_three_sided_faces_fan_out_of_a_corner(real_fits):
     for k in (19, 20):
         res, bound, meas, area, part, size = real_fits[(KJ66, k)]

@@ -41,7 +41,11 @@ def _faces():
             "blade": lambda: get_face(data_file("occt_bug26264_blade.brep"), 0)}
 
 
-@pytest.fixture(scope="module", params=["ex1", "ex2", "kj66-6", "blade"])
+def _slow(*names):
+    return [pytest.param(n, marks=pytest.mark.slow) for n in names]
+
+
+@pytest.fixture(scope="module", params=["ex1", "ex2", *_slow("kj66-6", "blade")])
 def split_case(request):
     face = _faces()[request.param]()
     return request.param, face, split_of_face(face, measure_samples=24)
@@ -91,7 +95,7 @@ def test_split_compared_with_iso_parametric(split_case):
     assert meas[fs.chosen] < 0.6 * fs.result.whole.bound
 
 
-@pytest.mark.parametrize("name", ["ex1", "ex2", "kj66-6", "blade"])
+@pytest.mark.parametrize("name", _slow("ex1", "ex2", "kj66-6", "blade"))
 def test_partition_to_half_a_percent(name):
     face = _faces()[name]()
     tol = 0.005 * _diag(face)

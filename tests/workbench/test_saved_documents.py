@@ -6,6 +6,8 @@ import os
 import pytest
 from conftest import LOCAL_DATA, freecad_json
 
+pytestmark = pytest.mark.freecad
+
 # what the document's objects gave when it was saved (at 6859370)
 SAVED = {"RuledFit": 0.08087196674252611, "RuledSplit": 0.03698270922380699,
          "RuledPartition": 0.03698270922380699, "RuledConeSpline": 1.0672323621834746e-10,

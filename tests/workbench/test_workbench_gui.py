@@ -36,6 +36,7 @@ def run_gui(script: str, home, **env_more):
     return run
 
 
+@pytest.mark.slow
 def test_fit_through_the_task_panel(tmp_path):
     run_gui("fit_face_gui.py", tmp_path / "home")
     r = json.load(open(os.path.join(OUT, "result.json")))
@@ -129,6 +130,7 @@ def _step_geometry(path):
     return len(items(TopAbs_FACE)), len(items(TopAbs_EDGE)), pts
 
 
+@pytest.mark.slow
 def test_commands_and_the_export_panel(tmp_path):
     """'Fit to tolerance', 'Cone spline' and 'Curve on face' from the toolbar through their panels on kj66
     face 7 (and a cone), undo; the export panel writes the command line's G-code, CSV, APT and STEP for
