@@ -122,14 +122,6 @@ def pytest_xdist_auto_num_workers(config):
 WARM = os.path.join(os.environ["RULED_TEST_CACHE"], "kernels-compiled")
 
 
-def pytest_configure(config):
-    """With several workers, each runs its BLAS and the engine's chunked kernels on one thread (and so do
-    the subprocesses they start): the cores are the workers', and a threaded OpenBLAS spins."""
-    if not hasattr(config, "workerinput") and config.getoption("dist", "no") != "no":
-        for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "RULED_THREADS"):
-            os.environ.setdefault(var, "1")
-
-
 @pytest.hookimpl(tryfirst=True)
 def pytest_sessionstart(session):
     """The controller (or the only process) compiles the kernels in the background."""
