@@ -113,6 +113,13 @@ def pytest_xdist_make_scheduler(config, log):
     return GroupScheduling(config, log)
 
 
+def pytest_report_header(config):
+    from fuzz_seed import commit_seed
+    s = commit_seed()
+    return [f"fuzz seed {s} (tests/batch/test_fuzz.py; repeat with RULED_FUZZ_SEED={s}, or python "
+            f"tests/fuzz_faces.py --seed {s})"]
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_xdist_auto_num_workers(config):
     """``-n auto``: one worker per core, at most 4 (each FreeCAD subprocess and batch takes a core too)."""

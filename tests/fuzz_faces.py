@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
+from fuzz_seed import commit_seed  # noqa: F401 (the seed of CI's run)
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.Geom import Geom_BSplineSurface
 from OCP.gp import gp_Pnt
@@ -148,15 +149,6 @@ SAMPLES = 12           # the DP's and the measure's samples: small faces of ever
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def commit_seed() -> int:
-    """The rotating seed: RULED_FUZZ_SEED when set, else the checked-out commit's first eight hex digits."""
-    if os.environ.get("RULED_FUZZ_SEED"):
-        return int(os.environ["RULED_FUZZ_SEED"])
-    import subprocess
-    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
-    return int(head[:8], 16) if head else 0
-
-
 @dataclass(frozen=True)
 class FuzzFace:
     """One random face and where it comes from: face `index` of random_faces(seed, ...)."""
@@ -254,8 +246,10 @@ def check_outcomes(b: Batch) -> list:
             out = read_faces(os.path.join(b.folder, f"face_{r['face']}.step"))
             if len(out) != 1 or not BRepCheck_Analyzer(out[0]).IsValid():
                 bad.append(f"{_who(b, r)}: the result is not one valid face")
+    # a generator whose faces are all refused would test nothing: 90 % fitted (the fixed runs: 97 % in 2D,
+    # 98 % in 4D); 75 % of a batch under 30 faces, where one refusal more is 8 % (binomial noise, not a fault)
     ok = sum(r["status"] == "ok" for r in b.rows)
-    if ok < 0.9 * len(b.rows):        # a generator whose faces are all refused would test nothing
+    if ok < (0.9 if len(b.rows) >= 30 else 0.75) * len(b.rows):
         bad.append(f"only {ok} of {len(b.rows)} faces fitted")
     return bad
 
