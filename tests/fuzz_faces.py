@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
-from fuzz_seed import commit_seed  # noqa: F401 (the seed of CI's run)
+from fuzz_seed import ROOT, commit_seed  # noqa: F401 (commit_seed: the seed of CI's run)
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.Geom import Geom_BSplineSurface
 from OCP.gp import gp_Pnt
@@ -146,7 +146,6 @@ REGRESSIONS = [
 ]
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 3 s)
 SAMPLES = 12           # the DP's and the measure's samples: small faces of every kind, not fine fits
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 @dataclass(frozen=True)

@@ -26,10 +26,7 @@ import fuzz_faces as fz  # noqa: E402
 
 @pytest.fixture(scope="module")
 def seed():
-    s = fz.commit_seed()
-    print(f"\nfuzz seed {s}: reproduce with RULED_FUZZ_SEED={s} python -m pytest tests/batch/test_fuzz.py, "
-          f"or python tests/fuzz_faces.py --seed {s}")
-    return s
+    return fz.commit_seed()          # printed in the session's header (conftest.py)
 
 
 @pytest.fixture(scope="module", params=list(fz.ROTATING))
@@ -80,7 +77,7 @@ def test_a_certificate_broken_to_nine_tenths_of_itself_is_caught(batch, tmp_path
     broken = fz.run_batch(str(tmp_path / "broken"), "2d", faces, env={"PYTHONPATH": path})
     # the patch took: the same faces, bounds at 0.9x (within what the 0.9x choices between candidates change)
     assert len(broken.rows) == len(faces)
-    bad = fz.check_outcomes(broken) + fz.check_dense(broken)
+    bad = fz.check_outcomes(broken) or fz.check_dense(broken)     # the denser measure only if needed
     assert bad, "a certificate at 0.9x itself passed every check"
     print(f"\nthe broken certificate: {len(bad)} violations found in {len(faces)} faces, e.g. {bad[0]}")
 
