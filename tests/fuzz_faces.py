@@ -143,6 +143,9 @@ REGRESSIONS = [
     # are the fixed runs' tightest, measured / bound at stop 31 in the comment
     ("2d", 2202, 7, "0.9998"), ("2d", 2202, 85, "0.9975"), ("2d", 2202, 26, "0.9974"),
     ("4d", 2204, 21, "0.9864"), ("4d", 2204, 5, "0.9735"),
+    # found by the rotating run of 8dc8dac: 2D bound 78.9 against a measured 0.0027, its 4D attempt 2612
+    # (33x the 2D bound); issue 34's bounds that blow up
+    ("4d", 2378750657, 2, "issue 34"),
 ]
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 3 s)
 SAMPLES = 12           # the DP's and the measure's samples: small faces of every kind, not fine fits
@@ -276,7 +279,7 @@ def check_dense(b: Batch, count: int = 6, n: int = 32) -> list:
 
 
 def four_d_ratios(b: Batch) -> list:
-    """(4D bound / 2D bound, face) of every fitted face whose report compares the two."""
+    """(4D bound / 2D bound, row) of every fitted face whose report compares the two."""
     import json
     ratios = []
     for r in b.rows:
@@ -285,17 +288,28 @@ def four_d_ratios(b: Batch) -> list:
         with open(os.path.join(b.folder, f"face_{r['face']}.json")) as fh:
             c = json.load(fh).get("comparison", {})
         if "2d" in c and "4d" in c and c["2d"]["error_bound"] > 0:
-            ratios.append((c["4d"]["error_bound"] / c["2d"]["error_bound"], r["face"]))
+            ratios.append((c["4d"]["error_bound"] / c["2d"]["error_bound"], r))
     return ratios
 
 
 def check_4d(b: Batch) -> list:
     """Issue 22: the 4D attempt's own bound within 10x the 2D bound of the same face, on most faces."""
     ratios = four_d_ratios(b)
-    bad = [f"{_who(b, b.rows[f])}: 4D bound {x:.4g} x the 2D bound" for x, f in ratios if x > 10.0]
+    bad = [_too_far(b, x, r) for x, r in ratios if x > 10.0]
     if len(ratios) < 0.5 * len(b.rows):
         bad.append(f"only {len(ratios)} of {len(b.rows)} faces got a 4D attempt")
     return bad
+
+
+def known_blowups(b: Batch) -> list:
+    """The violations of check_4d on faces whose 2D bound is itself at least 10x their measured distance:
+    issue 34's certificates that blow up (open), which a 4D attempt inherits."""
+    return [_too_far(b, x, r) for x, r in four_d_ratios(b)
+            if x > 10.0 and r["error_bound"] >= 10.0 * max(r["hausdorff"], 1e-300)]
+
+
+def _too_far(b: Batch, x: float, r: dict) -> str:
+    return f"{_who(b, r)}: 4D bound {x:.4g} x the 2D bound"
 
 
 def check(b: Batch, dense: int = 6) -> list:
@@ -347,7 +361,7 @@ def summary(b: Batch) -> str:
     line = (f"{b.method}: {len(b.rows)} faces, {st['ok']} fitted, {st['refused']} refused, {st['failed']} failed "
             f"in {b.seconds:.0f} s wall; measured / bound, the largest: {', '.join(f'{x:.4f}' for x in top)}")
     if b.method == "4d":
-        ratios = sorted(four_d_ratios(b), reverse=True)
+        ratios = sorted(four_d_ratios(b), key=lambda xr: xr[0], reverse=True)
         line += f"; 4D / 2D bound, the largest: {', '.join(f'{x:.3g}' for x, _ in ratios[:3])}"
     return line
 
