@@ -24,6 +24,37 @@ def data_file(name: str) -> str:
     pytest.skip(f"{name} is not available (needs ../shared/data beside the repository)")
 
 
+def ruled_process(*args, cwd=None, timeout=900, env=None):
+    """``ruled ARGS`` in a process of its own (what a user runs: start-up, signals, exit code)."""
+    import subprocess
+    path = os.pathsep.join(filter(None, [ROOT, os.environ.get("PYTHONPATH")]))
+    return subprocess.run([sys.executable, "-m", "ruled.cli", *map(str, args)], cwd=cwd or ROOT,
+                          capture_output=True, text=True, timeout=timeout,
+                          env={**os.environ, "PYTHONPATH": path, **(env or {})})
+
+
+def ruled_here(*args, cwd=None):
+    """``ruled ARGS`` through the command line's own ``main(argv)`` in this process, its output and exit
+    code returned as ruled_process returns them: for refusals, which the command decides before any long
+    work, without a second of interpreter and OCCT start-up per case."""
+    import contextlib
+    import io
+    import subprocess
+
+    from ruled.cli.main import main
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.ExitStack() as stack:
+        if cwd is not None:
+            stack.enter_context(contextlib.chdir(cwd))
+        stack.enter_context(contextlib.redirect_stdout(out))
+        stack.enter_context(contextlib.redirect_stderr(err))
+        try:
+            code = main([str(a) for a in args])
+        except SystemExit as exc:         # argparse's own refusals
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    return subprocess.CompletedProcess(list(args), code, out.getvalue(), err.getvalue())
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

@@ -11,15 +11,10 @@ import sys
 import time
 
 import pytest
-from conftest import ROOT, data_file
+from conftest import ROOT, data_file, ruled_here, ruled_process
 
 FAST = ["--samples", "12", "--measure-samples", "6"]      # quick fits: the batch, not the fit, is under test
 TIMED = ("seconds",)                                      # what differs between two runs of the same face
-
-
-def _cli(*args, timeout=900):
-    return subprocess.run([sys.executable, "-m", "ruled.cli", *args], capture_output=True, text=True, cwd=ROOT,
-                          timeout=timeout)
 
 
 def _rows(folder):
@@ -33,7 +28,7 @@ def pool_batch(tmp_path_factory):
     step = data_file("kj66_impeller.step")
     out = str(tmp_path_factory.mktemp("batch") / "out")
     t0 = time.perf_counter()
-    r = _cli("batch", step, "--faces", "bspline", "--jobs", "2", *FAST, "-o", out, "--quiet")
+    r = ruled_process("batch", step, "--faces", "bspline", "--jobs", "2", *FAST, "-o", out, "--quiet")
     assert r.returncode == 0, r.stderr[-3000:]
     return step, out, time.perf_counter() - t0, r
 
@@ -56,7 +51,7 @@ def test_pool_batch_summary_matches_single_fits(pool_batch, tmp_path):
     # two faces (the worst and a middle one) against single 'ruled fit' runs with the same options
     for r in (ok[0], ok[len(ok) // 2]):
         rep = tmp_path / f"f{r['face']}.json"
-        single = _cli("fit", step, "--face", str(r["face"]), *FAST, "-o", str(tmp_path / "f.step"), "--report",
+        single = ruled_process("fit", step, "--face", str(r["face"]), *FAST, "-o", str(tmp_path / "f.step"), "--report",
                       str(rep), "--quiet")
         assert single.returncode == 0, single.stderr
         d = json.loads(rep.read_text())
@@ -81,10 +76,10 @@ def test_dask_local_cluster_gives_the_same_summary(pool_batch, tmp_path):
     rows = _rows(out)
     chosen = sorted({r["face"] for r in rows[:3] + rows[-3:] + rows[20:22]})
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as c:
-        r = _cli("batch", step, "--faces", ",".join(map(str, chosen)), *FAST, "--scheduler", c.scheduler_address,
-                 "-o", str(tmp_path / "dask"), "--quiet")
+        r = ruled_process("batch", step, "--faces", ",".join(map(str, chosen)), *FAST, "--scheduler",
+                          c.scheduler_address, "-o", str(tmp_path / "dask"), "--quiet")
         # a limit no fit meets: recorded as failed, and the batch ends (Dask cannot stop the tasks)
-        t = _cli("batch", step, "--faces", ",".join(map(str, chosen[:3])), *FAST, "--scheduler",
+        t = ruled_process("batch", step, "--faces", ",".join(map(str, chosen[:3])), *FAST, "--scheduler",
                  c.scheduler_address, "--face-timeout", "0.05", "-o", str(tmp_path / "late"), "--quiet")
     assert r.returncode == 0, r.stderr[-3000:]
     assert _rows(str(tmp_path / "dask")) == [x for x in rows if x["face"] in chosen]
@@ -164,23 +159,23 @@ def test_killed_and_resumed_gives_the_uninterrupted_summary(pool_batch, tmp_path
     (["--jobs", "0"], "--jobs 0 must be at least 1"),
     (["--face-timeout", "0"], "--face-timeout must be a positive finite number (seconds), not 0"),
     (["--samples", "1"], "samples"),
-    (["--scheduler", "tcp://127.0.0.1:9"], "cannot reach the Dask scheduler"),
+    pytest.param(["--scheduler", "tcp://127.0.0.1:9"], "cannot reach the Dask scheduler", marks=pytest.mark.slow),
 ])
 def test_bad_arguments_are_refused_in_one_line(tmp_path, args, needle):
-    r = _cli("batch", data_file("kj66_impeller.step"), *args, "-o", str(tmp_path / "o"), timeout=120)
+    r = ruled_here("batch", data_file("kj66_impeller.step"), *args, "-o", str(tmp_path / "o"))
     assert r.returncode == 2 and needle in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
 
 
 def test_missing_input_refused(tmp_path):
-    r = _cli("batch", str(tmp_path / "nope.step"), "-o", str(tmp_path / "o"), timeout=120)
+    r = ruled_here("batch", str(tmp_path / "nope.step"), "-o", str(tmp_path / "o"))
     assert r.returncode == 2 and "no such file" in r.stderr
 
 
 def test_face_timeout_records_failed_and_goes_on(tmp_path):
     """Two faces with a limit no fit meets: both recorded as failed with the reason, the batch ends
     normally (their workers replaced)."""
-    r = _cli("batch", data_file("kj66_impeller.step"), "--faces", "6,8", "--jobs", "1", "--face-timeout", "0.2",
-             "-o", str(tmp_path / "t"), "--quiet", timeout=300)
+    r = ruled_process("batch", data_file("kj66_impeller.step"), "--faces", "6,8", "--jobs", "1", "--face-timeout",
+                      "0.2", "-o", str(tmp_path / "t"), "--quiet", timeout=300)
     assert r.returncode == 0, r.stderr
     rows = json.load(open(tmp_path / "t" / "summary.json"))["rows"]
     assert [x["status"] for x in rows] == ["failed", "failed"]
@@ -209,6 +204,7 @@ def test_ruled_candidates_are_the_nearly_ruled_faces(tmp_path):
     assert len(kinds) == 3 and kept == [0, 1], (kinds, kept)
 
 
+@pytest.mark.slow
 def test_summary_page_in_a_real_browser(pool_batch):
     """The summary page opened by headless Chromium: a screenshot (artifacts/batch/summary.png, look at
     it) with the table's header and the thumbnails drawn (many distinct colours, not a blank page)."""

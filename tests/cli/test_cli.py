@@ -7,14 +7,10 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import ROOT, SHARED_DATA, data_file
+from conftest import ROOT, SHARED_DATA, data_file, ruled_here
+from conftest import ruled_process as ruled
 
 pytest.importorskip("OCP")
-
-
-def ruled(*args, cwd=None, timeout=900):
-    return subprocess.run([sys.executable, "-m", "ruled.cli", *args], cwd=cwd or ROOT, capture_output=True,
-                          text=True, timeout=timeout, env={**os.environ, "PYTHONPATH": ROOT})
 
 
 def _one_line_error(out):
@@ -122,29 +118,29 @@ def test_a_wrong_face_of_a_file_read_before_is_answered_without_occt(tmp_path, m
 def test_bad_inputs_give_one_line_and_exit_2(tmp_path):
     wing = data_file("occt_wing.brep")
     o = str(tmp_path / "o.step")
-    msg = _one_line_error(ruled("fit", str(tmp_path / "missing.step"), "--face", "0", "-o", o))
+    msg = _one_line_error(ruled_here("fit", str(tmp_path / "missing.step"), "--face", "0", "-o", o))
     assert "no such file" in msg
     junk = tmp_path / "junk.step"
     junk.write_text("hello, not a model\n")
-    assert "not a STEP file" in _one_line_error(ruled("fit", str(junk), "--face", "0", "-o", o))
+    assert "not a STEP file" in _one_line_error(ruled_here("fit", str(junk), "--face", "0", "-o", o))
     txt = tmp_path / "notes.txt"
     txt.write_text("hello")
-    assert "not a CAD file" in _one_line_error(ruled("faces", str(txt)))
-    msg = _one_line_error(ruled("fit", wing, "--face", "99", "-o", o))
+    assert "not a CAD file" in _one_line_error(ruled_here("faces", str(txt)))
+    msg = _one_line_error(ruled_here("fit", wing, "--face", "99", "-o", o))
     assert "out of range" in msg and "4 faces" in msg
-    assert "at least 3" in _one_line_error(ruled("fit", wing, "--face", "0", "--samples", "2", "-o", o))
-    msg = _one_line_error(ruled("fit", wing, "--face", "0", "--samples", "200000", "-o", o))
+    assert "at least 3" in _one_line_error(ruled_here("fit", wing, "--face", "0", "--samples", "2", "-o", o))
+    msg = _one_line_error(ruled_here("fit", wing, "--face", "0", "--samples", "200000", "-o", o))
     assert "GiB" in msg and "--samples" in msg
-    msg = _one_line_error(ruled("fit", wing, "--face", "0", "--samples", "20", "--max-error", "1e-30",
+    msg = _one_line_error(ruled_here("fit", wing, "--face", "0", "--samples", "20", "--max-error", "1e-30",
                                 "--direction", "u", "-o", o))
     assert "best achievable" in msg
     _degenerate_files(tmp_path)
-    msg = _one_line_error(ruled("fit", str(tmp_path / "collapsed.step"), "--face", "0", "--direction", "v",
+    msg = _one_line_error(ruled_here("fit", str(tmp_path / "collapsed.step"), "--face", "0", "--direction", "v",
                                 "-o", o))
     assert "collapses" in msg
-    msg = _one_line_error(ruled("fit", str(tmp_path / "flat.step"), "--face", "0", "-o", o))
+    msg = _one_line_error(ruled_here("fit", str(tmp_path / "flat.step"), "--face", "0", "-o", o))
     assert "zero area" in msg
-    msg = _one_line_error(ruled("fit", wing, "--face", "0", "-o", str(tmp_path / "no" / "dir" / "o.step")))
+    msg = _one_line_error(ruled_here("fit", wing, "--face", "0", "-o", str(tmp_path / "no" / "dir" / "o.step")))
     assert "does not exist" in msg
 
 
@@ -186,13 +182,13 @@ def test_fit_4d_reports_elevated_pairs_and_plots_elevations(tmp_path):
 def test_4d_argument_errors_exit_2(tmp_path):
     src = _ex2_step(tmp_path)
     o = str(tmp_path / "o.step")
-    assert "--elevations" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--elevations",
+    assert "--elevations" in _one_line_error(ruled_here("fit", src, "--face", "0", "--method", "4d", "--elevations",
                                                    "-2", "-o", o))
-    assert "--lift-step" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--lift-step", "0",
+    assert "--lift-step" in _one_line_error(ruled_here("fit", src, "--face", "0", "--method", "4d", "--lift-step", "0",
                                                   "-o", o))
-    assert "invalid choice" in _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--metric",
+    assert "invalid choice" in _one_line_error(ruled_here("fit", src, "--face", "0", "--method", "4d", "--metric",
                                                      "vd", "-o", o))
-    msg = _one_line_error(ruled("fit", src, "--face", "0", "--method", "4d", "--samples", "120", "--elevations",
+    msg = _one_line_error(ruled_here("fit", src, "--face", "0", "--method", "4d", "--samples", "120", "--elevations",
                                 "30", "--memory-cap", "50", "-o", o))
     assert "MiB" in msg and "--samples" in msg and "--elevations" in msg
 
@@ -240,6 +236,7 @@ def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
     assert os.path.getsize(src) == before and not os.path.exists(tmp_path / "a.step")
 
 
+@pytest.mark.slow
 def test_negative_values_of_list_options_are_values(tmp_path):
     """--planes -1.5,20 is the option's value, not an unknown option."""
     out = str(tmp_path / "w.ngc")
@@ -258,7 +255,7 @@ def test_a_face_closed_in_both_directions_is_refused_as_such(tmp_path):
     from ruled.occ.io import faces_of, write_step
     path = str(tmp_path / "torus.step")
     write_step(faces_of(BRepPrimAPI_MakeTorus(10.0, 3.0).Shape())[0], path)
-    line = _one_line_error(ruled("fit", path, "--face", "0", "-o", str(tmp_path / "t.step")))
+    line = _one_line_error(ruled_here("fit", path, "--face", "0", "-o", str(tmp_path / "t.step")))
     assert "closed in both directions" in line and "split the face first" in line and "--direction" not in line
 
 
@@ -280,7 +277,7 @@ def test_one_wording_for_a_size_that_must_be_positive(tmp_path):
         (["batch", kj, "--face-timeout", "inf", "-o", str(tmp_path / "b")], "--face-timeout must be a positive "
          "finite number (seconds), not inf"),
     ]:
-        r = ruled(*args, cwd=str(tmp_path), timeout=120)
+        r = ruled_here(*args, cwd=str(tmp_path))
         assert r.returncode == 2 and r.stderr.strip() == f"ruled: error: {line}", (args, r.stderr)
 
 

@@ -3,21 +3,14 @@ message), and each front door naming an engine refusal's remedy in its own terms
 `ruled fit --help` lists on the command line, a keyword of the call in Python (FreeCAD's properties are
 checked in tests/workbench/test_workbench_features.py)."""
 import re
-import subprocess
-import sys
 
 import pytest
-from conftest import ROOT
+from conftest import ruled_here
 
 from ruled import FitOptions, fit_surface
 from ruled.cli.parser import build_parser
 from ruled.core.errors import BadInputError, TooBigError
 from ruled.examples import elber_ex1
-
-
-def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "ruled.cli", *args], cwd=ROOT, capture_output=True, text=True,
-                          timeout=300)
 
 
 @pytest.mark.parametrize("argv, new, value", [
@@ -38,7 +31,7 @@ def test_old_step_spellings_still_work_with_a_deprecation_message(argv, new, val
 @pytest.mark.parametrize("command, new", [("fit", "--lift-step"), ("split", "--lift-step"), ("cone", "--arc-step"),
                                           ("machine", "--cam-step")])
 def test_help_shows_the_new_spelling_only(command, new):
-    out = " ".join(_cli(command, "--help").stdout.split())
+    out = " ".join(ruled_here(command, "--help").stdout.split())
     assert new in out and "formerly --step" in out
     assert not re.search(r"(?<![\w-])--step\b(?! )", out.replace("formerly --step", ""))
 
@@ -64,12 +57,13 @@ def test_a_refusal_names_its_remedy_in_python_and_on_the_command_line(tmp_path):
     from ruled.occ.io import write_step
     src = str(tmp_path / "ex2.step")
     write_step(container_to_face(elber_ex2()), src)
-    run = _cli("fit", src, "--face", "0", "--samples", "3000", "--memory-cap", "1", "-o", str(tmp_path / "o.step"))
+    run = ruled_here("fit", src, "--face", "0", "--samples", "3000", "--memory-cap", "1", "-o",
+                     str(tmp_path / "o.step"))
     assert run.returncode == 2, run.stderr
     line = run.stderr.strip()
     assert line.startswith("ruled: error: --samples 3000 needs about") and "«" not in line
     assert re.search(r"use --samples \d+ or fewer$", line)
-    assert _flags(line) <= _flags(_cli("fit", "--help").stdout), line
+    assert _flags(line) <= _flags(ruled_here("fit", "--help").stdout), line
 
 
 @pytest.mark.parametrize("options, key, python, cli", [
@@ -86,4 +80,4 @@ def test_bad_fit_options_name_the_option_in_each_doors_terms(options, key, pytho
     assert exc.option == key
     assert str(exc).startswith(python) and "--" not in str(exc)
     assert cli_text(exc).startswith(cli)
-    assert _flags(cli_text(exc)) <= _flags(_cli("fit", "--help").stdout)
+    assert _flags(cli_text(exc)) <= _flags(ruled_here("fit", "--help").stdout)

@@ -2,8 +2,6 @@
 into pieces, and the impeller's blades at 5x their fit error; measured as in test_cone_acceptance."""
 import json
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -13,16 +11,11 @@ from ruled.cone.conespline import cone_spline
 from ruled.core.errors import BadInputError
 
 OCP = pytest.importorskip("OCP")
-from conftest import ROOT  # noqa: E402
+from conftest import ruled_here, ruled_process  # noqa: E402
 from test_cone_acceptance import _check_patches, _concurrent, _lift, _measured, _normal, _occ_poles, _original  # noqa: E402,F401
 
 from ruled.occ.conespline import cone_faces  # noqa: E402
 from ruled.occ.faceset import FaceSet, sample_faces, to_lines  # noqa: E402
-
-
-def _run(*args):
-    return subprocess.run([sys.executable, "-m", "ruled.cli", *args], capture_output=True, text=True, cwd=ROOT,
-                          timeout=600)
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +28,8 @@ def cone_step(tmp_path_factory):
 
 def test_cli_cone_writes_step_report_and_plot(cone_step, tmp_path):
     out, rep, png = (str(tmp_path / n) for n in ("c.step", "c.json", "c.png"))
-    r = _run("cone", cone_step, "--face", "0", "--tol", "1e-6", "-o", out, "--report", rep, "--plot", png, "--quiet")
+    r = ruled_process("cone", cone_step, "--face", "0", "--tol", "1e-6", "-o", out, "--report", rep, "--plot", png,
+                      "--quiet")
     assert r.returncode == 0, r.stderr
     d = json.load(open(rep))
     assert d["patches"] == 3 and d["all_developable"] and d["max_g1_angle_deg"] <= 1e-6
@@ -52,10 +46,10 @@ def test_cli_cone_writes_step_report_and_plot(cone_step, tmp_path):
 
 def test_cli_refuses_bad_input(cone_step, tmp_path):
     out = str(tmp_path / "x.step")
-    r = _run("cone", cone_step, "--face", "0", "--tol", "0", "-o", out)
+    r = ruled_here("cone", cone_step, "--face", "0", "--tol", "0", "-o", out)
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
     assert "--tol must be a positive finite number (a distance in model units), not 0" in r.stderr
-    r = _run("cone", cone_step, "--face", "0", "--tol", "-1", "-o", out)
+    r = ruled_here("cone", cone_step, "--face", "0", "--tol", "-1", "-o", out)
     assert r.returncode == 2
     # a face that is not ruled: Elber's ex2, with its distance from the ruled surface between its boundaries
     from ruled.examples import elber_ex2
@@ -63,7 +57,7 @@ def test_cli_refuses_bad_input(cone_step, tmp_path):
     from ruled.occ.io import write_step
     src = str(tmp_path / "ex2.step")
     write_step(container_to_face(elber_ex2()), src)
-    r = _run("cone", src, "--face", "0", "--tol", "0.01", "-o", out)
+    r = ruled_here("cone", src, "--face", "0", "--tol", "0.01", "-o", out)
     assert r.returncode == 2 and "not ruled" in r.stderr and "ruled fit" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1 and not os.path.exists(out)
 
@@ -207,7 +201,7 @@ def test_cli_refuses_a_folding_face(tmp_path):
     P = np.array([[(-1, 0, 0), (1, 0, 0)], [(1, 0.2, 1), (-1, 0.5, 1)]], float)
     src, out = str(tmp_path / "twist.step"), str(tmp_path / "x.step")
     write_step(container_to_face(Surface(P, [0, 0, 1, 1], [0, 0, 1, 1], 1, 1)), src)
-    r = _run("cone", src, "--face", "0", "--tol", "0.01", "-o", out)
+    r = ruled_here("cone", src, "--face", "0", "--tol", "0.01", "-o", out)
     assert r.returncode == 2 and "fold" in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not os.path.exists(out)
 

@@ -92,7 +92,7 @@ def _cubic_domain_curve(rng, lo, hi, n=8):
     return Curve(lo + P * (hi - lo), knots, 3)
 
 
-@pytest.mark.parametrize("rational", [False, True])
+@pytest.mark.parametrize("rational", [False, pytest.param(True, marks=pytest.mark.slow)])
 def test_multi_span_surfaces_crossing_knot_lines(rational):
     rng = np.random.default_rng(11)
     S = random_surface(np.random.default_rng(4), pu=3, pv=3, nu=9, nv=8, rational=rational)

@@ -44,7 +44,8 @@ def _random_path(rng, n, K):
     return np.array(out)
 
 
-@pytest.mark.parametrize("name", ["ex1", "ex2", "random", "barrel"])
+@pytest.mark.parametrize("name", [*(pytest.param(n, marks=pytest.mark.slow) for n in ("ex1", "ex2", "random")),
+                                  "barrel"])
 def test_sshb_bounds_the_discrete_ruled_surface(name, rng):
     S = {"ex1": elber_ex1, "ex2": elber_ex2, "barrel": barrel,
          "random": lambda: random_surface(np.random.default_rng(11), rational=True)}[name]()
@@ -95,6 +96,7 @@ def test_sshb_metric_fit_is_certified_useful_and_not_worse_than_2d(make):
         assert r4.best.lift["dp_max_move_cost"] <= 1.5 * h4.max
 
 
+@pytest.mark.slow
 def test_exactly_ruled_faces_lose_nothing_to_elevation():
     faces = faces_of(read_shape(data_file("occt_wing.brep")))
     for S in [face_to_container(f) for f in faces[:2]] + [reparametrized_ruled()]:

@@ -10,15 +10,13 @@ Every figure is measured independently of the engine, with OCCT: the face's poin
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 pytest.importorskip("OCP")
 
-from conftest import data_file  # noqa: E402
+from conftest import data_file, ruled_here  # noqa: E402
 from trimmed_faces import bspline_surface, coons_reference, curve2d, face_from_loops, graph2d, measure, part_ruled  # noqa: E402
 
 from ruled.core.errors import RuledError  # noqa: E402
@@ -207,8 +205,7 @@ def test_folding_map_is_refused_in_one_line(tmp_path):
     assert "fold" in str(exc.value) and "\n" not in str(exc.value)
     path = str(tmp_path / "fold.step")
     write_step(face, path)
-    run = subprocess.run([sys.executable, "-m", "ruled.cli", "fit", path, "--face", "0", "-o",
-                          str(tmp_path / "o.step")], capture_output=True, text=True)
+    run = ruled_here("fit", path, "--face", "0", "-o", str(tmp_path / "o.step"))
     assert run.returncode == 2 and run.stderr.count("\n") == 1 and "fold" in run.stderr, run.stderr
 
 
@@ -284,8 +281,7 @@ def test_face_with_holes_is_fitted_over_its_outer_boundary_with_a_warning():
 def test_rails_refusals_exit_2(tmp_path):
     path = data_file(KJ66)
     for rails, word in (("0,1", "neighbours"), ("0,7", "no edge 7"), ("2,2", "twice"), ("x", "two edge indices")):
-        run = subprocess.run([sys.executable, "-m", "ruled.cli", "fit", path, "--face", "6", "--rails", rails,
-                              "-o", str(tmp_path / "o.step")], capture_output=True, text=True)
+        run = ruled_here("fit", path, "--face", "6", "--rails", rails, "-o", str(tmp_path / "o.step"))
         assert run.returncode == 2 and run.stderr.count("\n") == 1 and word in run.stderr, (rails, run.stderr)
 
 
@@ -293,7 +289,7 @@ def test_rails_fix_the_pair_and_faces_lists_edges(tmp_path):
     path = data_file(KJ66)
     res, slack = fit_face(get_face(path, 6), FitOptions(), rails=(1, 3))
     assert sorted(map(sorted, res.patch.rails(res.direction))) == [[1], [3]]
-    run = subprocess.run([sys.executable, "-m", "ruled.cli", "faces", path, "--edges"], capture_output=True, text=True)
+    run = ruled_here("faces", path, "--edges")
     assert run.returncode == 0
     lines = run.stdout.splitlines()
     i = next(j for j, s in enumerate(lines) if s.split()[:1] == ["6"])

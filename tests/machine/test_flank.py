@@ -118,7 +118,7 @@ def test_flank_radius_warning(tmp_path, patches, capsys):
     (["--xyuv", "--kerf", "-1"], "--kerf"),
     (["--flank", "--tool-radius", "1", "--taper", "50"], "--taper"),
     (["--xyuv", "--planes", "3"], "--planes"),
-    (["--xyuv", "--chord-tol", "1e-12"], "chord"),
+    pytest.param(["--xyuv", "--chord-tol", "1e-12"], "chord", marks=pytest.mark.slow),
     (["--xyuv", "--ruled", "--method", "4d"], "give one of them"),
     (["--flank", "--tool-radius", "1", "--kerf", "0.1"], "--kerf is for --xyuv"),
 ])

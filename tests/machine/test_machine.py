@@ -62,6 +62,7 @@ def test_xyuv_hyperboloid_round_trip(tmp_path, hyp_file):
     assert abs(rep["machine"]["max_taper_deg"] - 45.0) < 0.1         # the hyperboloid's rulings: 45 degrees
 
 
+@pytest.mark.slow
 def test_xyuv_hyperboloid_kerf(tmp_path, hyp_file):
     r = xyuv_round_trip(tmp_path, hyp_file, 0, 0.01, kerf=0.01, name="kerf")
     assert r["h"].max <= r["fit"] + r["chord"]
@@ -84,6 +85,7 @@ def test_xyuv_blade_round_trip(tmp_path):
     assert k["rep"]["cut"]["max"] <= k["rep"]["cut"]["bound"] and k["rep"]["cut"]["max"] <= 2 * k["fit"] + k["chord"]
 
 
+@pytest.mark.slow
 def test_xyuv_planes_given(tmp_path, hyp_file):
     ngc, rep, _ = run_cli(tmp_path, hyp_file, 0, "--xyuv", "--planes", "12,-11", "--axis", "z", "--lead", "0")
     assert rep["machine"]["plane_heights"] == [-11.0, 12.0]     # given as 12,-11: sorted
@@ -91,6 +93,7 @@ def test_xyuv_planes_given(tmp_path, hyp_file):
     assert len(parsed) == rep["machine"]["sync_points"] and set(kinds) == {"cut"}     # no leads
 
 
+@pytest.mark.slow
 def test_xyuv_of_a_ruled_result(tmp_path, hyp_file):
     """A ruled result of Ruled (here 'ruled fit' of the hyperboloid) is machined as it is (--ruled)."""
     fits = str(tmp_path / "fit.step")

@@ -152,7 +152,8 @@ def _brute_elevated(A, B, objective):
 
 
 @pytest.mark.parametrize("objective", ["sum", "max"])
-@pytest.mark.parametrize("n,d,mp,mm", [(2, 2, 2, 2), (3, 1, 2, 1), (3, 2, 1, 3), (3, 1, 2, 2)])
+@pytest.mark.parametrize("n,d,mp,mm", [(2, 2, 2, 2), (3, 1, 2, 1), (3, 2, 1, 3),
+                                       pytest.param(3, 1, 2, 2, marks=pytest.mark.slow)])
 def test_elevated_split_dp_equals_brute_force(objective, n, d, mp, mm):
     """5D (M elevated, mp = 1) and 7D (P, Q and M elevated) against every path."""
     rng = np.random.default_rng(n * 100 + d * 10 + mp + mm)

@@ -4,13 +4,10 @@ OCCT's: trimmed split faces sampled inside their own edges (the face classifier)
 the ruled fits and back; the faces are checked by BRepCheck and sewn by OCCT."""
 
 import json
-import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
-from conftest import ROOT, data_file
+from conftest import data_file, ruled_here, ruled_process
 
 from ruled.core.errors import InfeasibleError
 
@@ -117,16 +114,12 @@ def test_partition_refuses_an_unreachable_tolerance():
         partition_of_face(container_to_face(elber_ex2()), 1e-5, SplitOptions(max_strips=2))
 
 
-def _cli(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "ruled.cli", *args], cwd=cwd, capture_output=True, text=True,
-                          env={**os.environ, "PYTHONPATH": ROOT})
-
-
+@pytest.mark.slow
 def test_cli_split_writes_fits_faces_report_and_plot(tmp_path):
     src = str(tmp_path / "ex2.step")
     write_step(container_to_face(elber_ex2()), src)
-    r = _cli("split", src, "--face", "0", "-o", "fits.step", "--split-faces", "faces.step", "--report", "r.json",
-             "--plot", "p.png", "--measure-samples", "16", "--quiet", cwd=tmp_path)
+    r = ruled_process("split", src, "--face", "0", "-o", "fits.step", "--split-faces", "faces.step", "--report",
+                      "r.json", "--plot", "p.png", "--measure-samples", "16", "--quiet", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     rep = json.loads((tmp_path / "r.json").read_text())
     assert rep["chosen"] == "optimal"
@@ -148,12 +141,13 @@ def test_cli_split_writes_fits_faces_report_and_plot(tmp_path):
 def test_cli_split_bad_input_is_one_line(tmp_path, args, words):
     src = str(tmp_path / "ex2.step")
     write_step(container_to_face(elber_ex2()), src)
-    r = _cli(*[a.format(src=src) for a in args], "--quiet", cwd=tmp_path)
+    r = ruled_here(*[a.format(src=src) for a in args], "--quiet", cwd=tmp_path)
     assert r.returncode == 2, r.stderr
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0], r.stderr
 
 
+@pytest.mark.slow
 def test_split_bounds_hold_against_the_split_faces_of_an_exactly_ruled_face(tmp_path):
     """OCCT's wing (face 0 is exactly ruled: its fits are exact): what a split's measure sees is the split
     faces' edge, which follows the smooth split curve within its own certified bound.  Each candidate's

@@ -237,6 +237,7 @@ REOPEN_OPEN = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow
 def test_reopen_in_a_fresh_freecadcmd_with_the_addon_installed(tmp_path):
     """The README's install (a link in the user Mod folder): a document saved with a RuledFit and a
     RuledSplit reopens in another freecadcmd with their code (Init.py makes ruled_workbench importable

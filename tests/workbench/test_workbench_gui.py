@@ -36,6 +36,16 @@ def run_gui(script: str, home, **env_more):
     return run
 
 
+def test_the_workbench_in_the_gui(tmp_path):
+    """The quick GUI check (the loop while you work): the workbench activates, its toolbar holds every
+    command, none enabled with nothing selected, and a click on Fit with a face selected opens its panel."""
+    run_gui("smoke_gui.py", tmp_path / "home")
+    r = json.load(open(os.path.join(OUT, "smoke.json")))
+    assert r["toolbar"] == r["names"] and len(r["names"]) == 7, r
+    assert r["enabled_on_nothing"] == [], r
+    assert r["clicked"] and r["panel"] and r["closed"] and r["objects"] == ["Impeller"], r
+
+
 @pytest.mark.slow
 def test_fit_through_the_task_panel(tmp_path):
     run_gui("fit_face_gui.py", tmp_path / "home")
