@@ -58,6 +58,7 @@ class RuledFit:
     error_bound: float        # certified upper bound of the Hausdorff distance to the input face
     hausdorff: Optional[Any]  # ruled.occ.Hausdorff measured with OCCT, or None when not asked
     result: FitResult         # everything else (pairing, candidates, timings)
+    warnings: tuple = ()      # what the fit and the measure say (a hole spanned, a face far from ruled, a loose bound)
 
 
 def _topods(face):
@@ -87,6 +88,7 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     """Fit the best ruled surface to a face as bounded by its edges (2D-DP over boundary samples, or
     4D-DP with the ruling ends lifted along the normal; refined, certified).  rails: two edge indices
     of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join."""
+    from ruled.fit.facefit import measured_warnings
     from ruled.occ.convert import container_to_face
     from ruled.occ.measure import hausdorff
     from ruled.occ.region import fit_face as _fit_face
@@ -102,7 +104,12 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
         res, slack = _fit_face(src, opts, progress, rails)
     out = container_to_face(res.surface)
     h = hausdorff(src, out, measure_samples) if measure else None
-    return RuledFit(_cq(out), res.surface, res.best.rulings, res.error_bound + slack, h, res)
+    bound = res.error_bound + slack
+    patch = getattr(res, "patch", None)
+    size = patch.face_size if patch is not None else res.surface.diagonal()
+    warnings = (tuple(patch.warnings) if patch is not None else ()) + \
+        measured_warnings(res, bound, None if h is None else h.max, size)
+    return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)
 
 
 @dataclass(frozen=True)

@@ -84,6 +84,21 @@ def face_from_loops(surf, loops) -> object:
     return TopoDS.Face_s(fix.Face())
 
 
+def folding_face(edges: int = 4):
+    """A flat face whose top side hooks back over itself (a C-shaped region): its Coons map folds.  edges: 4,
+    or 5 (the bottom side in two edges, so that other rails could be picked)."""
+    poles = np.array([[[0, 0, 0], [0, 10, 0]], [[10, 0, 0], [10, 10, 1]]], float)
+    S = bspline_surface(poles, [0, 1], [2, 2], [0, 1], [2, 2], 1, 1)
+    t = np.linspace(0, 1, 40)
+    hook = np.stack([0.9 - 0.75 * np.sin(np.pi * t) ** 0.5 * (1 - t) - 0.8 * t,
+                     0.9 - 0.6 * np.sin(np.pi * t)], axis=1)
+    hook[0], hook[-1] = (0.9, 0.9), (0.1, 0.9)
+    bottom = ([curve2d([[0.1, 0.1], [0.9, 0.1]])] if edges == 4 else
+              [curve2d([[0.1, 0.1], [0.5, 0.1]]), curve2d([[0.5, 0.1], [0.9, 0.1]])])
+    return face_from_loops(S, [bottom + [curve2d([[0.9, 0.1], [0.9, 0.9]]), curve2d(hook),
+                                         curve2d([[0.1, 0.9], [0.1, 0.1]])]])
+
+
 def outer_edges(face) -> list:
     out = []
     we = BRepTools_WireExplorer(BRepTools.OuterWire_s(face), face)

@@ -19,7 +19,8 @@ import os
 import time
 from typing import Optional
 
-from ruled.cli.common import cli_text
+from ruled.batch.faces import parse_faces
+from ruled.cli.common import batch_text
 from ruled.core.errors import BadInputError, RuledError, positive
 
 COLUMNS = ["file", "face", "type", "trimmed_pct", "method", "status", "error_bound", "hausdorff", "seconds",
@@ -27,23 +28,6 @@ COLUMNS = ["file", "face", "type", "trimmed_pct", "method", "status", "error_bou
 
 
 # ------------------------------------------------------------------------------------------ selection
-def parse_faces(spec: str) -> object:
-    """'all', 'bspline', 'ruled-candidates', or indices 'K,L-M' (a sorted list)."""
-    if spec in ("all", "bspline", "ruled-candidates"):
-        return spec
-    out: set = set()
-    try:
-        for part in spec.split(","):
-            a, _, b = part.strip().partition("-")
-            lo, hi = int(a), int(b) if b else int(a)
-            if lo < 0 or hi < lo:
-                raise ValueError
-            out.update(range(lo, hi + 1))
-    except ValueError:
-        raise BadInputError(f"--faces {spec!r}: use all, bspline, ruled-candidates or indices like 0,3-7") from None
-    return sorted(out)
-
-
 def naive_ruled_error(S) -> float:
     """The smaller, over the two directions, of the largest parametric distance between the face's surface
     and the iso-parametric ruled surface between its two opposite boundaries (at the same parameters): a
@@ -134,12 +118,12 @@ def run_face(job: dict) -> dict:
                       max_error=o["max_error"], direction=o["direction"], method=o["method"],
                       measure_samples=o["measure_samples"], memory_cap_mb=job["memory_cap_mb"],
                       report=None, plot=paths["png"] if o.get("plots", True) else None, quiet=True,
-                      face=faces[job["face"]], say=False)
+                      face=faces[job["face"]], say=False, text=lambda m: batch_text(m, job["face"]))
         row.update(error_bound=rep["error_bound"], hausdorff=rep["hausdorff"]["max"],
                    warnings="; ".join(rep.get("warnings", [])))
     except RuledError as exc:
         rep = {}
-        row.update(status="refused", reason=cli_text(exc))
+        row.update(status="refused", reason=batch_text(exc, job["face"]))
     row["seconds"] = time.perf_counter() - t0
     write_report({**rep, "batch": {"key": job["key"], "row": row}}, paths["json"])
     return row

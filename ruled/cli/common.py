@@ -22,6 +22,35 @@ def cli_text(message) -> str:
     return in_terms(message, CLI_NAMES)
 
 
+_FLAGS: dict = {}     # command -> {flag: its metavar}
+
+
+def _flags(command: str) -> dict:
+    """The options of a command of the command line, each with the metavar its help shows."""
+    if command not in _FLAGS:
+        import argparse
+
+        from ruled.cli.parser import build_parser
+        sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+        _FLAGS[command] = {s: (a.metavar or a.dest.upper()) for a in sub.choices[command]._actions
+                           for s in a.option_strings if a.nargs != 0}
+    return _FLAGS[command]
+
+
+def batch_text(message, face: int) -> str:
+    """An engine message in a batch's summary: the options 'ruled batch' takes by their flags; one it does
+    not take (--rails, say) as the 'ruled fit' command of that face, which does."""
+    own, fit = _flags("batch"), _flags("fit")
+
+    def name(key, value):
+        n = CLI_NAMES(key, value)
+        flag = n.split()[0]
+        if not flag.startswith("--") or flag in own or flag not in fit:
+            return n
+        return f"'ruled fit INPUT --face {face} {n if value is not None else f'{flag} {fit[flag]}'}'"
+    return in_terms(message, name)
+
+
 def print_files(output: str, others) -> None:
     """The files written: the STEP output, then each (label, path) given."""
     print(f"STEP:   {os.path.abspath(output)}")

@@ -42,10 +42,11 @@ def cmd_faces(args) -> int:
 
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
-            elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True) -> dict:
+            elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True,
+            text=cli_text) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
     already (the batch's workers keep the files they have read); say: print the warnings and notes
-    (the batch keeps them in the reports)."""
+    (the batch keeps them in the reports); text: how the warnings name options (the command's terms)."""
     from ruled.fit.options import FitOptions
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
@@ -58,6 +59,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     face = get_face(input_path, face_index) if face is None else face
     t_read = time.perf_counter() - t0
     from ruled.core.progress import Bar
+    from ruled.fit.facefit import measured_warnings
     from ruled.fit.report import plot as make_plot
     from ruled.fit.report import report_dict, write_report
     from ruled.occ.convert import container_to_face
@@ -70,7 +72,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     finally:
         bar.done()
     t_fit = time.perf_counter() - t_fit
-    warnings = [cli_text(w) for w in res.patch.warnings]
+    warnings = [text(w) for w in res.patch.warnings]
     for w in warnings if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
     t1 = time.perf_counter()
@@ -91,7 +93,10 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
     rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
     rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None
-    rep["warnings"] = warnings
+    more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size)]
+    for w in more if say else ():
+        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    rep["warnings"] = warnings + more
     for note in res.notes if say else ():
         print(f"ruled: {note}", file=sys.stderr)
     if report:

@@ -249,7 +249,7 @@ def _face_or_patches(text: str):
         pass
     if text == "all":
         return text
-    from ruled.batch.batch import parse_faces
+    from ruled.batch.faces import parse_faces
     try:
         return parse_faces(text)
     except RuledError:

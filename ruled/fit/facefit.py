@@ -176,21 +176,49 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     res = fit_surface(patch.surface, opts, progress)
     if not patch.identity:          # an untrimmed face keeps today's exact path
         res = _area_checked(with_iso(res, progress), patch)
-    res = with_deviation(res, patch.deviation)
-    far = far_from_ruled(res.error_bound, patch.face_size or region_size(region))
-    return replace(res, patch=patch if far is None else replace(patch, warnings=patch.warnings + (far,)))
+    return replace(with_deviation(res, patch.deviation), patch=patch)
 
 
-FAR = 0.1    # a best ruled surface farther than this fraction of the face's size is no use to a line cut
+FAR = 0.1      # a best ruled surface farther than this fraction of the face's size is no use to a line cut
+LOOSE = 100.0  # a bound more than this many times the measured distance is reported as loose
+FLOOR = 1e-6   # ... unless it is below this fraction of the face's size (no machine holds less)
 
 
-def far_from_ruled(bound: float, size: float) -> Optional[str]:
-    """The warning for a face no ruled surface comes near, said as soon as the fit is known."""
-    if not (size > 0 and bound >= FAR * size):
+def far_from_ruled(measured: float, size: float) -> Optional[str]:
+    """The warning for a face no ruled surface comes near, said from the measured distance of the best
+    result (a certified bound may be loose: it never says so on its own)."""
+    if not (size > 0 and measured >= FAR * size):
         return None
-    return Text(f"no ruled surface comes near this face: the best is within {bound:.4g} of it, "
-                f"{100 * bound / size:.0f} % of its size ({size:.4g}); a line cannot cut it as one face: split it "
-                f"into strips («partition») or machine it another way")
+    return Text(f"no ruled surface comes near this face: the best found is {measured:.4g} from it by the measure, "
+                f"{100 * measured / size:.0f} % of its size ({size:.4g}); a line cannot cut it as one face: split "
+                f"it into strips («partition») or machine it another way")
+
+
+def loose_bound(res: FitResult, bound: float, measured: float, size: float) -> Optional[str]:
+    """The note for a certified bound more than LOOSE times the measured distance, naming the part of the
+    certificate that makes it (the bound stays true; the measure is the closer figure)."""
+    if not (measured > 0 and bound > LOOSE * measured and bound > FLOOR * size):
+        return None
+    cert = getattr(res.best, "certificate", None)
+    why = ""
+    if cert is not None:
+        parts = {"the certificate's remainder term (the surface's or the result's derivatives are large over "
+                 "its grid: a collapsed row, extreme weights or a crease)": cert.remainder,
+                 "the deviation of the face's four-sided patch from its edges": cert.map_deviation,
+                 "the distance at the certificate's grid nodes (the face's map onto the result strays from "
+                 "its nearest points)": cert.node_max}
+        worst = max(parts, key=lambda k: parts[k])
+        why = f"; most of it is {worst}, {parts[worst]:.4g}"
+    return Text(f"the certified bound {bound:.4g} is loose: {bound / measured:.3g} times the measured distance "
+                f"{measured:.4g}{why}")
+
+
+def measured_warnings(res: FitResult, bound: float, measured: Optional[float], size: float) -> tuple:
+    """What only the measure can say, once the result is measured: a face far from every ruled surface,
+    and a bound that is loose."""
+    if measured is None or not np.isfinite(measured):
+        return ()
+    return tuple(w for w in (far_from_ruled(measured, size), loose_bound(res, bound, measured, size)) if w)
 
 
 def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:

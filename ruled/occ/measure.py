@@ -26,6 +26,7 @@ from ruled.occ.curve_measure import _golden_min, _p3
 SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local projections
 SEEDS = 8          # the exact distance also searches locally from this many nearest seeds
 PIECES = 6         # ... and in this many nearest smooth pieces between creases, from their own seeds
+EDGE_SEEDS = 8     # ... and along the edges near this many nearest edge samples
 
 
 def face_bounds(face):
@@ -384,10 +385,14 @@ class _Projector:
         if seed is not None:
             best = min(best, self._polish(x, *seed, 4))
         if self.edge_pts.size:
+            # the boundary may hold the closest point: refined along each edge near one of the nearest
+            # samples (a corner's sample is on both its edges, and an edge that moves fast in its
+            # parameter can pass far nearer than its samples between two of them)
             de = np.linalg.norm(self.edge_pts - x, axis=1)
-            k = int(np.argmin(de))
-            if de[k] < 1.5 * best + 1e-12:  # the boundary may hold the closest point
-                best = min(best, float(de[k]), self._edge_refine(x, k))
+            for k in np.argsort(de)[:EDGE_SEEDS]:
+                if de[k] >= 1.5 * best + 1e-12:
+                    break
+                best = min(best, float(de[k]), self._edge_refine(x, int(k)))
         return best
 
     def _edge_refine(self, x, k) -> float:

@@ -166,6 +166,29 @@ def test_bad_arguments_are_refused_in_one_line(tmp_path, args, needle):
     assert r.returncode == 2 and needle in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
 
 
+@pytest.mark.slow
+def test_a_refusal_names_only_what_the_batch_takes(tmp_path):
+    """Issue 34: a batch's refusal advised --rails, which 'ruled batch' does not take.  A five-edge face whose
+    Coons map folds: its row says the 'ruled fit' command of that face that takes the rails; an option the
+    batch does take is still named by its flag."""
+    pytest.importorskip("OCP")
+    from trimmed_faces import folding_face
+
+    from ruled.cli.common import batch_text
+    from ruled.core.errors import BadInputError
+    from ruled.occ.io import write_step
+    src = str(tmp_path / "fold.step")
+    write_step([folding_face(4), folding_face(5)], src)
+    r = ruled_process("batch", src, "--jobs", "1", "--no-plots", "--quiet", "-o", str(tmp_path / "o"), timeout=300)
+    assert r.returncode == 0, r.stderr
+    rows = {x["face"]: x for x in json.load(open(tmp_path / "o" / "summary.json"))["rows"]}
+    assert rows[0]["status"] == rows[1]["status"] == "refused", rows
+    assert "fold" in rows[1]["reason"] and "'ruled fit INPUT --face 1 --rails A,B'" in rows[1]["reason"], rows[1]
+    assert "--rails" not in rows[0]["reason"] and "--rails" not in rows[1]["reason"].replace("--face 1 --rails", "")
+    line = batch_text(BadInputError("too big; use fewer «samples=40» or pick «rails»"), 3)
+    assert line == "too big; use fewer --samples 40 or pick 'ruled fit INPUT --face 3 --rails A,B'", line
+
+
 def test_missing_input_refused(tmp_path):
     r = ruled_here("batch", str(tmp_path / "nope.step"), "-o", str(tmp_path / "o"))
     assert r.returncode == 2 and "no such file" in r.stderr

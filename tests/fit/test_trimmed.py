@@ -17,7 +17,16 @@ import pytest
 pytest.importorskip("OCP")
 
 from conftest import data_file, ruled_here  # noqa: E402
-from trimmed_faces import bspline_surface, coons_reference, curve2d, face_from_loops, graph2d, measure, part_ruled  # noqa: E402
+from trimmed_faces import (  # noqa: E402
+    bspline_surface,
+    coons_reference,
+    curve2d,
+    face_from_loops,
+    folding_face,
+    graph2d,
+    measure,
+    part_ruled,
+)
 
 from ruled.core.errors import RuledError  # noqa: E402
 from ruled.fit.options import FitOptions  # noqa: E402
@@ -186,20 +195,8 @@ def test_closed_trimmed_face_is_fitted_round():
     assert h.max <= 1e-4 * _size(face) and bound >= h.max and abs(area - 1.0) <= 0.05
 
 
-def _folding_face():
-    """A flat face whose top side hooks back over itself (a C-shaped region): its Coons map folds."""
-    poles = np.array([[[0, 0, 0], [0, 10, 0]], [[10, 0, 0], [10, 10, 1]]], float)
-    S = bspline_surface(poles, [0, 1], [2, 2], [0, 1], [2, 2], 1, 1)
-    t = np.linspace(0, 1, 40)
-    hook = np.stack([0.9 - 0.75 * np.sin(np.pi * t) ** 0.5 * (1 - t) - 0.8 * t,
-                     0.9 - 0.6 * np.sin(np.pi * t)], axis=1)
-    hook[0], hook[-1] = (0.9, 0.9), (0.1, 0.9)
-    return face_from_loops(S, [[curve2d([[0.1, 0.1], [0.9, 0.1]]), curve2d([[0.9, 0.1], [0.9, 0.9]]),
-                                curve2d(hook), curve2d([[0.1, 0.9], [0.1, 0.1]])]])
-
-
 def test_folding_map_is_refused_in_one_line(tmp_path):
-    face = _folding_face()
+    face = folding_face()
     with pytest.raises(RuledError) as exc:
         fit_face(face, FitOptions())
     assert "fold" in str(exc.value) and "\n" not in str(exc.value)
