@@ -243,6 +243,9 @@ def check_outcomes(b: Batch) -> list:
     for r in b.rows:
         if r["status"] == "failed":
             bad.append(f"{_who(b, r)}: failed: {r['reason']}")
+        elif r["status"] == "refused" and "is above its certified bound" in r["reason"]:
+            # the product caught a false certificate of its own (issue 34): the user is safe, the bound is not
+            bad.append(f"{_who(b, r)}: refused by its own check: {r['reason']}")
         elif r["status"] == "refused" and (not r["reason"] or "\n" in r["reason"] or "Traceback" in r["reason"]):
             bad.append(f"{_who(b, r)}: a refusal not in one line: {r['reason']!r}")
         elif r["status"] == "ok":

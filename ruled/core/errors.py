@@ -140,6 +140,13 @@ class TooBigError(RuledError):
     kind = "too big"
 
 
+class FiguresError(RuledError):
+    """A result whose own figures contradict each other (its measured distance above its certified bound):
+    never returned."""
+
+    kind = "figures disagree"
+
+
 class CancelledError(RuledError):
     """The user interrupted the work."""
 

@@ -256,3 +256,37 @@ def test_reopen_in_a_fresh_freecadcmd_with_the_addon_installed(tmp_path):
     assert b["proxies"] == ["ruled_workbench.features.RuledFit", "ruled_workbench.features.RuledSplit"]
     assert b["valid"] == [True, True] and b["status"] == ["ok", "ok"]
     assert b["fit"] == pytest.approx(a["fit"], rel=1e-12) and b["split"] == pytest.approx(a["split"], rel=1e-12)
+
+
+def test_a_result_whose_measure_is_above_its_bound_is_an_invalid_object(tmp_path):
+    """Issue 34 in FreeCAD: the bound of a face whose measure is within 0.02 % of it (the fuzz's face
+    2202:7) broken to 0.9x itself inside freecadcmd: the RuledFit is invalid, its Status names both
+    figures; with the true bound the same object is valid."""
+    pytest.importorskip("OCP")
+    import fuzz_faces as fz
+    from conftest import freecad_json
+
+    from ruled.occ.io import write_step
+    step = str(tmp_path / "tight.step")
+    write_step(fz.face_named("2d:2202:7").face, step)
+    out = freecad_json(f"""
+import FreeCAD, Part
+import ruled.fit.fit2d as f
+from ruled_workbench.features import make_ruled_fit
+doc = FreeCAD.newDocument("T")
+src = doc.addObject("Part::Feature", "Src")
+src.Shape = Part.read({step!r})
+fit = make_ruled_fit(doc, src, "Face1", Samples={fz.SAMPLES}, MeasureSamples={fz.SAMPLES})
+true_bound = f.DirectionFit.error_bound
+f.DirectionFit.error_bound = property(lambda self: 0.9 * self.certificate.bound)
+doc.recompute()
+out["broken"] = [fit.isValid(), fit.Status]
+f.DirectionFit.error_bound = true_bound
+fit.touch()
+doc.recompute()
+out["true"] = [fit.isValid(), fit.Status, float(fit.ErrorBound), float(fit.Hausdorff)]
+""", tmp_path)
+    valid, status = out["broken"]
+    assert not valid and "is above its certified bound" in status and "\n" not in status, out
+    valid, status, bound, measured = out["true"]
+    assert valid and status == "ok" and 0.9 * bound < measured <= bound, out
