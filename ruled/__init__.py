@@ -10,6 +10,7 @@ from ruled.core.errors import (
     BadInputError,
     CancelledError,
     DegenerateFaceError,
+    FiguresError,
     InfeasibleError,
     RuledError,
     ToleranceError,
@@ -40,7 +41,7 @@ def __dir__() -> list:
 
 __all__ = ["Surface", "Curve", "Region", "FacePatch", "face_patch", "fit_region",
            "FitOptions", "FitResult", "Objective", "Direction", "Method", "Metric", "fit_surface",
-           "RuledError", "BadInputError", "DegenerateFaceError", "InfeasibleError", "TooBigError",
+           "RuledError", "BadInputError", "DegenerateFaceError", "InfeasibleError", "TooBigError", "FiguresError",
            "CancelledError", "ToleranceError", "SplitOptions", "split_face", "partition", "CurveOnSurface",
            "approximate", "ConeSpline", "cone_spline_of_surface", "MachineOptions", "machine_path", "join_patches",
            "__version__"]
