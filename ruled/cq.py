@@ -88,7 +88,7 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     """Fit the best ruled surface to a face as bounded by its edges (2D-DP over boundary samples, or
     4D-DP with the ruling ends lifted along the normal; refined, certified).  rails: two edge indices
     of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join."""
-    from ruled.fit.facefit import check_figures, measured_warnings
+    from ruled.fit.facefit import measured_warnings
     from ruled.occ.convert import container_to_face
     from ruled.occ.measure import hausdorff
     from ruled.occ.region import fit_face as _fit_face
@@ -105,10 +105,8 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     out = container_to_face(res.surface)
     h = hausdorff(src, out, measure_samples) if measure else None
     bound = res.error_bound + slack
-    patch = getattr(res, "patch", None)
-    size = patch.face_size if patch is not None else res.surface.diagonal()
-    check_figures(bound, None if h is None else h.max, size)
-    warnings = (tuple(patch.warnings) if patch is not None else ()) + \
+    size = res.patch.face_size if res.patch is not None else res.surface.diagonal()
+    warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + \
         measured_warnings(res, bound, None if h is None else h.max, size)
     return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)
 

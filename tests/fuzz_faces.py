@@ -284,9 +284,9 @@ def check_dense(b: Batch, count: int = 6, n: int = 32) -> list:
     return bad
 
 
-def four_d_ratios(b: Batch, with_comparison: bool = False) -> list:
-    """(4D bound / 2D bound, row) of every fitted face whose report compares the two (and the report's
-    comparison, the two attempts' bounds and sampled measures, when with_comparison)."""
+def four_d_ratios(b: Batch) -> list:
+    """(4D bound / 2D bound, row, the report's comparison: the two attempts' bounds and sampled measures) of
+    every fitted face whose report compares the two."""
     import json
     ratios = []
     for r in b.rows:
@@ -296,31 +296,31 @@ def four_d_ratios(b: Batch, with_comparison: bool = False) -> list:
             c = json.load(fh).get("comparison", {})
         if "2d" in c and "4d" in c and c["2d"]["error_bound"] > 0:
             x = c["4d"]["error_bound"] / c["2d"]["error_bound"]
-            ratios.append((x, r, c) if with_comparison else (x, r))
+            ratios.append((x, r, c))
     return ratios
 
 
 def check_4d(b: Batch) -> list:
     """Issue 22: the 4D attempt's own bound within 10x the 2D bound of the same face, on most faces."""
     ratios = four_d_ratios(b)
-    bad = [_too_far(b, x, r) for x, r in ratios if x > 10.0]
+    bad = [_too_far(b, x, r) for x, r, _ in ratios if x > 10.0]
     if len(ratios) < 0.5 * len(b.rows):
         bad.append(f"only {len(ratios)} of {len(b.rows)} faces got a 4D attempt")
     return bad
 
 
-def known_blowups(b: Batch) -> list:
+def known_blowups(b: Batch) -> dict:
     """The violations of check_4d where the 4D surface itself is within 10x the 2D bound by its own sampled
     measure, and only a certificate is loose (the 4D attempt's, or the 2D one it inherits, at least 10x its
     measured distance): issue 34's certificates that blow up (open).  A 4D surface that is itself far
-    (issue 22's rebuild) is not among them."""
-    out = []
-    for x, r, c in four_d_ratios(b, with_comparison=True):
+    (issue 22's rebuild) is not among them.  {violation: what the measure says}."""
+    out = {}
+    for x, r, c in four_d_ratios(b):
         b2, b4, m4 = c["2d"]["error_bound"], c["4d"]["error_bound"], c["4d"].get("measured_sampled")
         loose = (r["error_bound"] >= 10.0 * max(r["hausdorff"], 1e-300)
                  or (m4 is not None and b4 >= 10.0 * max(m4, 1e-300)))
         if x > 10.0 and m4 is not None and m4 <= 10.0 * b2 and loose:
-            out.append(_too_far(b, x, r) + f" (the 4D surface measured {m4:.4g}: a loose certificate)")
+            out[_too_far(b, x, r)] = f"the 4D surface measured {m4:.4g}: a loose certificate"
     return out
 
 
@@ -378,7 +378,7 @@ def summary(b: Batch) -> str:
             f"in {b.seconds:.0f} s wall; measured / bound, the largest: {', '.join(f'{x:.4f}' for x in top)}")
     if b.method == "4d":
         ratios = sorted(four_d_ratios(b), key=lambda xr: xr[0], reverse=True)
-        line += f"; 4D / 2D bound, the largest: {', '.join(f'{x:.3g}' for x, _ in ratios[:3])}"
+        line += f"; 4D / 2D bound, the largest: {', '.join(f'{x:.3g}' for x, _, _ in ratios[:3])}"
     return line
 
 

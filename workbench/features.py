@@ -338,7 +338,7 @@ class RuledFit(_Feature):
 
     def compute(self, obj):
         from ruled.core.hostform import bounds_slack
-        from ruled.fit.facefit import check_figures, fit_region, measured_warnings
+        from ruled.fit.facefit import fit_region, measured_warnings
 
         from .adapter import face_region, outer_edges, surface_to_face
         face, opts, S, progress = self.inputs(obj, "fitting")
@@ -357,7 +357,6 @@ class RuledFit(_Feature):
             obj.RulingLines = ruling_lines([res])
             measure_into(obj, [result], face, lambda f: progress("measuring (distances to the source)", f))
             if int(obj.MeasureSamples) >= 2:
-                check_figures(float(obj.ErrorBound), float(obj.Hausdorff), p.face_size)
                 for w in measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size):
                     FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
         finally:

@@ -213,23 +213,18 @@ def loose_bound(res: FitResult, bound: float, measured: float, size: float) -> O
                 f"{measured:.4g}{why}")
 
 
-def check_figures(bound: float, measured: Optional[float], size: float) -> None:
-    """A result is checked against its own figures before anyone sees it: a measured distance above its
-    certified bound (beyond round-off) means one of the two is wrong, and the result is refused, naming
-    both."""
-    from ruled.core.errors import FiguresError
-    if measured is None or not measured > bound * (1.0 + 1e-9) + 1e-12 * max(size, 1.0):
-        return
-    raise FiguresError(f"the result's measured distance {measured:.6g} is above its certified bound {bound:.6g}: "
-                       f"one of the two is wrong, so the result is not returned (please report the face); "
-                       f"try the other «direction», or other «rails»")
-
-
 def measured_warnings(res: FitResult, bound: float, measured: Optional[float], size: float) -> tuple:
-    """What only the measure can say, once the result is measured: a face far from every ruled surface,
-    and a bound that is loose."""
+    """What only the measure can say, once the result is measured (None: not measured).  First the result is
+    checked against its own figures: a measured distance above its certified bound (beyond round-off)
+    means one of the two is wrong, and the result is refused naming both (FiguresError).  Then the
+    warnings: a face far from every ruled surface, and a bound that is loose."""
+    from ruled.core.errors import FiguresError
     if measured is None or not np.isfinite(measured):
         return ()
+    if measured > bound * (1.0 + 1e-9) + 1e-12 * max(size, 1.0):
+        raise FiguresError(f"the result's measured distance {measured:.6g} is above its certified bound "
+                           f"{bound:.6g}: one of the two is wrong, so the result is not returned (please report "
+                           f"the face); try the other «direction», or other «rails»")
     return tuple(w for w in (far_from_ruled(measured, size), loose_bound(res, bound, measured, size)) if w)
 
 

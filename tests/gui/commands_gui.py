@@ -3,17 +3,15 @@ spline" and "Curve on face" from their toolbar entries through their task panels
 a cone), undo, the export panel writing G-code, APT and a STEP for CAM, the preferences page; with
 RULED_GUI_PHASE=restart, a second start that reads back what the export panel remembered.  Writes
 commands.json (restart.json) and pictures to $RULED_GUI_OUT; ends with os._exit."""
-import json
 import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import toolbar_run  # noqa: E402
+from guitools import run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
 os.makedirs(OUT, exist_ok=True)
-code = 1
 res = {}
 
 
@@ -303,14 +301,4 @@ def restart():
     res["fit_samples"] = page.fit["Samples"].value()
 
 
-try:
-    main() if PHASE == "main" else restart()
-    code = 0
-except Exception:
-    import traceback
-    traceback.print_exc()
-json.dump(res, open(os.path.join(OUT, "commands.json" if PHASE == "main" else "restart.json"), "w"), indent=1,
-          default=str)
-sys.stdout.flush()
-sys.stderr.flush()
-os._exit(code)
+run_and_exit(main if PHASE == "main" else restart, res, "commands.json" if PHASE == "main" else "restart.json")

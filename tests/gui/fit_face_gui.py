@@ -2,16 +2,14 @@
 face of a STEP selected, "Fit ruled surface" through its task panel, the result's properties, a
 screenshot of the coloured result with its rulings, and the STEP export.  Writes result.json and the
 pictures to $RULED_GUI_OUT; ends with os._exit (FreeCAD exits 0 even when a script raises)."""
-import json
 import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import toolbar_run  # noqa: E402
+from guitools import run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
-code = 1
 res = {}
 
 
@@ -122,7 +120,7 @@ def extra_checks(doc, imp, obj, res):
     res["reopen_shot"] = shot
 
 
-try:
+def main():
     import FreeCAD
     import FreeCADGui
     import Part
@@ -220,11 +218,6 @@ try:
     view.saveImage(shot, 1280, 1024, "White")
     res["split_shot"] = shot
     extra_checks(doc, imp, obj, res)
-    code = 0
-except Exception:
-    import traceback
-    traceback.print_exc()
-json.dump(res, open(os.path.join(OUT, "result.json"), "w"), indent=1)
-sys.stdout.flush()
-sys.stderr.flush()
-os._exit(code)
+
+
+run_and_exit(main, res, "result.json")

@@ -1,16 +1,40 @@
 """Helpers of the GUI scripts (run inside FreeCAD's GUI; tests/gui is on their sys.path)."""
 
 
+def run_and_exit(main, res: dict, name: str) -> None:
+    """Run main(), write res as JSON to $RULED_GUI_OUT/name and end the process: exit 0 when main returned,
+    1 when it raised (os._exit: FreeCAD exits 0 even when a script raises)."""
+    import json
+    import os
+    import sys
+    import traceback
+    code = 1
+    try:
+        main()
+        code = 0
+    except Exception:
+        traceback.print_exc()
+    json.dump(res, open(os.path.join(os.environ["RULED_GUI_OUT"], name), "w"), indent=1, default=str)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
+
+
+def toolbar_actions() -> list:
+    """The buttons of the Ruled toolbar (its named actions), in their order."""
+    import FreeCADGui
+    from PySide import QtGui
+    bars = [b for b in FreeCADGui.getMainWindow().findChildren(QtGui.QToolBar)
+            if b.objectName() == "Ruled" or b.windowTitle() == "Ruled"]
+    return [a for b in bars for a in b.actions() if a.objectName()]
+
+
 def toolbar_run(name):
     """Trigger the command's button in the Ruled toolbar, as a click does (True), or run it (False)."""
     import FreeCADGui
-    from PySide import QtGui
-    mw = FreeCADGui.getMainWindow()
-    for bar in mw.findChildren(QtGui.QToolBar):
-        if bar.objectName() == "Ruled" or bar.windowTitle() == "Ruled":
-            for a in bar.actions():
-                if a.objectName() == name:
-                    return _click(a)
+    for a in toolbar_actions():
+        if a.objectName() == name:
+            return _click(a)
     FreeCADGui.runCommand(name)
     return False
 

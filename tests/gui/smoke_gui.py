@@ -2,17 +2,16 @@
 loop while you work: the Ruled workbench activates, its toolbar holds every command, disabled with nothing
 selected and enabled on a face, and a click on "Fit ruled surface" opens its task panel (closed again, no
 fit).  Writes smoke.json to $RULED_GUI_OUT; ends with os._exit (FreeCAD exits 0 even when a script raises)."""
-import json
 import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import toolbar_run  # noqa: E402
+from guitools import run_and_exit, toolbar_actions, toolbar_run  # noqa: E402
 
-OUT = os.environ["RULED_GUI_OUT"]
-code = 1
 res = {}
-try:
+
+
+def main():
     import FreeCAD
     import FreeCADGui
     import Part
@@ -20,9 +19,6 @@ try:
     FreeCADGui.activateWorkbench("RuledWorkbench")
     from ruled_workbench import commands, taskpanels
     res["names"] = list(commands.NAMES)
-    bars = [b for b in FreeCADGui.getMainWindow().findChildren(QtGui.QToolBar) if b.objectName() == "Ruled"
-            or b.windowTitle() == "Ruled"]
-    actions = [a for b in bars for a in b.actions() if a.objectName()]
     doc = FreeCAD.newDocument("Smoke")
     imp = doc.addObject("Part::Feature", "Impeller")
     imp.Shape = Part.read(os.environ["RULED_STEP"])
@@ -30,6 +26,7 @@ try:
     FreeCADGui.Selection.clearSelection()
     for _ in range(20):                   # FreeCAD updates the buttons' state on a timer
         QtGui.QApplication.processEvents()
+    actions = toolbar_actions()
     res["toolbar"] = [a.objectName() for a in actions]
     res["enabled_on_nothing"] = [a.objectName() for a in actions if a.isEnabled()]
     FreeCADGui.Selection.addSelection(imp, "Face7")
@@ -40,11 +37,6 @@ try:
         panel.reject()
     res["closed"] = taskpanels.ACTIVE is None
     res["objects"] = sorted(o.Name for o in doc.Objects)
-    code = 0
-except Exception:
-    import traceback
-    traceback.print_exc()
-json.dump(res, open(os.path.join(OUT, "smoke.json"), "w"), indent=1)
-sys.stdout.flush()
-sys.stderr.flush()
-os._exit(code)
+
+
+run_and_exit(main, res, "smoke.json")
