@@ -106,8 +106,13 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     h = hausdorff(src, out, measure_samples) if measure else None
     bound = res.error_bound + slack
     size = res.patch.face_size if res.patch is not None else res.surface.diagonal()
+    area = None
+    if h is not None and not (res.patch is not None and res.patch.region.holes):
+        from ruled.occ.io import face_area
+        a = face_area(src)
+        area = face_area(out) / a if a > 0 else None
     warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + \
-        measured_warnings(res, bound, None if h is None else h.max, size)
+        measured_warnings(res, bound, None if h is None else h.max, size, area)
     return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)
 
 

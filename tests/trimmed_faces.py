@@ -192,3 +192,97 @@ def swept_blade_face(profile: int = 200, stations: int = 40):
             P.SetValue(i + 1, j + 1, gp_Pnt(*map(float, p)))
     bs = GeomAPI_PointsToBSplineSurface(P, 3, 3, GeomAbs_Shape.GeomAbs_C2, 1e-3).Surface()
     return BRepBuilderAPI_MakeFace(bs, 1e-7).Face()
+
+
+def ruled_sheet_face(hole: float = 0.0):
+    """A twisted sheet that is ruled exactly along v (z = 3 sin(3u) v + 2u^2 over 40 x 30), trimmed by a
+    wavy bottom, a sloping top and two v-lines; hole: the radius (in (u, v)) of a round hole at (0.45, 0.5),
+    or 0 for none.  Its ruled fit is within round-off of it (where it spans no hole)."""
+    s, t = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 4), indexing="ij")
+    S = bspline_surface(np.stack([40 * s, 30 * t, 3 * np.sin(3 * s) * t + 2 * s * s], -1),
+                        [0, 0.5, 1], [4, 1, 4], [0, 1], [4, 4], 3, 3)
+
+    def bot(u):
+        return 0.1 + 0.05 * np.sin(6 * u)
+
+    def top(u):
+        return 0.9 - 0.05 * u * u
+    loops = [[graph2d(0.05, 0.95, bot), curve2d([[0.95, bot(0.95)], [0.95, top(0.95)]]),
+              graph2d(0.05, 0.95, top, reverse=True), curve2d([[0.05, top(0.05)], [0.05, bot(0.05)]])]]
+    if hole:
+        a = np.linspace(0, 2 * np.pi, 25)
+        loops.append([curve2d(np.stack([0.45 + hole * np.cos(-a), 0.5 + hole * np.sin(-a)], 1))])
+    return face_from_loops(S, loops)
+
+
+def band_face(kind: str):
+    """A band that goes once round a cylinder-like surface (radius about 10, height 20, wavy), between a
+    wavy bottom and a wavy top, its seam at u = 0.3 (not the surface's own).  kind: 'seam' (OCCT's seam
+    edge, the face made from its two closed loops), 'four' (four edges: the two v-lines at u = 0.3 and
+    1.3 are separate edges), both on a periodic surface; 'crease' (four edges on a clamped surface whose
+    first and last rows of poles meet at a crease)."""
+    n = 8 if kind != "crease" else 9
+    th = np.linspace(0, 2 * np.pi, n, endpoint=kind == "crease")
+    rows = []
+    for j, z in enumerate(np.linspace(0, 20, 4)):
+        r = 10 + np.sin(2 * th + j)
+        rows.append(np.stack([r * np.cos(th), r * np.sin(th), z + 0.5 * np.cos(th) * j], 1))
+    P = np.stack(rows, 1)
+    if kind == "crease":
+        P[-1] = P[0]
+        S = bspline_surface(P, np.linspace(0, 1, n - 2), [4] + [1] * (n - 4) + [4], [0, 1], [4, 4], 3, 3)
+    else:
+        S = bspline_surface(P, np.arange(n + 1) / n, [1] * (n + 1), [0, 1], [4, 4], 3, 3, uperiodic=True)
+    a = 0.0 if kind == "crease" else 0.3
+
+    def bot(u):
+        return 0.15 + 0.05 * np.sin(2 * np.pi * u)
+
+    def top(u):
+        return 0.85 + 0.05 * np.cos(2 * np.pi * u)
+    b, t = graph2d(a, a + 1, bot), graph2d(a, a + 1, top, reverse=True)
+    if kind == "seam":
+        return face_from_loops(S, [[b], [t]])
+    return face_from_loops(S, [[b, curve2d([[a + 1, bot(a + 1)], [a + 1, top(a + 1)]]), t,
+                                curve2d([[a, top(a)], [a, bot(a)]])]])
+
+
+def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
+    """(A to B, B to A): the largest distance from points of each face as bounded by its edges to the other,
+    by OCCT alone (no product code): an n x n (u, v) grid of the face's bounds kept where OCCT's classifier
+    puts it inside the face, and n points along every edge, each projected by BRepExtrema onto the other
+    face.  Each value is a distance to an actual point, so the measure is at most the true Hausdorff
+    distance, the samples' resolution below it."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+    from OCP.BRepClass import BRepClass_FaceClassifier
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+    from OCP.gp import gp_Pnt2d
+    from OCP.TopAbs import TopAbs_ShapeEnum, TopAbs_State
+    from OCP.TopExp import TopExp_Explorer
+
+    def points(face):
+        surf = BRep_Tool.Surface_s(face)
+        u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+        out = []
+        for u in np.linspace(u0, u1, n):
+            for v in np.linspace(v0, v1, n):
+                c = BRepClass_FaceClassifier(face, gp_Pnt2d(float(u), float(v)), 1e-7)
+                if c.State() in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON):
+                    out.append(surf.Value(float(u), float(v)))
+        ex = TopExp_Explorer(face, TopAbs_ShapeEnum.TopAbs_EDGE)
+        while ex.More():
+            e = TopoDS.Edge_s(ex.Current())
+            if not BRep_Tool.Degenerated_s(e):
+                ad = BRepAdaptor_Curve(e)
+                out += [ad.Value(float(x)) for x in np.linspace(ad.FirstParameter(), ad.LastParameter(), n)]
+            ex.Next()
+        return out
+
+    def far(pts, face):
+        worst = 0.0
+        for p in pts:
+            d = BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(p).Vertex(), face)
+            worst = max(worst, d.Value())
+        return worst
+    return far(points(face_a), face_b), far(points(face_b), face_a)

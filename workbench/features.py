@@ -357,7 +357,8 @@ class RuledFit(_Feature):
             obj.RulingLines = ruling_lines([res])
             measure_into(obj, [result], face, lambda f: progress("measuring (distances to the source)", f))
             if int(obj.MeasureSamples) >= 2:
-                for w in measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size):
+                area = None if p.region.holes or face.Area <= 0 else result.Area / face.Area
+                for w in measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size, area):
                     FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
         finally:
             progress.stop()

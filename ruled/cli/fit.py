@@ -91,13 +91,14 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
                                  "resolution": h.resolution},
                       timings={"read": t_read, "fit": t_fit, "build_and_write": t_write,
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
+    rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
+    rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None
     try:
-        more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size)]
+        more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size,
+                                                   None if res.patch.region.holes else rep["area"]["ratio"])]
     except RuledError:
         os.unlink(output)              # never a result that contradicts its own figures on disk
         raise
-    rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
-    rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None
     for w in more if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
     rep["warnings"] = warnings + more

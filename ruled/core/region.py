@@ -219,6 +219,38 @@ class Region:
             near |= dist <= eps
         return inside | near
 
+    def hole_span(self, n: int = 48, per_edge: int = 400) -> float:
+        """How far a point of the surface over a hole can be from the face (0 without holes): a fit over
+        the outer boundary spans the holes, and a point of it there is at most its distance to the surface
+        plus this from the face.  Per hole, an n x n (u, v) grid over the hole's box: the largest distance
+        from the surface at the grid points of every cell with a corner inside the hole to dense samples of
+        the hole's edges (points of the face: each distance at least the true one), plus the largest
+        diagonal of such a cell in space (a point of the cell is that near one of its corners)."""
+        from scipy.spatial import cKDTree
+        S = self.surface
+        worst = 0.0
+        for h in self.holes:
+            poly = self.inside(np.concatenate([c(np.linspace(*c.domain, per_edge)) for c in h]))
+            edge = cKDTree(S(poly[:, 0], poly[:, 1]))
+            lo, hi = poly.min(axis=0), poly.max(axis=0)
+            uu, vv = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n), indexing="ij")
+            uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
+            a, b = poly, np.roll(poly, -1, axis=0)
+            cross = (a[None, :, 1] > uv[:, 1:]) != (b[None, :, 1] > uv[:, 1:])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                xi = a[None, :, 0] + (uv[:, 1:] - a[None, :, 1]) * ((b - a)[None, :, 0] / (b - a)[None, :, 1])
+            ins = (np.sum(cross & (uv[:, :1] < xi), axis=1) % 2).astype(bool).reshape(n, n)
+            cells = ins[:-1, :-1] | ins[1:, :-1] | ins[:-1, 1:] | ins[1:, 1:]
+            if not cells.any():
+                continue
+            X = S(uu.ravel(), vv.ravel()).reshape(n, n, 3)
+            d = edge.query(X.reshape(-1, 3))[0].reshape(n, n)
+            corner = np.maximum.reduce([d[:-1, :-1], d[1:, :-1], d[:-1, 1:], d[1:, 1:]])
+            diag = np.maximum(np.linalg.norm(X[1:, 1:] - X[:-1, :-1], axis=2),
+                              np.linalg.norm(X[1:, :-1] - X[:-1, 1:], axis=2))
+            worst = max(worst, float((corner + diag)[cells].max()))
+        return worst
+
     def tangent3d(self, k: int, t: float) -> np.ndarray:
         """The image's tangent S_u u' + S_v v' of loop edge k at t (one point, (3,))."""
         c = self.loop[k]

@@ -47,10 +47,11 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface 
     return pts, (lo - p, np.maximum(hi, lo) - p)
 
 
-def crease_jumps(S: Surface, axis: int) -> tuple:
+def crease_jumps(S: Surface, axis: int, closed: bool = False) -> tuple:
     """The parameters along axis (0: u, 1: v) where S is only C0 (knots of multiplicity >= degree
-    inside the domain, and the seam of a periodic direction), and for each a rigorous bound of the jump
-    of the derivative along axis across it, over the whole crease.
+    inside the domain, and the seam of a periodic direction, or of a clamped one whose ends meet when
+    ``closed``: its first row of poles is its last, and a fit that goes round takes it as a seam), and for
+    each a rigorous bound of the jump of the derivative along axis across it, over the whole crease.
 
     The one-sided derivatives at a knot of full multiplicity in the derivative's net (degree q = p - 1)
     are the net's control rows on either side of it, so the jump of the homogeneous derivative is a
@@ -63,7 +64,7 @@ def crease_jumps(S: Surface, axis: int) -> tuple:
     p = S.degree_u if axis == 0 else S.degree_v
     q_along = S.degree_v if axis == 0 else S.degree_u
     a = S.domain[0] if axis == 0 else S.domain[2]
-    periodic = S.periodic_u if axis == 0 else S.periodic_v
+    periodic = (S.periodic_u if axis == 0 else S.periodic_v) or closed
     inner = S.creases(axis)
     if not (inner.size or periodic):
         return np.zeros(0), np.zeros(0)

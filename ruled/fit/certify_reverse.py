@@ -35,7 +35,7 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
     bS = Sb.derivative_bounds()
     M = {k: SpanRangeMax(Sb.knots_u, Sb.degree_u, bS[k].max(axis=1)) for k in ("Suu", "Suv", "Svv")}
     Rss_span = Rb.derivative_bounds()["Suu"][:, 0]
-    creases = (crease_jumps(S, 0), crease_jumps(S, 1))
+    creases = (crease_jumps(S, 0, closed), crease_jumps(S, 1))
     extra_s = np.zeros(0)
     tt = np.linspace(0.0, 1.0, target_t + 1)
     best = None

@@ -47,6 +47,7 @@ class FacePatch:
     face_size: float = 0.0
     warnings: tuple = ()
     edge_gap: float = 0.0              # part of deviation: the face's edges lie off its surface by up to this
+    hole_span: float = 0.0             # part of deviation: the spanning part over holes is this near the face
 
     def rails(self, direction: str) -> tuple:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
@@ -90,10 +91,12 @@ def _rect_direction(region: Region, rails) -> str:
 def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:
     """The face as a four-sided patch (see the module doc); rails: two loop edges to fix the rails."""
     warnings = []
+    span = region.hole_span()
     if region.holes:
         n = len(region.holes)
         warnings.append(f"the face has {n} hole{'s' if n > 1 else ''}: the ruled surface spans "
-                        f"{'them' if n > 1 else 'it'} (it is fitted over the outer boundary)")
+                        f"{'them' if n > 1 else 'it'} (it is fitted over the outer boundary), and its bound "
+                        f"includes {span:.4g}, how far the spanning part can be from the face")
     size = region_size(region)
     if region.is_rectangle():
         direction = None if rails is None else _rect_direction(region, rails)
@@ -108,8 +111,8 @@ def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:
     # the blended offsets (the patch follows the 3D edges) and the edges' own distance to the surface,
     # both sampled: EDGE_MARGIN for what the samples miss
     gap = EDGE_MARGIN * ((0.0 if off is None else float(np.linalg.norm(off, axis=1).max())) + region.max_gap())
-    return FacePatch(region, side.surface, float(side.deviation) + gap, False, sides,
-                     None if rails is None else "v", side.spans, size, tuple(warnings), gap)
+    return FacePatch(region, side.surface, float(side.deviation) + gap + span, False, sides,
+                     None if rails is None else "v", side.spans, size, tuple(warnings), gap, span)
 
 
 def _choose_sides(region: Region, rails, size: float):
@@ -184,10 +187,11 @@ LOOSE = 100.0  # a bound more than this many times the measured distance is repo
 FLOOR = 1e-6   # ... unless it is below this fraction of the face's size (no machine holds less)
 
 
-def far_from_ruled(measured: float, size: float) -> Optional[str]:
+def far_from_ruled(measured: float, size: float, explained: float = 0.0) -> Optional[str]:
     """The warning for a face no ruled surface comes near, said from the measured distance of the best
-    result (a certified bound may be loose: it never says so on its own)."""
-    if not (size > 0 and measured >= FAR * size):
+    result (a certified bound may be loose: it never says so on its own), less what is ``explained``
+    otherwise (the part spanning a hole can be that far from the face)."""
+    if not (size > 0 and measured - explained >= FAR * size):
         return None
     return Text(f"no ruled surface comes near this face: the best found is {measured:.4g} from it by the measure, "
                 f"{100 * measured / size:.0f} % of its size ({size:.4g}); a line cannot cut it as one face: split "
@@ -213,11 +217,20 @@ def loose_bound(res: FitResult, bound: float, measured: float, size: float) -> O
                 f"{measured:.4g}{why}")
 
 
-def measured_warnings(res: FitResult, bound: float, measured: Optional[float], size: float) -> tuple:
+AREA_TOL = 5e-3   # a result this close to the face (CLOSE of its size) covers its area within this fraction
+CLOSE = 1e-3
+
+
+def measured_warnings(res: FitResult, bound: float, measured: Optional[float], size: float,
+                      area_ratio: Optional[float] = None) -> tuple:
     """What only the measure can say, once the result is measured (None: not measured).  First the result is
     checked against its own figures: a measured distance above its certified bound (beyond round-off)
-    means one of the two is wrong, and the result is refused naming both (FiguresError).  Then the
-    warnings: a face far from every ruled surface, and a bound that is loose."""
+    means one of the two is wrong; a result within CLOSE of the face's size by the measure whose area
+    (area_ratio: the result's over the face's; None for a face with holes, which a
+    result spans) differs from the face's by more than AREA_TOL
+    covers another region than the face.  Either is refused naming the figures (FiguresError).  Then the
+    warnings: a face far from every ruled surface (beyond what spanning its holes explains), and a bound
+    that is loose."""
     from ruled.core.errors import FiguresError
     if measured is None or not np.isfinite(measured):
         return ()
@@ -225,7 +238,13 @@ def measured_warnings(res: FitResult, bound: float, measured: Optional[float], s
         raise FiguresError(f"the result's measured distance {measured:.6g} is above its certified bound "
                            f"{bound:.6g}: one of the two is wrong, so the result is not returned (please report "
                            f"the face); try the other «direction», or other «rails»")
-    return tuple(w for w in (far_from_ruled(measured, size), loose_bound(res, bound, measured, size)) if w)
+    if area_ratio is not None and measured < CLOSE * size and abs(area_ratio - 1.0) > AREA_TOL:
+        raise FiguresError(f"the result's area is {area_ratio:.4g} times the face's while it is {measured:.4g} "
+                           f"from it by the measure ({100 * measured / size:.2g} % of its size): it covers another "
+                           f"region than the face, so it is not returned (please report the face); try other "
+                           f"«rails»")
+    span = res.patch.hole_span if res.patch is not None else 0.0
+    return tuple(w for w in (far_from_ruled(measured, size, span), loose_bound(res, bound, measured, size)) if w)
 
 
 def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:

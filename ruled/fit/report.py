@@ -72,7 +72,7 @@ def region_report(res: FitResult) -> dict:
     ra, rb = p.rails(res.direction)
     d = {"trimmed": not p.identity, "how": p.how, "edges": p.region.size, "holes": len(p.region.holes),
          "rails": [list(ra), list(rb)], "patch_deviation": p.deviation, "edge_gap": p.edge_gap,
-         "patch_spans": list(p.spans), "face_size": p.face_size}
+         "hole_span": p.hole_span, "patch_spans": list(p.spans), "face_size": p.face_size}
     if p.sides is not None:
         d["sides"] = [list(p.sides.edges(i)) for i in range(4)]
     return d

@@ -166,6 +166,21 @@ def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
     return _restricted(bs, (u0, u1, v0, v1))
 
 
+def _set_origin(bs: Geom_BSplineSurface, d: int, x: float, tol: float) -> None:
+    """Periodic bs (in direction d) with its period starting at parameter x (a knot inserted there, the
+    geometry unchanged): a face that goes round the whole period from a seam at x has the surface's
+    domain for its own, its seam edges on the domain's ends."""
+    k0, k1 = bs.Bounds()[2 * d: 2 * d + 2]
+    if abs(x - k0) <= tol or abs(x - k1) <= tol:
+        return
+    insert, knots, origin = ((bs.InsertUKnot, bs.UKnots, bs.SetUOrigin) if d == 0 else
+                             (bs.InsertVKnot, bs.VKnots, bs.SetVOrigin))
+    insert(x, 1, tol, False)
+    k = knots()
+    values = np.array([k.Value(i) for i in range(1, k.Length() + 1)])
+    origin(int(np.argmin(np.abs(values - x))) + 1)
+
+
 def _restricted(bs: Geom_BSplineSurface, bounds: tuple) -> Geom_BSplineSurface:
     """bs restricted to the face's UV bounds, parametrised as the face's pcurves are.
 
@@ -187,8 +202,9 @@ def _restricted(bs: Geom_BSplineSurface, bounds: tuple) -> Geom_BSplineSurface:
             period = k1 - k0
             n = np.floor((lo[d] - k0 + tol) / period)    # whole periods between the face and the knots
             shift[d] = n * period
-            if hi[d] - lo[d] >= period - tol:           # all the way round: the whole period
-                lo[d], hi[d] = k0 + shift[d], k1 + shift[d]
+            if hi[d] - lo[d] >= period - tol:           # all the way round: the whole period, from the face's seam
+                _set_origin(bs, d, lo[d] - shift[d], tol)
+                lo[d], hi[d] = lo[d], lo[d] + period
         else:
             if lo[d] > k1 - tol or hi[d] < k0 + tol:
                 raise BadInputError(f"the face's {name} range [{lo[d]:.9g}, {hi[d]:.9g}] lies outside its surface's "

@@ -7,7 +7,7 @@ from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
 from OCP.GCPnts import GCPnts_AbscissaPoint
-from OCP.Geom import Geom_TrimmedCurve
+from OCP.Geom import Geom_RectangularTrimmedSurface, Geom_TrimmedCurve
 from OCP.Geom2d import Geom2d_TrimmedCurve
 from OCP.Geom2dConvert import Geom2dConvert
 from OCP.GeomConvert import GeomConvert
@@ -107,6 +107,8 @@ def _face_region(face, S) -> Region:
             holes.append(tuple(_pcurve(e, face) for e in _wire_edges(w, face)))
         exp.Next()
     surf = BRep_Tool.Surface_s(face)
+    if isinstance(surf, Geom_RectangularTrimmedSurface):   # a periodic surface trimmed to a whole period
+        surf = surf.BasisSurface()
     u0, u1, v0, v1 = S.domain
     closed = (bool(surf.IsUPeriodic() and abs((u1 - u0) - surf.UPeriod()) <= 1e-9 * surf.UPeriod()),
               bool(surf.IsVPeriodic() and abs((v1 - v0) - surf.VPeriod()) <= 1e-9 * surf.VPeriod()))

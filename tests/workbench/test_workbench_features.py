@@ -3,6 +3,7 @@ recomputes when its parameters or its source change, it survives save and reopen
 invalid with a message, and on a face of a STEP read by FreeCAD it gives the command line's bound
 and measured Hausdorff distance."""
 import json
+import os
 import re
 import subprocess
 import sys
@@ -258,17 +259,21 @@ def test_reopen_in_a_fresh_freecadcmd_with_the_addon_installed(tmp_path):
     assert b["fit"] == pytest.approx(a["fit"], rel=1e-12) and b["split"] == pytest.approx(a["split"], rel=1e-12)
 
 
-def test_a_result_whose_measure_is_above_its_bound_is_an_invalid_object(tmp_path):
+def test_a_result_that_contradicts_its_own_figures_is_an_invalid_object(tmp_path):
     """Issue 34 in FreeCAD: the bound of a face whose measure is within 0.02 % of it (the fuzz's face
     2202:7) broken to 0.9x itself inside freecadcmd: the RuledFit is invalid, its Status names both
-    figures; with the true bound the same object is valid."""
+    figures; with the true bound the same object is valid.  A face ruled exactly whose result is folded back
+    over itself (tests/provoke.py: twice the face's area, as close as before): invalid, its Status saying it
+    covers another region."""
     pytest.importorskip("OCP")
     import fuzz_faces as fz
     from conftest import freecad_json
+    from trimmed_faces import ruled_sheet_face
 
     from ruled.occ.io import write_step
-    step = str(tmp_path / "tight.step")
+    step, sheet = str(tmp_path / "tight.step"), str(tmp_path / "sheet.step")
     write_step(fz.face_named("2d:2202:7").face, step)
+    write_step(ruled_sheet_face(), sheet)
     out = freecad_json(f"""
 import FreeCAD, Part
 import ruled.fit.fit2d as f
@@ -285,8 +290,18 @@ f.DirectionFit.error_bound = true_bound
 fit.touch()
 doc.recompute()
 out["true"] = [fit.isValid(), fit.Status, float(fit.ErrorBound), float(fit.Hausdorff)]
+sys.path.insert(0, {os.path.dirname(os.path.dirname(__file__))!r})
+import provoke, ruled.fit.facefit
+provoke.fold_results(ruled.fit.facefit)
+src2 = doc.addObject("Part::Feature", "Sheet")
+src2.Shape = Part.read({sheet!r})
+folded = make_ruled_fit(doc, src2, "Face1", Samples=16, MeasureSamples=16)
+doc.recompute()
+out["folded"] = [folded.isValid(), folded.Status]
 """, tmp_path)
     valid, status = out["broken"]
     assert not valid and "is above its certified bound" in status and "\n" not in status, out
     valid, status, bound, measured = out["true"]
     assert valid and status == "ok" and 0.9 * bound < measured <= bound, out
+    valid, status = out["folded"]
+    assert not valid and "covers another region" in status and "\n" not in status, out
