@@ -107,10 +107,10 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     bound = res.error_bound + slack
     size = res.patch.face_size if res.patch is not None else res.surface.diagonal()
     area = None
-    if h is not None and not (res.patch is not None and res.patch.region.holes):
+    if h is not None:
+        from ruled.fit.facefit import area_ratio
         from ruled.occ.io import face_area
-        a = face_area(src)
-        area = face_area(out) / a if a > 0 else None
+        area = area_ratio(res, face_area(src, 1e-6))
     warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + \
         measured_warnings(res, bound, None if h is None else h.max, size, area)
     return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)

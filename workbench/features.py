@@ -338,7 +338,7 @@ class RuledFit(_Feature):
 
     def compute(self, obj):
         from ruled.core.hostform import bounds_slack
-        from ruled.fit.facefit import fit_region, measured_warnings
+        from ruled.fit.facefit import area_ratio, fit_region, measured_warnings
 
         from .adapter import face_region, outer_edges, surface_to_face
         face, opts, S, progress = self.inputs(obj, "fitting")
@@ -357,7 +357,7 @@ class RuledFit(_Feature):
             obj.RulingLines = ruling_lines([res])
             measure_into(obj, [result], face, lambda f: progress("measuring (distances to the source)", f))
             if int(obj.MeasureSamples) >= 2:
-                area = None if p.region.holes or face.Area <= 0 else result.Area / face.Area
+                area = area_ratio(res, float(face.Area))
                 for w in measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size, area):
                     FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
         finally:

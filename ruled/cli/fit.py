@@ -59,7 +59,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     face = get_face(input_path, face_index) if face is None else face
     t_read = time.perf_counter() - t0
     from ruled.core.progress import Bar
-    from ruled.fit.facefit import measured_warnings
+    from ruled.fit.facefit import area_ratio, measured_warnings
     from ruled.fit.report import plot as make_plot
     from ruled.fit.report import report_dict, write_report
     from ruled.occ.convert import container_to_face
@@ -92,10 +92,10 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
                       timings={"read": t_read, "fit": t_fit, "build_and_write": t_write,
                                "measure": t_meas}, version=__version__, conversion_slack=slack)
     rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
-    rep["area"]["ratio"] = rep["area"]["result"] / rep["area"]["face"] if rep["area"]["face"] > 0 else None
+    rep["area"]["ratio"] = area_ratio(res, face_area(face, 1e-6))
     try:
         more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size,
-                                                   None if res.patch.region.holes else rep["area"]["ratio"])]
+                                                   rep["area"]["ratio"])]
     except RuledError:
         os.unlink(output)              # never a result that contradicts its own figures on disk
         raise

@@ -176,9 +176,9 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     opts = options.checked()
     if patch.direction is not None:
         opts = replace(opts, direction=Direction(patch.direction))
-    res = fit_surface(patch.surface, opts, progress)
+    res = with_iso(fit_surface(patch.surface, opts, progress), progress)
     if not patch.identity:          # an untrimmed face keeps today's exact path
-        res = _area_checked(with_iso(res, progress), patch)
+        res = _area_checked(res, patch)
     return replace(with_deviation(res, patch.deviation), patch=patch)
 
 
@@ -215,6 +215,18 @@ def loose_bound(res: FitResult, bound: float, measured: float, size: float) -> O
         why = f"; most of it is {worst}, {parts[worst]:.4g}"
     return Text(f"the certified bound {bound:.4g} is loose: {bound / measured:.3g} times the measured distance "
                 f"{measured:.4g}{why}")
+
+
+def area_ratio(res: FitResult, face_area: float) -> Optional[float]:
+    """The result's area over the face's (None for a face with holes, which its result spans): both
+    integrated span by span (ruled.fit.fit2d.span_area), the face's from its surface when it is its
+    surface's whole rectangle, else face_area (the CAD kernel's, adaptive)."""
+    from ruled.fit.fit2d import span_area
+    p = res.patch
+    if p is not None and p.region.holes:
+        return None
+    a = span_area(p.surface) if p is not None and p.identity else face_area
+    return span_area(res.surface) / a if a > 0 else None
 
 
 AREA_TOL = 5e-3   # a result this close to the face (CLOSE of its size) covers its area within this fraction

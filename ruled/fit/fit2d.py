@@ -91,6 +91,28 @@ def surface_area(S: Surface, n: int = 48) -> float:
     return float(0.25 * (u1 - u0) * (v1 - v0) * (w[:, None] * w[None, :] * J).sum())
 
 
+def span_area(S: Surface, m: int = 8) -> float:
+    """The surface's area to about round-off: Gauss-Legendre with m x m points on every pair of knot spans
+    (the integrand is smooth inside one, not across its knots)."""
+    g, w = np.polynomial.legendre.leggauss(m)
+    u0, u1, v0, v1 = S.domain
+
+    def nodes(knots, a, b):
+        k = np.unique(np.clip(knots, a, b))
+        lo, hi = k[:-1], k[1:]
+        x = (0.5 * (hi - lo)[:, None] * (g + 1) + lo[:, None]).ravel()
+        return x, (0.5 * (hi - lo)[:, None] * w).ravel()
+    u, wu = nodes(S.knots_u, u0, u1)
+    v, wv = nodes(S.knots_v, v0, v1)
+    total, block = 0.0, max(1, 8192 // v.size)          # rows of u in blocks of about 8192 points
+    for i in range(0, u.size, block):
+        UU, VV = np.meshgrid(u[i:i + block], v, indexing="ij")
+        D = S.evaluate(UU.ravel(), VV.ravel(), 1)
+        J = np.linalg.norm(np.cross(D.Su, D.Sv), axis=1).reshape(UU.shape)
+        total += float((wu[i:i + block, None] * wv[None, :] * J).sum())
+    return total
+
+
 def _polyline_length(P: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
 
@@ -315,11 +337,15 @@ def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) 
 
 
 def recertify(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
-    """The same fit with its bound computed on another grid (see certified_bound for cutoff)."""
+    """The same fit with its bound computed on another grid (see certified_bound for cutoff), or with the
+    bound it has when that is lower (both are true: a finer grid, or one certified from one side only under
+    a cutoff, can come out looser)."""
     t0 = time.perf_counter()
     cert = certified_bound(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid, cutoff)
     timings = dict(fit.timings)
     timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
+    if fit.certificate is not None and fit.certificate.bound <= cert.bound:
+        cert = fit.certificate
     return replace(fit, certificate=cert, timings=timings)
 
 
@@ -363,7 +389,12 @@ def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Pro
     if grid is not GRID_FINE:
         _stage(progress, f"certify ({best.direction})", 0.0)
         best = recertify(best, GRID_FINE, min([o.error_bound for o in ok.values() if o is not best] + [cutoff]))
-        cands[best.direction] = best
+        ok[best.direction] = cands[best.direction] = best
+        # the other direction too where its samples are closer than the best's bound (both bounds loose)
+        for d, c in list(ok.items()):
+            if c is not best and c.certificate.node_max < best.error_bound < c.error_bound:
+                ok[d] = cands[d] = recertify(c, GRID_FINE, best.error_bound)
+        best = min(ok.values(), key=lambda c: c.error_bound)
         _stage(progress, f"certify ({best.direction})", 1.0)
     return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
 
