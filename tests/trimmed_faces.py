@@ -286,3 +286,18 @@ def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
             worst = max(worst, d.Value())
         return worst
     return far(points(face_a), face_b), far(points(face_b), face_a)
+
+
+def many_edged_face(edges: int = 160):
+    """The ruled sheet of ruled_sheet_face with its wavy bottom cut into many edges: every grouping of them into
+    four sides is a Coons map to try, which takes its parametrization about 20 s at 160 edges."""
+    s, t = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 4), indexing="ij")
+    S = bspline_surface(np.stack([40 * s, 30 * t, 3 * np.sin(3 * s) * t + 2 * s * s], -1),
+                        [0, 0.5, 1], [4, 1, 4], [0, 1], [4, 4], 3, 3)
+
+    def bot(u):
+        return 0.2 + 0.08 * np.sin(6 * np.pi * u)
+    xs = np.linspace(0.05, 0.95, edges + 1)
+    bottom = [graph2d(a, b, bot, spans=4) for a, b in zip(xs[:-1], xs[1:])]
+    return face_from_loops(S, [bottom + [curve2d([[0.95, bot(0.95)], [0.95, 0.9]]), curve2d([[0.95, 0.9], [0.05, 0.9]]),
+                                         curve2d([[0.05, 0.9], [0.05, bot(0.05)]])]])

@@ -9,7 +9,7 @@ import time
 from ruled import __version__
 from ruled.cli.common import check_measure_samples, check_outputs, cli_text, print_files_only, with_bar
 from ruled.cli.split import cmd_partition
-from ruled.core.errors import RuledError
+from ruled.core.errors import RuledError, positive
 
 
 def cmd_faces(args) -> int:
@@ -43,38 +43,63 @@ def cmd_faces(args) -> int:
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
             elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True,
-            text=cli_text) -> dict:
+            text=cli_text, face_timeout=None) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
     already (the batch's workers keep the files they have read); say: print the warnings and notes
-    (the batch keeps them in the reports); text: how the warnings name options (the command's terms)."""
+    (the batch keeps them in the reports); text: how the warnings name options (the command's terms);
+    face_timeout: seconds the fit and the measure may take (None: no limit; the batch has its own)."""
     from ruled.fit.options import FitOptions
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
                       memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
     check_outputs(output, report, plot, inputs=(input_path,))
     check_measure_samples(measure_samples)
+    if face_timeout is not None:
+        positive("face_timeout", face_timeout, "seconds")
     # the face before the engine: a wrong --face is answered without loading it
-    from ruled.occ.io import face_area, get_face, write_step
+    from ruled.occ.io import get_face
     t0 = time.perf_counter()
     face = get_face(input_path, face_index) if face is None else face
     t_read = time.perf_counter() - t0
-    from ruled.core.progress import Bar
-    from ruled.fit.facefit import area_ratio, measured_warnings
+    from ruled.core.progress import Bar, TimeLimit
     from ruled.fit.report import plot as make_plot
-    from ruled.fit.report import report_dict, write_report
-    from ruled.occ.convert import container_to_face
-    from ruled.occ.measure import hausdorff
+    from ruled.fit.report import write_report
     from ruled.occ.region import fit_face
     bar = Bar(enabled=not quiet and sys.stderr.isatty())
-    t_fit = time.perf_counter()
-    try:
-        res, slack = fit_face(face, opts, bar, rails)
-    finally:
-        bar.done()
-    t_fit = time.perf_counter() - t_fit
+    limit = TimeLimit(face_timeout, bar, f"face {face_index}",
+                      "; give it more time («face_timeout»), or fewer «samples»")
+    with limit:
+        t_fit = time.perf_counter()
+        try:
+            res, slack = fit_face(face, opts, limit, rails)
+        finally:
+            bar.done()
+        t_fit = time.perf_counter() - t_fit
+        rep, more = _built_and_measured(res, slack, face, face_index, output, input_path, method, measure_samples,
+                                        quiet, limit, text, {"read": t_read, "fit": t_fit})
     warnings = [text(w) for w in res.patch.warnings]
-    for w in warnings if say else ():
+    for w in warnings + more if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
+    rep["warnings"] = warnings + more
+    for note in res.notes if say else ():
+        print(f"ruled: {note}", file=sys.stderr)
+    if report:
+        write_report(rep, report)
+    if plot:
+        make_plot(res, plot, rep["hausdorff"]["max"])
+    return rep
+
+
+def _built_and_measured(res, slack, face, face_index, output, input_path, method, measure_samples, quiet, limit,
+                        text, timings) -> tuple:
+    """The result built, written and measured: (its report, the measure's warnings).  A result whose figures
+    contradict each other is refused (the STEP removed), naming the face."""
+    from ruled.core.errors import FiguresError
+    from ruled.fit.facefit import area_ratio, measured_warnings
+    from ruled.fit.report import report_dict
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import face_area, write_step
+    from ruled.occ.measure import hausdorff
     t1 = time.perf_counter()
     out_face = container_to_face(res.surface)
     write_step(out_face, output)
@@ -83,32 +108,24 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     if not quiet and sys.stderr.isatty():
         print(f"  measuring the Hausdorff distance with OCCT ({measure_samples}x{measure_samples} samples per face)",
               file=sys.stderr)
+    limit.stage = "the measure"
     h = hausdorff(face, out_face, measure_samples)
     t_meas = time.perf_counter() - t2
     rep = report_dict(res, input_path=input_path, face=face_index, method=method,
                       hausdorff={"max": h.max, "mean": h.mean, "input_to_result": h.max_a_to_b,
                                  "result_to_input": h.max_b_to_a, "samples": h.samples,
                                  "resolution": h.resolution},
-                      timings={"read": t_read, "fit": t_fit, "build_and_write": t_write,
-                               "measure": t_meas}, version=__version__, conversion_slack=slack)
+                      timings={**timings, "build_and_write": t_write, "measure": t_meas}, version=__version__,
+                      conversion_slack=slack)
     rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
     rep["area"]["ratio"] = area_ratio(res, face_area(face, 1e-6))
     try:
         more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size,
                                                    rep["area"]["ratio"])]
-    except RuledError:
+    except FiguresError as exc:
         os.unlink(output)              # never a result that contradicts its own figures on disk
-        raise
-    for w in more if say else ():
-        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
-    rep["warnings"] = warnings + more
-    for note in res.notes if say else ():
-        print(f"ruled: {note}", file=sys.stderr)
-    if report:
-        write_report(rep, report)
-    if plot:
-        make_plot(res, plot, h.max)
-    return rep
+        raise FiguresError(f"face {face_index}: {exc.template}") from None
+    return rep, more
 
 
 def _summary(rep: dict, output: str, report=None, plot=None) -> None:
@@ -147,7 +164,7 @@ def cmd_fit(args) -> int:
                   max_error=args.max_error, direction=args.direction, refine=not args.no_refine,
                   report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet,
                   method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
-                  memory_cap_mb=args.memory_cap, rails=args.rails)
+                  memory_cap_mb=args.memory_cap, rails=args.rails, face_timeout=args.face_timeout)
     _summary(rep, args.output, args.report, args.plot)
     return 0
 

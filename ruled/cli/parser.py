@@ -57,6 +57,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--plot", help="PNG plot of the pairing and the error per ruling")
     g.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")
     g.add_argument("--quiet", action="store_true", help="no progress bars")
+    g.add_argument("--face-timeout", type=float, default=600.0,
+                   help="seconds the fit and its measure may take before the face is refused (default 600)")
     g.add_argument("--tol", type=float, default=None,
                    help="partition the face into strips until every strip's ruled fit is within this distance "
                         "(splits at optimal curves, Wang & Elber); OUTPUT.step then holds every strip's fit")

@@ -147,6 +147,12 @@ class FiguresError(RuledError):
     kind = "figures disagree"
 
 
+class TimeLimitError(RuledError):
+    """The work ran past the time limit the user gave it."""
+
+    kind = "time limit"
+
+
 class CancelledError(RuledError):
     """The user interrupted the work."""
 

@@ -276,9 +276,32 @@ def test_one_wording_for_a_size_that_must_be_positive(tmp_path):
          "--kerf must be zero or a positive finite number (a distance in model units), not -1"),
         (["batch", kj, "--face-timeout", "inf", "-o", str(tmp_path / "b")], "--face-timeout must be a positive "
          "finite number (seconds), not inf"),
+        (["fit", kj, "--face", "6", "--face-timeout", "0", "-o", out], "--face-timeout must be a positive "
+         "finite number (seconds), not 0"),
     ]:
         r = ruled_here(*args, cwd=str(tmp_path))
         assert r.returncode == 2 and r.stderr.strip() == f"ruled: error: {line}", (args, r.stderr)
+
+
+def test_a_face_past_its_time_limit_is_refused_saying_where_it_was(tmp_path):
+    """Issue 34: a hull face ran past 900 s with no output, in the Coons map of its parametrization.  A face
+    whose bottom is 160 edges (tests/trimmed_faces.py many_edged_face: its parametrization tries every grouping
+    of them into four sides, about 20 s): with --face-timeout 2 the command stops in one line naming the limit
+    and the stage, leaves no STEP, and is back well before the parametrization could have ended."""
+    import time
+
+    from trimmed_faces import many_edged_face
+
+    from ruled.occ.io import write_step
+    src, out = str(tmp_path / "many.step"), str(tmp_path / "o.step")
+    write_step(many_edged_face(160), src)
+    t0 = time.perf_counter()
+    r = ruled_here("fit", src, "--face", "0", "--face-timeout", "2", "--samples", "16", "-o", out)
+    took = time.perf_counter() - t0
+    line = _one_line_error(r)
+    assert line == ("ruled: error: face 0 ran past its time limit of 2 s (in the face's own parametrization) and "
+                    "was stopped; give it more time (--face-timeout), or fewer --samples"), line
+    assert took < 8 and not os.path.exists(out), took
 
 
 def test_a_hopeless_face_says_so_at_once_and_stays_compact(tmp_path):
