@@ -1,6 +1,6 @@
 """Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
-    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz]
+    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data]
                                        [--n 50 100 200] [--surface ex2] [--no-numpy]
 
 2D target: n = 100 end to end (both directions tried, refined, rebuilt, certified) in <= 0.5 s.
@@ -10,7 +10,8 @@ memory <= 400 MB for both; LSAD n = 50 with 49 levels <= 0.6 s.  Curves on surfa
 benchmarks/cos.py; cone splines: benchmarks/cone.py; the split DP: benchmarks/split.py; machine
 outputs: benchmarks/machine.py; trimmed faces: benchmarks/trimmed.py; the user's whole job (processes'
 CPU seconds, the engine at n = 100): benchmarks/job.py; the whole-part batch (--jobs 1 against
---jobs 2): benchmarks/batch.py; the fixed fuzz runs (300 faces in 2D, 50 in 4D): benchmarks/fuzz.py.
+--jobs 2): benchmarks/batch.py; the fixed fuzz runs (300 faces in 2D, 50 in 4D): benchmarks/fuzz.py; every
+face of the data files, re-measured by OCCT alone: benchmarks/data.py.
 The NumPy-only times (no numba, as in FreeCAD's Python) are printed too, from a subprocess with
 RULED_NO_NUMBA=1.
 
@@ -44,7 +45,7 @@ TARGET_MB = 400
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--suite", choices=["all", "2d", "4d", "cos", "cone", "split", "machine", "trimmed", "job",
-                                        "batch", "fuzz"],
+                                        "batch", "fuzz", "data"],
                     default="all")
     ap.add_argument("--slow", action="store_true", help="with --suite job: the closed 4D fit at n = 100 too")
     ap.add_argument("--n", type=int, nargs="+", default=[50, 100, 200])
@@ -84,10 +85,14 @@ def main(argv=None) -> int:
     if args.suite in ("all", "batch"):
         from batch import bench_batch
         bench_batch()
+    bad = 0
     if args.suite in ("all", "fuzz"):
         from fuzz import bench_fuzz
-        return 1 if bench_fuzz() else 0
-    return 0
+        bad += bench_fuzz()
+    if args.suite in ("all", "data"):
+        from data import bench_data
+        bad += bench_data()
+    return 1 if bad else 0
 
 
 def _engine_4d(S, n: int, m: int, metric: str):

@@ -88,7 +88,7 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     """Fit the best ruled surface to a face as bounded by its edges (2D-DP over boundary samples, or
     4D-DP with the ruling ends lifted along the normal; refined, certified).  rails: two edge indices
     of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join."""
-    from ruled.fit.facefit import measured_warnings
+    from ruled.fit.facefit import area_ratio, first_consistent, measured_warnings
     from ruled.occ.convert import container_to_face
     from ruled.occ.measure import hausdorff
     from ruled.occ.region import fit_face as _fit_face
@@ -102,18 +102,18 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     else:
         src = _topods(face)
         res, slack = _fit_face(src, opts, progress, rails)
-    out = container_to_face(res.surface)
-    h = hausdorff(src, out, measure_samples) if measure else None
-    bound = res.error_bound + slack
-    size = res.patch.face_size if res.patch is not None else res.surface.diagonal()
-    area = None
-    if h is not None:
-        from ruled.fit.facefit import area_ratio
-        from ruled.occ.io import face_area
-        area = area_ratio(res, face_area(src, 1e-6))
-    warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + \
-        measured_warnings(res, bound, None if h is None else h.max, size, area)
-    return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)
+    def built(r):
+        out = container_to_face(r.surface)
+        h = hausdorff(src, out, measure_samples) if measure else None
+        size = r.patch.face_size if r.patch is not None else r.surface.diagonal()
+        area = None
+        if h is not None:
+            from ruled.occ.io import face_area
+            area = area_ratio(r, face_area(src, 1e-6))
+        return out, h, measured_warnings(r, r.error_bound + slack, None if h is None else h.max, size, area)
+    res, out, h, more = first_consistent(res, built)
+    warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + more
+    return RuledFit(_cq(out), res.surface, res.best.rulings, res.error_bound + slack, h, res, warnings)
 
 
 @dataclass(frozen=True)

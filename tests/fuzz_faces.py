@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
+from fuzz_kinds import kind_faces
 from fuzz_seed import ROOT, commit_seed  # noqa: F401 (commit_seed: the seed of CI's run)
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
 from OCP.Geom import Geom_BSplineSurface
@@ -133,8 +134,11 @@ def random_faces(seed: int, count: int) -> list:
 
 # The fixed runs of issues 19 and 22 (``benchmarks/run.py --suite fuzz``): seed and faces per method.
 FIXED = {"2d": (2202, 300), "4d": (2204, 50)}
+# The fixed runs of issue 34's kinds (kind_faces): seed and faces per method.
+FIXED_KINDS = {"2d": (3402, 60), "4d": (3404, 10)}
 # CI's run (tests/batch/test_fuzz.py): faces per method, drawn from a seed that changes with every commit.
 ROTATING = {"2d": 60, "4d": 10}
+ROTATING_KINDS = {"2d": 12, "4d": 3}
 # Faces that once failed a check, or came within 0.2 % of failing one, as (method, seed, index): face
 # `index` of random_faces(seed, ...).  CI runs them every time, beside the rotating faces.  A face that
 # fails goes here, with what it found.
@@ -156,34 +160,40 @@ SAMPLES = 12           # the DP's and the measure's samples: small faces of ever
 
 @dataclass(frozen=True)
 class FuzzFace:
-    """One random face and where it comes from: face `index` of random_faces(seed, ...)."""
+    """One random face and where it comes from: face `index` of random_faces(seed, ...), or of
+    kind_faces(seed, ...) when family is "k"."""
 
     method: str
     seed: int
     index: int
     face: object
     desc: str
+    family: str = ""
 
     @property
     def name(self) -> str:
         """How to run this face alone: python tests/fuzz_faces.py --face NAME"""
-        return f"{self.method}:{self.seed}:{self.index}"
+        return f"{self.method}:{self.seed}:{self.family}{self.index}"
 
 
-def faces_of(method: str, seed: int, count: int) -> list:
-    return [FuzzFace(method, seed, k, f, d) for k, (f, d) in enumerate(random_faces(seed, count))]
+def faces_of(method: str, seed: int, count: int, family: str = "") -> list:
+    made = kind_faces(seed, count) if family == "k" else random_faces(seed, count)
+    return [FuzzFace(method, seed, k, f, d, family) for k, (f, d) in enumerate(made)]
 
 
 def face_named(name: str) -> FuzzFace:
     method, seed, index = name.split(":")
-    face, desc = random_faces(int(seed), int(index) + 1)[-1]
-    return FuzzFace(method, int(seed), int(index), face, desc)
+    family = "k" if index.startswith("k") else ""
+    k = int(index[len(family):])
+    face, desc = (kind_faces if family else random_faces)(int(seed), k + 1)[-1]
+    return FuzzFace(method, int(seed), k, face, desc, family)
 
 
 def rotating_faces(seed: int, method: str) -> list:
     """CI's faces of one method: ROTATING[method] faces of the commit's seed (the 4D faces from seed + 1),
-    then the regressions."""
+    ROTATING_KINDS[method] faces of issue 34's kinds (from seed + 2, and + 3 in 4D), then the regressions."""
     return (faces_of(method, seed + (method == "4d"), ROTATING[method])
+            + faces_of(method, seed + 2 + (method == "4d"), ROTATING_KINDS[method], "k")
             + [face_named(f"{m}:{s}:{k}") for m, s, k, _ in REGRESSIONS if m == method])
 
 
@@ -284,6 +294,28 @@ def check_dense(b: Batch, count: int = 6, n: int = 32) -> list:
     return bad
 
 
+def check_independent(b: Batch, n: int = 12) -> tuple:
+    """The fitted faces of issue 34's kinds (family "k") re-measured by OCCT alone, both ways, with points
+    inside each face and on its edges (trimmed_faces.extrema_measure): (violations, the largest measured /
+    bound, the faces measured)."""
+    from trimmed_faces import extrema_measure
+
+    from ruled.occ.io import read_faces
+    inputs = read_faces(b.src)
+    bad, worst, count = [], 0.0, 0
+    for r in b.rows:
+        if r["status"] != "ok" or b.faces[r["face"]].family != "k":
+            continue
+        out = read_faces(os.path.join(b.folder, f"face_{r['face']}.step"))[0]
+        a, c = extrema_measure(inputs[r["face"]], out, n)
+        count += 1
+        worst = max(worst, max(a, c) / max(r["error_bound"], 1e-300))
+        if max(a, c) > r["error_bound"]:
+            bad.append(f"{_who(b, r)}: by OCCT alone {a:.6g} face to result, {c:.6g} result to face, above the "
+                       f"bound {r['error_bound']:.6g}")
+    return bad, worst, count
+
+
 def four_d_ratios(b: Batch) -> list:
     """(4D bound / 2D bound, row, the report's comparison: the two attempts' bounds and sampled measures) of
     every fitted face whose report compares the two."""
@@ -330,7 +362,8 @@ def _too_far(b: Batch, x: float, r: dict) -> str:
 
 def check(b: Batch, dense: int = 6) -> list:
     """Every check of a batch."""
-    return check_outcomes(b) + check_dense(b, dense) + (check_4d(b) if b.method == "4d" else [])
+    return (check_outcomes(b) + check_dense(b, dense) + check_independent(b)[0]
+            + (check_4d(b) if b.method == "4d" else []))
 
 
 def main(argv=None) -> int:
@@ -351,7 +384,7 @@ def main(argv=None) -> int:
         named = [face_named(n) for n in a.face]
         runs = {m: [f for f in named if f.method == m] for m in ("2d", "4d")}
     elif a.fixed:
-        runs = {m: faces_of(m, s, c) for m, (s, c) in FIXED.items()}
+        runs = {m: faces_of(m, s, c) + faces_of(m, *FIXED_KINDS[m], "k") for m, (s, c) in FIXED.items()}
     else:
         seed = commit_seed() if a.seed is None else a.seed
         print(f"fuzz seed {seed}")

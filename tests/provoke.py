@@ -21,10 +21,15 @@ def folded(S):
 
 
 def folding(fit):
-    """fit (ruled.fit.facefit.fit_region) made to return its result folded over itself (its bound still true)."""
+    """fit (ruled.fit.facefit.fit_region) made to return its result, and every other candidate, folded over
+    itself (their bounds still true)."""
+    def fold(c):
+        return c if c is None or isinstance(c, str) else replace(c, surface=folded(c.surface))
+
     def fit_folded(*a, **k):
         res = fit(*a, **k)
-        return replace(res, best=replace(res.best, surface=folded(res.best.surface)))
+        return replace(res, best=fold(res.best), candidates={d: fold(c) for d, c in res.candidates.items()},
+                       other=fold(res.other))
     return fit_folded
 
 

@@ -338,28 +338,34 @@ class RuledFit(_Feature):
 
     def compute(self, obj):
         from ruled.core.hostform import bounds_slack
-        from ruled.fit.facefit import area_ratio, fit_region, measured_warnings
+        from ruled.fit.facefit import area_ratio, first_consistent, fit_region, measured_warnings
 
         from .adapter import face_region, outer_edges, surface_to_face
         face, opts, S, progress = self.inputs(obj, "fitting")
-        try:
-            res = fit_region(face_region(face, S), opts, progress)
+        names = source_edge_names(obj, outer_edges(face))
+
+        def built(res):
+            """The result face, its figures on obj, and what only the measure says (FiguresError where its
+            figures disagree: the next candidate is tried)."""
             result = surface_to_face(res.surface)
             obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
             p = res.patch
-            names = source_edge_names(obj, outer_edges(face))
             obj.Rails = [" + ".join(names[k] for k in rail) or "a point" for rail in p.rails(res.direction)]
             obj.Trimmed = not p.identity
             obj.PatchDeviation = float(p.deviation)
-            for w in p.warnings:
-                FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             obj.Rulings = int(len(res.best.rulings))
             obj.RulingLines = ruling_lines([res])
             measure_into(obj, [result], face, lambda f: progress("measuring (distances to the source)", f))
-            if int(obj.MeasureSamples) >= 2:
-                area = area_ratio(res, float(face.Area))
-                for w in measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size, area):
-                    FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
+            if int(obj.MeasureSamples) < 2:
+                return result, ()
+            return result, measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size,
+                                             area_ratio(res, float(face.Area)))
+        try:
+            res, result, more = first_consistent(fit_region(face_region(face, S), opts, progress), built)
+            for w in tuple(res.patch.warnings) + tuple(more):
+                FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
+            for note in res.notes:          # what the fit decided (the iso surface, the next candidate)
+                FreeCAD.Console.PrintMessage(f"{obj.Label}: {in_our_terms(note)}\n")
         finally:
             progress.stop()
         obj.Shape = result

@@ -62,6 +62,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     face = get_face(input_path, face_index) if face is None else face
     t_read = time.perf_counter() - t0
     from ruled.core.progress import Bar, TimeLimit
+    from ruled.fit.facefit import first_consistent
     from ruled.fit.report import plot as make_plot
     from ruled.fit.report import write_report
     from ruled.occ.region import fit_face
@@ -75,8 +76,9 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
         finally:
             bar.done()
         t_fit = time.perf_counter() - t_fit
-        rep, more = _built_and_measured(res, slack, face, face_index, output, input_path, method, measure_samples,
-                                        quiet, limit, text, {"read": t_read, "fit": t_fit})
+        res, rep, more = first_consistent(res, lambda r: _built_and_measured(
+            r, slack, face, face_index, output, input_path, method, measure_samples, quiet, limit, text,
+            {"read": t_read, "fit": t_fit}))
     warnings = [text(w) for w in res.patch.warnings]
     for w in warnings + more if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)

@@ -111,9 +111,10 @@ class Region:
         1e-6 of its range; rect_offset): the face is its whole surface."""
         return not self.holes and self.rect_offset() is not None
 
-    def rect_slack(self) -> float:
+    def rect_slack(self, gaps: bool = True) -> float:
         """An upper bound of the distance between a rectangle face and its surface's rectangle: the
-        loop's offsets times the largest |S_u|, |S_v| (0 when the loop is the rectangle exactly)."""
+        loop's offsets times the largest |S_u|, |S_v| (0 when the loop is the rectangle exactly), plus
+        (gaps) the distance from the surface of the edges taken as sides within their tolerance."""
         sides = self.rect_sides()
         off = self.rect_offset(sides)
         if not off or off == (0.0, 0.0):
@@ -123,7 +124,7 @@ class Region:
         # an edge taken as a side within its tolerance: its own 3D curve may lie that far off the surface
         u0, u1, v0, v1 = self.surface.domain
         loose = [k for k, (name, d) in enumerate(sides)
-                 if d > 1e-6 * ((u1 - u0) if name[0] == "u" else (v1 - v0))]
+                 if gaps and d > 1e-6 * ((u1 - u0) if name[0] == "u" else (v1 - v0))]
         return slack + max((self.edge_gap(k) for k in loose), default=0.0)
 
     def uv(self, k: int, t) -> np.ndarray:

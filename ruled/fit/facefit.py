@@ -100,8 +100,10 @@ def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:
     size = region_size(region)
     if region.is_rectangle():
         direction = None if rails is None else _rect_direction(region, rails)
-        return FacePatch(region, region.surface, region.rect_slack(), True, None, direction, face_size=size,
-                         warnings=tuple(warnings))
+        # the face's edges (which the measure samples) may lie off the surface within their tolerance
+        gap = EDGE_MARGIN * region.max_gap()
+        return FacePatch(region, region.surface, region.rect_slack(gaps=False) + gap, True, None, direction,
+                         face_size=size, warnings=tuple(warnings), edge_gap=gap)
     sides, m = _choose_sides(region, rails, size)
     tol = PATCH_TOL * max(size, 1e-300)
     side = side_surface(region.surface, m, tol, PATCH_MAX_SPANS, PATCH_ACCEPT * size)
@@ -256,7 +258,55 @@ def measured_warnings(res: FitResult, bound: float, measured: Optional[float], s
                            f"region than the face, so it is not returned (please report the face); try other "
                            f"«rails»")
     span = res.patch.hole_span if res.patch is not None else 0.0
-    return tuple(w for w in (far_from_ruled(measured, size, span), loose_bound(res, bound, measured, size)) if w)
+    return tuple(w for w in (far_from_ruled(measured, size, span), loose_bound(res, bound, measured, size),
+                             edge_share(res, bound)) if w)
+
+
+def next_candidates(res: FitResult, why: str) -> list:
+    """The fit with each of its other candidates as the result (the other direction, the iso surface, the 4D
+    attempt or its 2D baseline), lowest bound first: what to return when the best one's own figures disagree
+    (why: the refusal), each with a note saying so."""
+    def key(c):
+        return c.method, c.direction, float(c.error_bound)
+    seen, out = {key(res.best)}, []
+    for c in sorted((c for c in list(res.candidates.values()) + [res.other]
+                     if c is not None and not isinstance(c, str)), key=lambda c: c.error_bound):
+        if key(c) in seen:        # the same fit (the best is a copy of its direction's candidate)
+            continue
+        seen.add(key(c))
+        note = (f"the fit with the lowest bound ({res.best.method} along {res.best.direction}) was not returned: "
+                f"{why}; the next candidate ({c.method} along {c.direction}, bound {c.error_bound:.4g}) is the result")
+        out.append(replace(res, best=c, notes=tuple(res.notes) + (note,)))
+    return out
+
+
+def first_consistent(res: FitResult, build) -> tuple:
+    """(fit, *build(fit)) for the fit, or, where its own figures disagree (build raises FiguresError: a front
+    door builds and measures the result), for the next of its candidates whose figures agree
+    (next_candidates); the first refusal when none do."""
+    from ruled.core.errors import FiguresError
+    try:
+        return (res,) + tuple(build(res))
+    except FiguresError as exc:
+        first = exc
+    for cand in next_candidates(res, first.problem):
+        try:
+            return (cand,) + tuple(build(cand))
+        except FiguresError:
+            continue
+    raise first
+
+
+def edge_share(res: FitResult, bound: float) -> Optional[str]:
+    """The note for a bound of which a tenth or more is the face's edges lying off its surface (within
+    their own tolerance in the file): the measure samples those edges, so the bound covers them.  Not for a
+    bound below FLOOR of the face's size (no machine holds less)."""
+    p = res.patch
+    if p is None or not (p.edge_gap > 0.1 * bound > 0 and bound > FLOOR * p.face_size):
+        return None
+    tol = max(p.region.tolerances, default=0.0)
+    return Text(f"{p.edge_gap:.3g} of the bound {bound:.4g} is how far the face's edges lie off its surface"
+                + (f" (their tolerance in the file is up to {tol:.3g})" if tol > 0 else ""))
 
 
 def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:

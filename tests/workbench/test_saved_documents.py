@@ -38,4 +38,6 @@ def test_a_document_saved_before_the_reorganisation_loads_and_recomputes_the_sam
         assert o["proxy"].startswith("ruled_workbench.") and o["proxy"].endswith("." + name), o
         assert o["valid"] and o["status"] == "ok", (name, o)
         assert o["loaded"] == pytest.approx(saved, rel=1e-14, abs=1e-15), (name, o)   # as saved (15 digits)
-        assert o["bound"] == pytest.approx(saved, rel=1e-9, abs=1e-15), (name, o)     # recomputed now
+        # recomputed now: the same, or above by how far the face's edges lie off its surface (OCCT's 3D curves
+        # within 1e-7; in the bound of a whole-rectangle face since issue 34: 1.7e-7 with the margin)
+        assert saved * (1 - 1e-9) - 1e-15 <= o["bound"] <= saved * (1 + 1e-9) + 1e-6, (name, o)

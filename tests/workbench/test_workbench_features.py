@@ -100,7 +100,8 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     from ruled import FitOptions, fit_surface
     from ruled.examples import elber_ex2
     ref = fit_surface(elber_ex2(), FitOptions(samples=16))
-    assert first["bound"] == pytest.approx(ref.error_bound, rel=1e-6)
+    # plus how far the face's edges lie off its surface (OCCT's 3D curves, within 1e-7; 1.7e-7 with the margin)
+    assert ref.error_bound <= first["bound"] <= ref.error_bound + 1e-6, (first["bound"], ref.error_bound)
     assert first["rulings"] == len(ref.best.rulings)
     assert r["samples24"]["valid"] and r["samples24"]["rulings"] != first["rulings"]
     assert r["moved"]["valid"] and abs(r["moved"]["bound"] - r["samples24"]["bound"]) > 1e-4
@@ -183,7 +184,8 @@ def test_ruled_split_object_in_freecadcmd(tmp_path):
     res = split_face(elber_ex2(), SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
     best = res.best()
     assert r["chosen"] == best.name
-    assert r["bound"] == pytest.approx(best.bound, rel=1e-6) and r["bound"] < r["whole"]
+    # plus how far the face's edges lie off its surface (OCCT's 3D curves, within 1e-7; 1.7e-7 with the margin)
+    assert best.bound <= r["bound"] <= best.bound + 1e-6 and r["bound"] < r["whole"], (r["bound"], best.bound)
     assert len(r["candidates"]) == len(res.candidates)
     assert r["bad"][0] is False and "exactly one face" in r["bad"][1]
     # an engine refusal names the remedy in FreeCAD's terms: the object's own properties, no flags
@@ -263,8 +265,8 @@ def test_a_result_that_contradicts_its_own_figures_is_an_invalid_object(tmp_path
     """Issue 34 in FreeCAD: the bound of a face whose measure is within 0.02 % of it (the fuzz's face
     2202:7) broken to 0.9x itself inside freecadcmd: the RuledFit is invalid, its Status names both
     figures; with the true bound the same object is valid.  A face ruled exactly whose result is folded back
-    over itself (tests/provoke.py: twice the face's area, as close as before): invalid, its Status saying it
-    covers another region."""
+    over itself (tests/provoke.py: twice the face's area, as close as before), along v (across, the fit is far
+    enough that its area may differ): invalid, its Status saying it covers another region."""
     pytest.importorskip("OCP")
     import fuzz_faces as fz
     from conftest import freecad_json
@@ -295,7 +297,7 @@ import provoke, ruled.fit.facefit
 provoke.fold_results(ruled.fit.facefit)
 src2 = doc.addObject("Part::Feature", "Sheet")
 src2.Shape = Part.read({sheet!r})
-folded = make_ruled_fit(doc, src2, "Face1", Samples=16, MeasureSamples=16)
+folded = make_ruled_fit(doc, src2, "Face1", Samples=16, MeasureSamples=16, Direction="v")
 doc.recompute()
 out["folded"] = [folded.isValid(), folded.Status]
 """, tmp_path)

@@ -149,7 +149,8 @@ def test_fit_to_tolerance(made):
     from ruled.split.partition import SplitOptions, partition
     ref = partition(elber_ex2(), 0.05, SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
     assert p["strips"] == len(ref.strips) >= 2 and p["used"] == ref.used
-    assert p["bound"] == pytest.approx(max(ref.bounds), rel=1e-6) and p["bound"] <= 0.05
+    # plus how far the face's edges lie off its surface (OCCT's 3D curves, within 1e-7; 1.7e-7 with the margin)
+    assert max(ref.bounds) <= p["bound"] <= max(ref.bounds) + 1e-6 and p["bound"] <= 0.05, (p["bound"], ref.bounds)
     assert len(p["bounds"]) == p["strips"] and p["faces"] == p["strips"] and p["curves"] == p["strips"] - 1
     assert p["curve_on_face"] <= 1e-6 and p["dev"] == 64 * p["strips"] and p["rulings"] > 0
     assert 0 < p["h"] <= p["bound"] * (1 + 1e-6)
