@@ -253,15 +253,17 @@ def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
     puts it inside the face, and n points along every edge, each projected by BRepExtrema onto the other
     face.  Each value is a distance to an actual point, so the measure is at most the true Hausdorff
     distance, the samples' resolution below it (where BRepExtrema's foot is not the nearest, the surface's own
-    projections whose foot OCCT classifies inside the face count too: each is still an actual distance)."""
+    projections and Newton's feet from a grid count too, where OCCT classifies the foot inside the face: each
+    is still an actual distance)."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
     from OCP.BRepClass import BRepClass_FaceClassifier
     from OCP.BRepExtrema import BRepExtrema_DistShapeShape
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
-    from OCP.gp import gp_Pnt2d
+    from OCP.gp import gp_Pnt2d, gp_Vec
     from OCP.TopAbs import TopAbs_ShapeEnum, TopAbs_State
     from OCP.TopExp import TopExp_Explorer
+    from scipy.spatial import cKDTree
 
     def points(face):
         surf = BRep_Tool.Surface_s(face)
@@ -281,19 +283,43 @@ def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
             ex.Next()
         return out
 
+    def inside(face, u, v):
+        return BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-7).State() in (TopAbs_State.TopAbs_IN,
+                                                                                  TopAbs_State.TopAbs_ON)
+
+    def newton(surf, p, u, v, box):
+        """Gauss-Newton on |S(u, v) - p| from (u, v), kept in the box: the foot (u, v) and its distance."""
+        q, du, dv = gp_Pnt(), gp_Vec(), gp_Vec()
+        x = np.array([p.X(), p.Y(), p.Z()])
+        for _ in range(30):
+            surf.D1(u, v, q, du, dv)
+            r = np.array([q.X(), q.Y(), q.Z()]) - x
+            J = np.array([[du.X(), dv.X()], [du.Y(), dv.Y()], [du.Z(), dv.Z()]])
+            step = np.linalg.lstsq(J, -r, rcond=None)[0]
+            un, vn = float(np.clip(u + step[0], box[0], box[1])), float(np.clip(v + step[1], box[2], box[3]))
+            if abs(un - u) + abs(vn - v) <= 1e-15 * (1 + abs(u) + abs(v)):
+                break
+            u, v = un, vn
+        return u, v, surf.Value(u, v).Distance(p)
+
     def far(pts, face):
         surf = BRep_Tool.Surface_s(face)
+        box = BRepTools.UVBounds_s(face)
+        g = [(float(u), float(v)) for u in np.linspace(box[0], box[1], 48) for v in np.linspace(box[2], box[3], 48)]
+        tree = cKDTree(np.array([[q.X(), q.Y(), q.Z()] for q in (surf.Value(u, v) for u, v in g)]))
         worst = 0.0
         for p in pts:
             d = BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(p).Vertex(), face).Value()
-            # BRepExtrema misses the interior foot on some faces (a tiny periodic one: 2e-4 for 4e-6): the
-            # surface's own projections too, where OCCT's classifier puts their foot inside the face
+            # BRepExtrema misses the interior foot on some faces (a tiny periodic one: 2e-4 for 4e-6; a kj66
+            # face: 3e-3 for 8e-7): the surface's own projections too, and Newton's from the nearest points of
+            # a 48 x 48 grid, where OCCT's classifier puts their foot inside the face
             proj = GeomAPI_ProjectPointOnSurf(p, surf)
-            for k in range(1, proj.NbPoints() + 1):
-                u, v = proj.Parameters(k)
-                if proj.Distance(k) < d and BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-7).State() in \
-                        (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON):
-                    d = proj.Distance(k)
+            feet = [proj.Parameters(k) + (proj.Distance(k),) for k in range(1, proj.NbPoints() + 1)]
+            for i in tree.query([p.X(), p.Y(), p.Z()], k=4)[1]:
+                feet.append(newton(surf, p, *g[i], box))
+            for u, v, dist in feet:
+                if dist < d and inside(face, u, v):
+                    d = dist
             worst = max(worst, d)
         return worst
     return far(points(face_a), face_b), far(points(face_b), face_a)

@@ -68,6 +68,10 @@ NUDGE = 1e-6
 # the largest coordinate: a few dozen operations each, each within half an ulp (a face far from the
 # origin and tiny carries its coordinates' round-off in every distance)
 ROUND_ULPS = 64
+# the result as written: a STEP file carries 13-14 significant digits, and a round trip (OCCT's writer and
+# reader) moved a result by up to 4e-13 of its largest coordinate on the data files (space ship face 69:
+# 7.0e-11 at coordinates up to 185); the bound covers the file, with a margin, at this fraction of it
+WRITTEN = 1e-12
 
 
 def sampled_distance(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, nu: int = 121,
@@ -416,7 +420,8 @@ def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, ta
     unless that one is already within 2 % of its own node maximum or its node maximum (a sampled
     distance of the fit) is already at least ``cutoff`` (another candidate's bound: this one cannot
     win), from S's side (certify)."""
-    rnd = ROUND_ULPS * np.finfo(float).eps * max(float(np.abs(S.poles).max()), float(np.abs(R.poles).max()))
+    rnd = (ROUND_ULPS * np.finfo(float).eps + WRITTEN) * max(float(np.abs(S.poles).max()),
+                                                             float(np.abs(R.poles).max()))
     rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
     if not (rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff):
         fwd = certify(S, pairing, bd, R, target_u, target_v, rival=min(rev.bound, cutoff))

@@ -105,6 +105,7 @@ provoke.fold_results(ruled.fit.facefit)
 """
 
 
+@pytest.mark.slow
 def test_a_result_that_covers_another_region_than_the_face_is_never_returned(tmp_path, monkeypatch):
     """Issue 34: a close fit that covers a different region is wrong.  A face ruled exactly (its fit within
     1e-5 of it) whose result is folded back over itself (tests/provoke.py: the same points, so the same
@@ -151,7 +152,8 @@ def test_a_result_that_covers_another_region_than_the_face_is_never_returned(tmp
     assert row["status"] == "refused" and "covers another region" in row["reason"], row
 
 
-@pytest.mark.parametrize("kind", ["seam", "four", "crease"])
+@pytest.mark.parametrize("kind", [pytest.param("seam", marks=pytest.mark.slow),
+                                  pytest.param("four", marks=pytest.mark.slow), "crease"])
 def test_a_band_round_a_whole_period_is_fitted_closed_within_its_bound(kind):
     """Issue 34: a face that goes once round its surface's periodic direction was fitted as a four-sided patch
     over half of itself (area ratio 0.50, measured 13.97 against a bound of 0.332).  Bands round a wavy
@@ -192,7 +194,8 @@ def test_a_face_with_a_hole_gets_a_bound_that_covers_the_spanning_part():
     assert not any("comes near" in w for w in fit.warnings), fit.warnings
 
 
-@pytest.mark.parametrize("name", ["2d:2202:69", "2d:2202:54", "2d:2202:56"])
+@pytest.mark.parametrize("name", ["2d:2202:69", pytest.param("2d:2202:54", marks=pytest.mark.slow),
+                                  pytest.param("2d:2202:56", marks=pytest.mark.slow)])
 def test_a_whole_face_is_ruled_at_least_as_closely_as_the_iso_surface_between_its_rails(name):
     """Issue 34: Ruled returned 0.434 where FreeCAD's Part Ruled between the same two edges reaches 0.052.
     Three whole-rectangle faces of the fuzz on which the DP's pairing loses to the iso-parametric one (its
@@ -228,6 +231,7 @@ def test_edges_off_their_surface_within_their_tolerance_are_in_the_bound_and_sai
                for w in fit.warnings), fit.warnings
 
 
+@pytest.mark.slow
 def test_a_best_fit_whose_figures_disagree_gives_way_to_the_next_candidate(tmp_path, monkeypatch):
     """Issue 34: a result whose measure is above its bound is not a result; the next candidate is tried before
     refusing.  The fuzz's face 2202:7 (its fit along u measured within 0.9 % of its bound of 1.29) with only
