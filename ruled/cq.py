@@ -102,15 +102,15 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     else:
         src = _topods(face)
         res, slack = _fit_face(src, opts, progress, rails)
+    from ruled.occ.io import face_area
+    area = face_area(src, 1e-6) if measure else None      # once: each candidate tried is compared with it
+
     def built(r):
         out = container_to_face(r.surface)
         h = hausdorff(src, out, measure_samples) if measure else None
         size = r.patch.face_size if r.patch is not None else r.surface.diagonal()
-        area = None
-        if h is not None:
-            from ruled.occ.io import face_area
-            area = area_ratio(r, face_area(src, 1e-6))
-        return out, h, measured_warnings(r, r.error_bound + slack, None if h is None else h.max, size, area)
+        ratio = None if h is None else area_ratio(r, area)
+        return out, h, measured_warnings(r, r.error_bound + slack, None if h is None else h.max, size, ratio)
     res, out, h, more = first_consistent(res, built)
     warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + more
     return RuledFit(_cq(out), res.surface, res.best.rulings, res.error_bound + slack, h, res, warnings)

@@ -57,7 +57,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     if face_timeout is not None:
         positive("face_timeout", face_timeout, "seconds")
     # the face before the engine: a wrong --face is answered without loading it
-    from ruled.occ.io import get_face
+    from ruled.occ.io import face_area, get_face
     t0 = time.perf_counter()
     face = get_face(input_path, face_index) if face is None else face
     t_read = time.perf_counter() - t0
@@ -76,8 +76,9 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
         finally:
             bar.done()
         t_fit = time.perf_counter() - t_fit
+        area = face_area(face, 1e-6)          # once: each candidate tried is compared with it
         res, rep, more = first_consistent(res, lambda r: _built_and_measured(
-            r, slack, face, face_index, output, input_path, method, measure_samples, quiet, limit, text,
+            r, slack, face, area, face_index, output, input_path, method, measure_samples, quiet, limit, text,
             {"read": t_read, "fit": t_fit}))
     warnings = [text(w) for w in res.patch.warnings]
     for w in warnings + more if say else ():
@@ -92,10 +93,10 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     return rep
 
 
-def _built_and_measured(res, slack, face, face_index, output, input_path, method, measure_samples, quiet, limit,
-                        text, timings) -> tuple:
-    """The result built, written and measured: (its report, the measure's warnings).  A result whose figures
-    contradict each other is refused (the STEP removed), naming the face."""
+def _built_and_measured(res, slack, face, area, face_index, output, input_path, method, measure_samples, quiet,
+                        limit, text, timings) -> tuple:
+    """The result built, written and measured: (its report, the measure's warnings); area: the face's (OCCT's,
+    adaptive).  A result whose figures contradict each other is refused (the STEP removed), naming the face."""
     from ruled.core.errors import FiguresError
     from ruled.fit.facefit import area_ratio, measured_warnings
     from ruled.fit.report import report_dict
@@ -119,8 +120,7 @@ def _built_and_measured(res, slack, face, face_index, output, input_path, method
                                  "resolution": h.resolution},
                       timings={**timings, "build_and_write": t_write, "measure": t_meas}, version=__version__,
                       conversion_slack=slack)
-    rep["area"] = {"face": face_area(face), "result": face_area(out_face)}
-    rep["area"]["ratio"] = area_ratio(res, face_area(face, 1e-6))
+    rep["area"] = {"face": area, "result": face_area(out_face, 1e-6), "ratio": area_ratio(res, area)}
     try:
         more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size,
                                                    rep["area"]["ratio"])]

@@ -208,13 +208,8 @@ class Region:
         u0, u1, v0, v1 = self.surface.domain
         eps = 1e-7 * max(u1 - u0, v1 - v0, 1e-300)
         for P in self.polygon(per_edge):
-            a, b = P, np.roll(P, -1, axis=0)
-            d = b - a
-            x, y = uv[:, :1], uv[:, 1:]
-            cross = ((a[None, :, 1] > y) != (b[None, :, 1] > y))
-            with np.errstate(divide="ignore", invalid="ignore"):
-                xi = a[None, :, 0] + (y - a[None, :, 1]) * (d[None, :, 0] / d[None, :, 1])
-            inside ^= (np.sum(cross & (x < xi), axis=1) % 2).astype(bool)
+            a, d = P, np.roll(P, -1, axis=0) - P
+            inside ^= _crossings_odd(P, uv)
             tt = np.clip(((uv[:, None, :] - a[None]) * d[None]).sum(-1) / np.maximum((d * d).sum(-1), 1e-300), 0, 1)
             dist = np.linalg.norm(uv[:, None, :] - (a[None] + tt[..., None] * d[None]), axis=-1).min(axis=1)
             near |= dist <= eps
@@ -235,12 +230,7 @@ class Region:
             edge = cKDTree(S(poly[:, 0], poly[:, 1]))
             lo, hi = poly.min(axis=0), poly.max(axis=0)
             uu, vv = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n), indexing="ij")
-            uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
-            a, b = poly, np.roll(poly, -1, axis=0)
-            cross = (a[None, :, 1] > uv[:, 1:]) != (b[None, :, 1] > uv[:, 1:])
-            with np.errstate(divide="ignore", invalid="ignore"):
-                xi = a[None, :, 0] + (uv[:, 1:] - a[None, :, 1]) * ((b - a)[None, :, 0] / (b - a)[None, :, 1])
-            ins = (np.sum(cross & (uv[:, :1] < xi), axis=1) % 2).astype(bool).reshape(n, n)
+            ins = _crossings_odd(poly, np.stack([uu.ravel(), vv.ravel()], axis=1)).reshape(n, n)
             cells = ins[:-1, :-1] | ins[1:, :-1] | ins[:-1, 1:] | ins[1:, 1:]
             if not cells.any():
                 continue
@@ -281,6 +271,18 @@ class Region:
                 out[k] = float(np.degrees(np.arccos(np.clip(ta @ tb / (na * nb), -1.0, 1.0))))
         return out
 
+
+
+def _crossings_odd(P: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """(N,) whether a ray from each (u, v) point towards +u crosses the closed polyline P an odd number of
+    times (the even-odd rule: inside one loop)."""
+    a, b = P, np.roll(P, -1, axis=0)
+    d = b - a
+    x, y = uv[:, :1], uv[:, 1:]
+    cross = (a[None, :, 1] > y) != (b[None, :, 1] > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xi = a[None, :, 0] + (y - a[None, :, 1]) * (d[None, :, 0] / d[None, :, 1])
+    return (np.sum(cross & (x < xi), axis=1) % 2).astype(bool)
 
 
 class _Difference:
