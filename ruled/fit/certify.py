@@ -141,11 +141,11 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
     extra_v = np.concatenate([v0 + grade, v1 - grade])
     tw = (_twin(S), _twin(R, ruled=True))
     b = tw[0].derivative_bounds()
-    best = None
+    best = prev = None
     for rnd in range(rounds + 1):
         us, span_u = _knot_grid(S, "u", target_u, extra_u, tw[0])
         vs, span_v = _knot_grid(S, "v", target_v, extra_v, tw[0])
-        cert, guide = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw)
+        cert, guide, prev = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev)
         if best is None or cert.bound < best.bound:
             best = cert
         split = _cells_to_split(*guide, FLOOR * S.diagonal(), uniform=True)
@@ -163,20 +163,28 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
     return best
 
 
-def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw):
+def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev=None):
     """Best bound over the candidate maps psi on one grid, and the map that guides the refinement
     (certificate, per-cell bound, remainder parts): the one whose bound may fall lowest, a quarter of
-    its remainder above its node maximum (a map whose nodes are far from R cannot get below them)."""
+    its remainder above its node maximum (a map whose nodes are far from R cannot get below them).
+    prev: the last round's (us, vs, nodes), whose nodes keep their points and closest points; the
+    same is returned for the next round."""
+    from ruled.fit.certify_reverse import _nodes_of
     closed = pairing.closed
     u0, u1, v0, v1 = S.domain
     L = u1 - u0
     nu, nv = us.size, vs.size
-    UU, VV = np.meshgrid(us, vs, indexing="ij")
-    X = S(UU.ravel(), VV.ravel()).reshape(nu, nv, 3)
     x = (us - u0) / L
     tau = (vs - v0) / (v1 - v0)
     s_init = _pairing_s(pairing, x, tau)
-    s_feet, t_feet = _polished_feet(bd, R, X.reshape(-1, 3), s_init.ravel(), closed)
+    # per node: its point of S and its closest point on R (pointwise: a node of the last grid keeps them)
+    node = np.empty((nu, nv, 5))
+    new = np.ones((nu, nv), bool) if prev is None else ~_nodes_of(prev, us, vs, node)
+    UU, VV = np.meshgrid(us, vs, indexing="ij")
+    node[new, :3] = S(UU[new], VV[new])
+    node[new, 3], node[new, 4] = _polished_feet(bd, R, np.ascontiguousarray(node[new, :3]), s_init[new], closed)
+    X = np.ascontiguousarray(node[:, :, :3])
+    s_feet, t_feet = node[:, :, 3].ravel(), node[:, :, 4].ravel()
     jump = np.abs(s_feet - s_init.ravel())
     if closed:
         jump = np.minimum(jump, 1.0 - jump)
@@ -210,7 +218,9 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw):
         return c.node_max + 0.25 * (c.bound - c.node_max)
     for k, (s, t) in enumerate(maps):
         out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(), t.reshape(nu, nv).copy(),
-                         pairing, bd, R, tw)
+                         pairing, bd, R, tw, prune=np.inf if best is None else best[0].bound)
+        if out is None:
+            continue
         if best is None or out[0].bound < best[0].bound:
             best, which = out, k
         if guide is None or reach(out[0]) < reach(guide[0]):
@@ -221,12 +231,14 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw):
         # again, each cell keeping the smaller of the two
         for s, t in {0: maps[0], which: maps[which]}.values():
             out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(),
-                             t.reshape(nu, nv).copy(), pairing, bd, R, tw, second=True)
+                             t.reshape(nu, nv).copy(), pairing, bd, R, tw, second=True, prune=best[0].bound)
+            if out is None:
+                continue
             if out[0].bound < best[0].bound:
                 best = out
             if reach(out[0]) < reach(guide[0]):
                 guide = out
-    return best[0], guide
+    return best[0], guide, (us, vs, node)
 
 
 def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
@@ -238,9 +250,11 @@ def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
     return g
 
 
-def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, second=False):
+def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, second=False, prune=np.inf):
     """The bound of the module doc for one map psi = (s, t) on the grid (us, vs); with ``second``,
-    each cell's remainder is the smaller of the first- and the second-order one (_remainder2)."""
+    each cell's remainder is the smaller of the first- and the second-order one (_remainder2).  None
+    when the map's node maximum is already at least ``prune`` (a bound in hand: this map cannot beat it,
+    nor guide the refinement better)."""
     closed = pairing.closed
     nu, nv = us.size, vs.size
     # boundary rows and columns fixed so that psi maps sides to sides
@@ -267,6 +281,8 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
     sw = np.mod(s, 1.0) if closed else s
     Rp = R(sw.ravel(), t.ravel()).reshape(nu, nv, 3)
     f = np.linalg.norm(X - Rp, axis=2)
+    if float(f.max()) >= prune:
+        return None
     # per-cell remainder
     Suu = _range_max(_range_max(b["Suu"], span_u, 0), span_v, 1)
     Svv = _range_max(_range_max(b["Svv"], span_u, 0), span_v, 1)
@@ -311,7 +327,10 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
             ru = ru + np.where(hit, J * dsu / 4.0, 0.0)
             rv = rv + np.where(hit, J * dsv / 4.0, 0.0)
     if second:
-        r2u, r2v = _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw)
+        # only where it can matter: a cell whose first-order bound is within the node maximum (which the
+        # bound is at least) leaves the bound, and the cells the refinement splits, as they are
+        need = _corner_max(f) + ru + rv > f.max()
+        r2u, r2v = _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw, need)
         use = r2u + r2v < ru + rv
         ru, rv = np.where(use, r2u, ru), np.where(use, r2v, rv)
     rem = ru + rv
@@ -319,7 +338,7 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
     return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, (ru, rv)
 
 
-def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw) -> tuple:
+def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw, need=None) -> tuple:
     """Per cell, the interpolation remainder (h_u^2 sup|f_uu| + h_v^2 sup|f_vv|) / 8 with sup|f_uu|
     bounded from its values at the cell's corners and third-derivative bounds:
 
@@ -354,24 +373,29 @@ def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw) ->
     dd_s = rel(s[1:, 1:] - s00) - du_s - dv_s
     du_t, dv_t = t[1:, :-1] - t00, t[:-1, 1:] - t00
     dd_t = t[1:, 1:] - t00 - du_t - dv_t
-    Fuu = Fvv = 0.0
-    ncell = (nu - 1) * (nv - 1)
-    P = [(lu, lv) for lu in (NUDGE, 1.0 - NUDGE) for lv in (NUDGE, 1.0 - NUDGE)]
-    uq = np.concatenate([np.broadcast_to(us[:-1, None] + lu * hu, (nu - 1, nv - 1)).ravel() for lu, lv in P])
-    vq = np.concatenate([np.broadcast_to(vs[None, :-1] + lv * hv, (nu - 1, nv - 1)).ravel() for lu, lv in P])
-    sq = np.concatenate([(s00 + lu * du_s + lv * dv_s + lu * lv * dd_s).ravel() for lu, lv in P])
-    tq = np.concatenate([(t00 + lu * du_t + lv * dv_t + lu * lv * dd_t).ravel() for lu, lv in P])
-    Dq = S.evaluate(uq, vq, 2)
-    Rq = R.evaluate(np.mod(sq, 1.0) if closed else np.clip(sq, 0.0, 1.0), np.clip(tq, 0.0, 1.0), 2)
-    for k, (lu, lv) in enumerate(P):
-        sl = slice(k * ncell, (k + 1) * ncell)
-        a_s, a_t = ((du_s + lv * dd_s) / hu).ravel(), ((du_t + lv * dd_t) / hu).ravel()   # psi_u there
-        c_s, c_t = ((dv_s + lu * dd_s) / hv).ravel(), ((dv_t + lu * dd_t) / hv).ravel()   # psi_v there
-        Rss, Rst = Rq.Suu[sl], Rq.Suv[sl]
-        guu = Dq.Suu[sl] - (Rss * (a_s * a_s)[:, None] + 2.0 * Rst * (a_s * a_t)[:, None])
-        gvv = Dq.Svv[sl] - (Rss * (c_s * c_s)[:, None] + 2.0 * Rst * (c_s * c_t)[:, None])
-        Fuu = np.maximum(Fuu, np.linalg.norm(guu, axis=1).reshape(nu - 1, nv - 1))
-        Fvv = np.maximum(Fvv, np.linalg.norm(gvv, axis=1).reshape(nu - 1, nv - 1))
+    # the cells asked for (need), each a row of the evaluations; the others get infinity (not used)
+    sel = np.ones((nu - 1, nv - 1), bool) if need is None else need
+    m = int(np.count_nonzero(sel))
+    Fuu, Fvv = np.full((nu - 1, nv - 1), np.inf), np.full((nu - 1, nv - 1), np.inf)
+    if m:
+        P = [(lu, lv) for lu in (NUDGE, 1.0 - NUDGE) for lv in (NUDGE, 1.0 - NUDGE)]
+        uq = np.concatenate([np.broadcast_to(us[:-1, None] + lu * hu, (nu - 1, nv - 1))[sel] for lu, lv in P])
+        vq = np.concatenate([np.broadcast_to(vs[None, :-1] + lv * hv, (nu - 1, nv - 1))[sel] for lu, lv in P])
+        sq = np.concatenate([(s00 + lu * du_s + lv * dv_s + lu * lv * dd_s)[sel] for lu, lv in P])
+        tq = np.concatenate([(t00 + lu * du_t + lv * dv_t + lu * lv * dd_t)[sel] for lu, lv in P])
+        Dq = S.evaluate(uq, vq, 2)
+        Rq = R.evaluate(np.mod(sq, 1.0) if closed else np.clip(sq, 0.0, 1.0), np.clip(tq, 0.0, 1.0), 2)
+        fuu = fvv = 0.0
+        for k, (lu, lv) in enumerate(P):
+            sl = slice(k * m, (k + 1) * m)
+            a_s, a_t = ((du_s + lv * dd_s) / hu)[sel], ((du_t + lv * dd_t) / hu)[sel]   # psi_u there
+            c_s, c_t = ((dv_s + lu * dd_s) / hv)[sel], ((dv_t + lu * dd_t) / hv)[sel]   # psi_v there
+            Rss, Rst = Rq.Suu[sl], Rq.Suv[sl]
+            guu = Dq.Suu[sl] - (Rss * (a_s * a_s)[:, None] + 2.0 * Rst * (a_s * a_t)[:, None])
+            gvv = Dq.Svv[sl] - (Rss * (c_s * c_s)[:, None] + 2.0 * Rst * (c_s * c_t)[:, None])
+            fuu = np.maximum(fuu, np.linalg.norm(guu, axis=1))
+            fvv = np.maximum(fvv, np.linalg.norm(gvv, axis=1))
+        Fuu[sel], Fvv[sel] = fuu, fvv
     a_u, b_u = np.maximum(np.abs(su_b), np.abs(su_t)), np.maximum(np.abs(tu_b), np.abs(tu_t))
     a_v, b_v = np.maximum(np.abs(sv_l), np.abs(sv_r)), np.maximum(np.abs(tv_l), np.abs(tv_r))
     # S's third derivatives over the cell's spans

@@ -38,7 +38,7 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
     creases = (crease_jumps(S, 0, closed), crease_jumps(S, 1))
     extra_s = np.zeros(0)
     tt = np.linspace(0.0, 1.0, target_t + 1)
-    best = None
+    best = prev = None
     for rnd in range(rounds + 1):
         ss, span_s = _knot_grid(R, "u", target_s, extra_s, Rb)
         ns, nt = ss.size, tt.size
@@ -48,9 +48,15 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
         xs = (1 - TT) * a[:, None] + TT * b[:, None]
         useed = u0 + L * (xs if closed else np.clip(xs, 0.0, 1.0))
         vseed = v0 + V * TT
-        uv, _ = project_points(S, Y.reshape(-1, 3), np.stack([useed.ravel(), vseed.ravel()], axis=1), 8, closed)
-        U = uv[:, 0].reshape(ns, nt)
-        W = uv[:, 1].reshape(ns, nt)
+        seeds = np.stack([useed, vseed], axis=2)
+        uv = np.empty((ns, nt, 2))
+        new = np.ones((ns, nt), bool)
+        if prev is not None:      # the nodes of the last round's grid keep their closest points (the same
+            new = ~_nodes_of(prev, ss, tt, uv)      # point from the same seed: the same projection)
+        uv[new] = project_points(S, Y[new], seeds[new], 8, closed)[0]
+        prev = (ss, tt, uv.copy())
+        U = uv[:, :, 0].copy()
+        W = uv[:, :, 1].copy()
         if closed:  # continuous (unwrapped) u
             U = useed + (np.mod(U - useed + 0.5 * L, L) - 0.5 * L)
         # sides to sides
@@ -103,3 +109,18 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
         if np.unique(iv).size > 0 and nt < 8 * target_t:
             tt = np.unique(np.concatenate([tt, 0.5 * (tt[iv] + tt[iv + 1])]))
     return best
+
+
+def _nodes_of(prev: tuple, ss: np.ndarray, tt: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """The nodes of the grid (ss, tt) that the previous grid (prev = (ss, tt, values (ns, nt, k))) has
+    too: their values copied into out, and the mask of them returned."""
+    ps, pt, val = prev
+
+    def where(old, x):
+        i = np.minimum(np.searchsorted(old, x), old.size - 1)
+        return i, old[i] == x
+    i, hs = where(ps, ss)
+    j, ht = where(pt, tt)
+    known = hs[:, None] & ht[None, :]
+    out[known] = val[i[:, None], j[None, :]][known]
+    return known

@@ -21,7 +21,7 @@ from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.core.region import Region, Sides, four_sides, side_candidates
 from ruled.fit.coons import coons_map
-from ruled.fit.fit2d import GRID_COARSE, GRID_FINE, FitResult, iso_fit, recertify
+from ruled.fit.fit2d import GRID_COARSE, GRID_FINE, FitResult, iso_fit, recertify, ruling_figure
 from ruled.fit.options import Direction, FitOptions
 from ruled.fit.surface import fit_surface
 from ruled.split.strips import side_surface
@@ -120,7 +120,7 @@ def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:
 def _choose_sides(region: Region, rails, size: float):
     """The sides (and their Coons map): the rails' when given; else, among the candidate groupings
     (ruled.core.region.side_candidates) whose map does not fold, the one whose quick fit (16 samples, no
-    refinement, the largest ruling distance) is best."""
+    refinement, no rebuild: the largest distance of its rulings, ruled.fit.fit2d.ruling_figure) is best."""
     if rails is not None:
         sides = four_sides(region, rails)
         return sides, coons_map(region, sides)
@@ -140,7 +140,7 @@ def _choose_sides(region: Region, rails, size: float):
     for sd, m in maps:
         try:
             side = side_surface(region.surface, m, 1e-4 * size, 32, 1e-2 * size)
-            q = fit_surface(side.surface, quick).best.certificate.node_max + side.deviation
+            q = ruling_figure(side.surface, quick) + side.deviation
         except RuledError:
             continue
         if q < score:

@@ -173,9 +173,9 @@ def _stage(progress: Progress, name: str, frac: float) -> None:
         progress(name, frac)
 
 
-def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None,
-                  grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
-    """Fit along one direction ('v': boundaries v-min/v-max; 'u': the surface is transposed first)."""
+def _dp_pairing(S: Surface, direction: str, opts: FitOptions, progress: Progress = None):
+    """The DP's rulings along one direction and the pairing through them (refined when the options say
+    so): (oriented surface, closed, cost table, DP result, path, pairing, (sigma, delta, cost))."""
     So = S if direction == "v" else S.transposed()
     closed, why = check_direction(So)
     if why is not None:
@@ -228,6 +228,38 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     if opts.refine:
         pairing, sig, dlt, rc = _follow_exact(So, closed, ab, h, (sig, dlt, rc), pairing)
     T["refine"] = time.perf_counter() - t0
+    return So, closed, cost, res, path, pairing, (sig, dlt, rc), T
+
+
+def ruling_figure(S: Surface, options: FitOptions) -> float:
+    """A quick figure to compare surfaces by (no rebuild, no certificate): over the directions the options
+    allow, the smallest largest distance of the DP pairing's rulings (sampled between the DP's rulings
+    too) from the surface.  inf when no direction can be fitted."""
+    opts = options.checked()
+    diag = S.diagonal()
+    if diag == 0 or surface_area(S) <= 1e-12 * diag ** 2:
+        return np.inf
+    dirs = ["v", "u"] if opts.direction == Direction.AUTO else [opts.direction.value]
+    best = np.inf
+    for d in dirs:
+        try:
+            rc = _dp_pairing(S, d, opts)[6][2]
+        except DegenerateFaceError:
+            continue
+        best = min(best, float(np.max(rc)))
+    return best
+
+
+def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None,
+                  grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
+    """Fit along one direction ('v': boundaries v-min/v-max; 'u': the surface is transposed first)."""
+    So, closed, cost, res, path, pairing, (sig, dlt, rc), T = _dp_pairing(S, direction, opts, progress)
+    n = opts.samples
+    u0, u1, v0, v1 = So.domain
+    L = u1 - u0
+    diag = So.diagonal()
+    h = 1.0 / (n if closed else n - 1)
+    ab = path.astype(float) * h
     # rebuild
     t0 = time.perf_counter()
     C0 = So.iso_curve("u", v0)

@@ -58,7 +58,10 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds: np.ndarray = (), max
         bad = np.nonzero(dev > dense_tol)[0]
         if bad.size == 0:
             break
-        if u.size + bad.size > 4 * max_points:
+        # the deviation of a smooth move goes with its length squared: it needs about sqrt(dev / dense_tol)
+        # pieces; far past the limit, refused now rather than after millions of evaluations
+        need = u.size + float(np.sqrt(dev[bad] / dense_tol).sum())
+        if u.size + bad.size > 4 * max_points or need > 16 * max_points:
             raise BadInputError(f"the chord tolerance {user_tol:.3g} needs more than {max_points} synchronized "
                                 f"points; raise «chord_tol»")
         a, b = u[bad], u[bad + 1]
