@@ -55,6 +55,7 @@ def test_fit_writes_step_report_and_plot(tmp_path):
     assert len(faces_of(read_shape(str(tmp_path / "r.step")))) == 1
 
 
+@pytest.mark.slow
 def test_demo_prints_where_files_went(tmp_path):
     out = ruled("demo", "--quiet", cwd=str(tmp_path))
     assert out.returncode == 0, out.stderr
@@ -161,6 +162,7 @@ def _ex2_step(tmp_path):
     return src
 
 
+@pytest.mark.slow
 def test_fit_4d_reports_elevated_pairs_and_plots_elevations(tmp_path):
     src = _ex2_step(tmp_path)
     out = ruled("fit", src, "--face", "0", "--method", "4d", "--samples", "30", "--elevations", "6",
@@ -304,6 +306,7 @@ def test_a_face_past_its_time_limit_is_refused_saying_where_it_was(tmp_path):
     assert took < 8 and not os.path.exists(out), took
 
 
+@pytest.mark.slow
 def test_a_hopeless_face_says_so_at_once_and_stays_compact(tmp_path):
     """Issue 19: a closed helical blade (a swept profile of ~130 x 12 poles) came back as 804 x 2 poles
     after minutes.  Its result now has tens of poles, and the warning that no ruled surface comes near
@@ -350,6 +353,7 @@ def test_ctrl_c_at_any_moment_of_start_up_ends_quietly_with_130(delay):
     assert p.returncode in (130, -signal.SIGINT) and err.strip() == "ruled: interrupted", (p.returncode, err)
 
 
+@pytest.mark.slow
 def test_a_closed_pipe_ends_quietly_with_0():
     cmd = f"set -o pipefail; '{sys.executable}' -m ruled.cli faces '{data_file('kj66_impeller.step')}' | head -1"
     out = subprocess.run(["bash", "-c", cmd], cwd=ROOT, capture_output=True, text=True, timeout=300,

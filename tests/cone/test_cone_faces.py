@@ -26,6 +26,7 @@ def cone_step(tmp_path_factory):
     return p
 
 
+@pytest.mark.slow
 def test_cli_cone_writes_step_report_and_plot(cone_step, tmp_path):
     out, rep, png = (str(tmp_path / n) for n in ("c.step", "c.json", "c.png"))
     r = ruled_process("cone", cone_step, "--face", "0", "--tol", "1e-6", "-o", out, "--report", rep, "--plot", png,

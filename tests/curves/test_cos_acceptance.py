@@ -160,6 +160,7 @@ def test_polyline_domain_curve_keeps_its_corners_and_is_exact():
     assert np.abs(C - X).max() <= 1e-12 * S.diagonal()
 
 
+@pytest.mark.slow
 def test_kj66_face_with_interior_knots(tmp_path):
     from ruled.cli import main
     path = data_file("kj66_impeller.step")

@@ -68,7 +68,7 @@ def _brute_force(T, objective):
 
 @pytest.mark.parametrize("sshb", [True, False])
 @pytest.mark.parametrize("objective", ["sum", "max"])
-@pytest.mark.parametrize("make,n,m", [(elber_ex1, 4, 1), (elber_ex2, 3, 2)])
+@pytest.mark.parametrize("make,n,m", [pytest.param(elber_ex1, 4, 1, marks=pytest.mark.slow), (elber_ex2, 3, 2)])
 def test_dp_equals_brute_force(sshb, objective, make, n, m):
     _, T = _tables(make(), n, m, 0.01, sshb=sshb)
     res = dp4d.solve_open(T, objective)

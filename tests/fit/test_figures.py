@@ -47,6 +47,7 @@ def test_a_loose_bound_is_said_loose_and_never_far(loose_face, tmp_path):
     assert [w for w in fit.warnings if "is loose" in w] == loose
 
 
+@pytest.mark.slow
 def test_the_measure_finds_the_boundary_where_an_edge_races_past_its_samples(tmp_path):
     """kj66 face 2 at the defaults: the report printed a measured 0.0275 against a bound of 0.0066.  A
     point of the result lies on the face's edge 6 near its corner with edge 0, where edge 6 moves fast in

@@ -39,6 +39,7 @@ def test_refinement_improves_on_the_dp_pairing():
     assert h_ref.max <= h_dp.max + 1e-9
 
 
+@pytest.mark.slow
 def test_wing_faces_are_exact():
     for i, face in enumerate(faces_of(read_shape(data_file("occt_wing.brep")))):
         fit = fit_face(face, samples=40, measure_samples=30)
@@ -46,6 +47,7 @@ def test_wing_faces_are_exact():
         assert fit.error_bound >= fit.hausdorff.max
 
 
+@pytest.mark.slow
 def test_hyperboloid_closed_non_isoparametric():
     S = hyperboloid()
     res, h = _fit_and_measure(S, samples=40)
@@ -79,7 +81,8 @@ def test_reparametrized_ruled_surface_is_recovered_exactly(gamma):
     assert res.error_bound <= max(10 * h.max, 1e-6 * size), (res.error_bound, h.max)
 
 
-@pytest.mark.parametrize("make,eps", [(lambda: reparametrized_ruled(1.0), 1e-6), (hyperboloid, 1e-4)])
+@pytest.mark.parametrize("make,eps", [(lambda: reparametrized_ruled(1.0), 1e-6),
+                                      pytest.param(hyperboloid, 1e-4, marks=pytest.mark.slow)])
 def test_certificate_holds_on_nearly_ruled_faces(make, eps):
     """Nearly exact fits, where the second-order remainder decides the bound (the bounding twins, the
     corner values just inside each cell, R's knots on grid nodes): the bound is never below OCCT's
@@ -290,7 +293,7 @@ def _small_closed(seed):
                    True, False)
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("seed", [0, pytest.param(1, marks=pytest.mark.slow), pytest.param(2, marks=pytest.mark.slow)])
 def test_certificate_holds_on_a_small_closed_face(seed):
     """Issue 22: a closed face 4e-3 across (degree 1 x 4, periodic, 4 poles around) had its bound 3.4 %
     below the true distance; no absolute tolerance may act on a face this small.  Measured by OCCT's

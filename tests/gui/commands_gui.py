@@ -7,12 +7,12 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
 os.makedirs(OUT, exist_ok=True)
-res = {}
+res = Results()
 
 
 def panel_width(mw, panel):

@@ -6,11 +6,11 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
-res = {}
+res = Results()
 
 
 def extra_checks(doc, imp, obj, res):
@@ -26,14 +26,20 @@ def extra_checks(doc, imp, obj, res):
     sel = FreeCADGui.Selection
     obj.ViewObject.Visibility = True
     res["legend"] = list(viewproviders.LEGENDS.get(doc.Name, (None, None, []))[2])
-    # "Fit several faces": two blade faces and the cone's face (refused): three objects, one invalid
+    # "Fit several faces": two blade faces and the cone's face (refused): three objects, one invalid; at
+    # quick defaults set as a user sets them (Edit > Preferences > Ruled), then the defaults again
+    prefs = FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Ruled/Fit")
+    prefs.SetInt("Samples", 16)
+    prefs.SetInt("MeasureSamples", 12)
     sel.clearSelection()
     for o, sub in ((imp, "Face7"), (imp, "Face8"), (doc.getObject("Cone"), "Face1")):
         sel.addSelection(o, sub)
     before = {o.Name for o in doc.Objects}
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_FitMany"))
     new = [o for o in doc.Objects if o.Name not in before]
-    res["many"] = [[o.Source[1][0], o.isValid(), o.Status] for o in new]
+    res["many"] = [[o.Source[1][0], o.isValid(), o.Status, o.Samples] for o in new]
+    prefs.RemInt("Samples")
+    prefs.RemInt("MeasureSamples")
     for o in new:
         doc.removeObject(o.Name)
     doc.recompute()
@@ -59,8 +65,8 @@ def extra_checks(doc, imp, obj, res):
     p2.method.setCurrentIndex(p2.method.findText("2d"))
     res["tooltips"] = all(w.toolTip() for w in (p2.method, p2.samples, p2.objective, p2.max_error, p2.direction,
                                                   p2.elevations, p2.step, p2.metric, p2.measure, p2.preview_button))
-    p2.samples.setValue(120)
-    p2.measure.setValue(60)
+    p2.samples.setValue(60)
+    p2.measure.setValue(30)
     t0 = time.time()
     res["progress_ok"] = p2.preview()
     res["progress_fit_s"] = time.time() - t0

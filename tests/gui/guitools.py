@@ -1,6 +1,27 @@
 """Helpers of the GUI scripts (run inside FreeCAD's GUI; tests/gui is on their sys.path)."""
 
 
+class Results(dict):
+    """The script's results, each key with the seconds since the start when it was first set (written as
+    "_seconds": where a GUI script spends its time)."""
+
+    def __init__(self):
+        import time
+        super().__init__()
+        self._t0 = time.monotonic()
+        self.seconds = {}
+
+    def __setitem__(self, key, value):
+        import time
+        self.seconds.setdefault(key, round(time.monotonic() - self._t0, 2))
+        super().__setitem__(key, value)
+
+    def setdefault(self, key, default=None):
+        if key not in self:
+            self[key] = default
+        return self[key]
+
+
 def run_and_exit(main, res: dict, name: str) -> None:
     """Run main(), write res as JSON to $RULED_GUI_OUT/name and end the process: exit 0 when main returned,
     1 when it raised (os._exit: FreeCAD exits 0 even when a script raises)."""
@@ -14,7 +35,10 @@ def run_and_exit(main, res: dict, name: str) -> None:
         code = 0
     except Exception:
         traceback.print_exc()
-    json.dump(res, open(os.path.join(os.environ["RULED_GUI_OUT"], name), "w"), indent=1, default=str)
+    out = dict(res)
+    if isinstance(res, Results):
+        out["_seconds"] = res.seconds
+    json.dump(out, open(os.path.join(os.environ["RULED_GUI_OUT"], name), "w"), indent=1, default=str)
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(code)

@@ -6,9 +6,9 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import run_and_exit, toolbar_actions, toolbar_run  # noqa: E402
+from guitools import Results, run_and_exit, toolbar_actions, toolbar_run  # noqa: E402
 
-res = {}
+res = Results()
 
 
 def main():

@@ -92,6 +92,7 @@ def test_flank_cone_tool(tmp_path, patches, tip):
     assert rep["tool_envelope"]["cl_positions"]["overcut"] <= 1e-6 * 28
 
 
+@pytest.mark.slow
 def test_flank_twisted_reported(tmp_path, hyp_file):
     apt, rep, _ = run_cli(tmp_path, hyp_file, 0, "--flank", "--tool-radius", "1", "--chord-tol", "0.01")
     e, m = rep["tool_envelope"]["cl_positions"], rep["machine"]
@@ -112,8 +113,8 @@ def test_flank_radius_warning(tmp_path, patches, capsys):
 # ------------------------------------------------------------------------------------------ bad input
 
 @pytest.mark.parametrize("args, needle", [
-    (["--xyuv", "--planes=-5,20", "--axis", "z"], "crosses ruling"),
-    (["--xyuv", "--axis", "x"], "from the machine axis"),
+    pytest.param(["--xyuv", "--planes=-5,20", "--axis", "z"], "crosses ruling", marks=pytest.mark.slow),
+    pytest.param(["--xyuv", "--axis", "x"], "from the machine axis", marks=pytest.mark.slow),
     (["--flank"], "--tool-radius"),
     (["--xyuv", "--kerf", "-1"], "--kerf"),
     (["--flank", "--tool-radius", "1", "--taper", "50"], "--taper"),

@@ -43,6 +43,7 @@ from ruled.occ.measure import _Projector, face_points, hausdorff  # noqa: E402
 
 # --------------------------------------------------------------------------------------------- XYUV
 
+@pytest.mark.slow
 def test_xyuv_hyperboloid_round_trip(tmp_path, hyp_file):
     """An exactly ruled closed surface: the rebuilt cut is within the chord tolerance (the fit is exact)."""
     r = xyuv_round_trip(tmp_path, hyp_file, 0, 0.01)

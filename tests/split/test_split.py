@@ -84,6 +84,7 @@ def test_row_scores_are_each_rows_own_split(objective, numba, monkeypatch):
         np.testing.assert_allclose(got, want, rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_tables_are_line_metrics_of_the_rulings():
     """Each table entry is the distance of its segment to the surface: checked against dense samples
     of the surface (brute force) for a few entries."""
@@ -152,7 +153,7 @@ def _brute_elevated(A, B, objective):
 
 
 @pytest.mark.parametrize("objective", ["sum", "max"])
-@pytest.mark.parametrize("n,d,mp,mm", [(2, 2, 2, 2), (3, 1, 2, 1), (3, 2, 1, 3),
+@pytest.mark.parametrize("n,d,mp,mm", [(2, 2, 2, 2), (3, 1, 2, 1), pytest.param(3, 2, 1, 3, marks=pytest.mark.slow),
                                        pytest.param(3, 1, 2, 2, marks=pytest.mark.slow)])
 def test_elevated_split_dp_equals_brute_force(objective, n, d, mp, mm):
     """5D (M elevated, mp = 1) and 7D (P, Q and M elevated) against every path."""

@@ -42,7 +42,7 @@ def _slow(*names):
     return [pytest.param(n, marks=pytest.mark.slow) for n in names]
 
 
-@pytest.fixture(scope="module", params=["ex1", "ex2", *_slow("kj66-6", "blade")])
+@pytest.fixture(scope="module", params=["ex1", *_slow("ex2", "kj66-6", "blade")])
 def split_case(request):
     face = _faces()[request.param]()
     return request.param, face, split_of_face(face, measure_samples=24)

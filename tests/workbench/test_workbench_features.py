@@ -169,6 +169,7 @@ SPLIT_SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow
 def test_ruled_split_object_in_freecadcmd(tmp_path):
     """'Split for ruling' headless: the same split as the engine in the venv, the split curve on the face,
     the two fitted sides, an invalid object for an edge, and the proxy's name after reopening."""

@@ -86,6 +86,7 @@ def _check_everyday_use(r):
     assert values[0].startswith("0") and all(any(u in v for u in ("mm", "µm", "nm", "m")) for v in values)
     # "Fit several faces": one RuledFit per face; the refused face is an invalid object with its reason
     assert [m[:2] for m in r["many"]] == [["Face7", True], ["Face8", True], ["Face1", False]]
+    assert [m[3] for m in r["many"]] == [16, 16, 16]       # the preferences' defaults
     assert r["many"][2][2] and "\n" not in r["many"][2][2]
     # the fit panel fits the combo view at 1280 x 1024, every field has a tooltip, 4d options only in 4d
     width, combo = r["panel_width"]
