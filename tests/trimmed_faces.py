@@ -215,12 +215,40 @@ def ruled_sheet_face(hole: float = 0.0):
     return face_from_loops(S, loops)
 
 
+def hub_surface() -> Geom_BSplineSurface:
+    """An exact hub: a flared profile (radius 6 to 12 over a height of 18) revolved, rational and periodic
+    round the axis (eight poles, knots of multiplicity 2, weights 1 and 1/sqrt(2): each quarter an exact
+    circular arc)."""
+    from OCP.TColStd import TColStd_Array2OfReal
+    from ruled.occ.convert import occ_array as arr
+    k = np.arange(8)
+    ang, far = k * np.pi / 4, np.where(k % 2 == 0, 1.0, np.sqrt(2.0))
+    w = np.where(k % 2 == 0, 1.0, np.sqrt(0.5))
+    profile = [(6.0, 0.0), (6.5, 6.0), (8.5, 12.0), (12.0, 18.0)]
+    P = TColgp_Array2OfPnt(1, 8, 1, len(profile))
+    W = TColStd_Array2OfReal(1, 8, 1, len(profile))
+    for i in range(8):
+        for j, (r, z) in enumerate(profile):
+            P.SetValue(i + 1, j + 1, gp_Pnt(r * far[i] * np.cos(ang[i]), r * far[i] * np.sin(ang[i]), z))
+            W.SetValue(i + 1, j + 1, float(w[i]))
+    return Geom_BSplineSurface(P, W, arr([0, 0.25, 0.5, 0.75, 1]), arr([0, 1]), arr([2] * 5, TColStd_Array1OfInteger),
+                               arr([4, 4], TColStd_Array1OfInteger), 2, 3, True, False)
+
+
 def band_face(kind: str):
     """A band that goes once round a cylinder-like surface (radius about 10, height 20, wavy), between a
     wavy bottom and a wavy top, its seam at u = 0.3 (not the surface's own).  kind: 'seam' (OCCT's seam
     edge, the face made from its two closed loops), 'four' (four edges: the two v-lines at u = 0.3 and
     1.3 are separate edges), both on a periodic surface; 'crease' (four edges on a clamped surface whose
-    first and last rows of poles meet at a crease)."""
+    first and last rows of poles meet at a crease); 'hub' (a blade root wrapping a hub: the band between the
+    footprint of a blade's root fillet, a lobe, and a wavy top, once round the exact rational hub of
+    hub_surface, with OCCT's seam edge at u = 0.3)."""
+    if kind == "hub":
+        def lobe(u):
+            return np.exp(-4.0 * (1.0 - np.cos(2 * np.pi * (u - 0.65))))
+        b = graph2d(0.3, 1.3, lambda u: 0.15 + 0.25 * lobe(u), spans=24)
+        t = graph2d(0.3, 1.3, lambda u: 0.8 - 0.15 * lobe(u) + 0.03 * np.sin(6 * np.pi * u), spans=24, reverse=True)
+        return face_from_loops(hub_surface(), [[b], [t]])
     n = 8 if kind != "crease" else 9
     th = np.linspace(0, 2 * np.pi, n, endpoint=kind == "crease")
     rows = []

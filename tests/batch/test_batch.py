@@ -48,8 +48,8 @@ def test_pool_batch_summary_matches_single_fits(pool_batch, tmp_path):
     with open(os.path.join(out, "summary.csv")) as fh:
         table = list(csv.DictReader(fh))
     assert [int(r["face"]) for r in table] == [r["face"] for r in rows]
-    # two faces (the worst and a middle one) against single 'ruled fit' runs with the same options
-    for r in (ok[0], ok[len(ok) // 2]):
+    # a face (a middle one) against a single 'ruled fit' run with the same options
+    for r in (ok[len(ok) // 2],):
         rep = tmp_path / f"f{r['face']}.json"
         single = ruled_process("fit", step, "--face", str(r["face"]), *FAST, "-o", str(tmp_path / "f.step"), "--report",
                       str(rep), "--quiet")
@@ -69,12 +69,12 @@ def test_pool_batch_summary_matches_single_fits(pool_batch, tmp_path):
 
 @pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_summary(pool_batch, tmp_path):
-    """Eight of the faces (the worst, the best, between) through a Dask LocalCluster of 2 workers: the
+    """Four of the faces (the two worst, the best, one between) through a Dask LocalCluster of 2 workers: the
     pool's rows, figure for figure."""
     distributed = pytest.importorskip("distributed")
     step, out, _, _ = pool_batch
     rows = _rows(out)
-    chosen = sorted({r["face"] for r in rows[:3] + rows[-3:] + rows[20:22]})
+    chosen = sorted({r["face"] for r in rows[:2] + rows[-1:] + rows[20:21]})
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as c:
         r = ruled_process("batch", step, "--faces", ",".join(map(str, chosen)), *FAST, "--scheduler",
                           c.scheduler_address, "-o", str(tmp_path / "dask"), "--quiet")

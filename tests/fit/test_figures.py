@@ -154,13 +154,16 @@ def test_a_result_that_covers_another_region_than_the_face_is_never_returned(tmp
 
 
 @pytest.mark.parametrize("kind", [pytest.param("seam", marks=pytest.mark.slow),
-                                  pytest.param("four", marks=pytest.mark.slow), "crease"])
+                                  pytest.param("four", marks=pytest.mark.slow), "crease",
+                                  pytest.param("hub", marks=pytest.mark.slow)])
 def test_a_band_round_a_whole_period_is_fitted_closed_within_its_bound(kind):
     """Issue 34: a face that goes once round its surface's periodic direction was fitted as a four-sided patch
     over half of itself (area ratio 0.50, measured 13.97 against a bound of 0.332).  Bands round a wavy
     cylinder-like surface, their seam where the surface's is not (tests/trimmed_faces.py band_face): with OCCT's
     seam edge, with four edges, and on a clamped surface whose ends meet at a crease (whose certificate missed
-    the crease at the seam: 0.313 against a measured 0.340).  Each is fitted closed, covers the face's area,
+    the crease at the seam: 0.313 against a measured 0.340); and a blade root wrapping an exact rational hub
+    (trimmed_faces.hub_surface), between a lobed footprint and a wavy top.  Each is fitted closed, covers the
+    face's area,
     and OCCT alone (BRepExtrema from points inside and on the edges of each face) finds both faces within the
     bound."""
     from trimmed_faces import band_face, extrema_measure
