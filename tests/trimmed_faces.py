@@ -220,6 +220,7 @@ def hub_surface() -> Geom_BSplineSurface:
     round the axis (eight poles, knots of multiplicity 2, weights 1 and 1/sqrt(2): each quarter an exact
     circular arc)."""
     from OCP.TColStd import TColStd_Array2OfReal
+
     from ruled.occ.convert import occ_array as arr
     k = np.arange(8)
     ang, far = k * np.pi / 4, np.where(k % 2 == 0, 1.0, np.sqrt(2.0))
