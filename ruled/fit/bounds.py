@@ -308,3 +308,18 @@ def _curve_feet(S: Surface, Y: np.ndarray, u: np.ndarray, v: float, closed: bool
         den = np.where(den > 1e-300, den, np.einsum("ij,ij->i", D.Su, D.Su) + 1e-300)
         u = (u if closed else uw) - np.einsum("ij,ij->i", r, D.Su) / den
     return best_u
+
+
+def _nodes_of(prev: tuple, ss: np.ndarray, tt: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """The nodes of the grid (ss, tt) that the previous grid (prev = (ss, tt, values (ns, nt, k))) has
+    too: their values copied into out, and the mask of them returned."""
+    ps, pt, val = prev
+
+    def where(old, x):
+        i = np.minimum(np.searchsorted(old, x), old.size - 1)
+        return i, old[i] == x
+    i, hs = where(ps, ss)
+    j, ht = where(pt, tt)
+    known = hs[:, None] & ht[None, :]
+    out[known] = val[i[:, None], j[None, :]][known]
+    return known

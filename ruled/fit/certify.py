@@ -41,6 +41,7 @@ from ruled.fit.bounds import (
     _joint_jumps,
     _knot_grid,
     _local_net_max,
+    _nodes_of,
     _pairing_s,
     _polished_feet,
     _rail,
@@ -169,7 +170,6 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev
     its remainder above its node maximum (a map whose nodes are far from R cannot get below them).
     prev: the last round's (us, vs, nodes), whose nodes keep their points and closest points; the
     same is returned for the next round."""
-    from ruled.fit.certify_reverse import _nodes_of
     closed = pairing.closed
     u0, u1, v0, v1 = S.domain
     L = u1 - u0
@@ -338,7 +338,7 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
     return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, (ru, rv)
 
 
-def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw, need=None) -> tuple:
+def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw, need) -> tuple:
     """Per cell, the interpolation remainder (h_u^2 sup|f_uu| + h_v^2 sup|f_vv|) / 8 with sup|f_uu|
     bounded from its values at the cell's corners and third-derivative bounds:
 
@@ -374,7 +374,7 @@ def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw, ne
     du_t, dv_t = t[1:, :-1] - t00, t[:-1, 1:] - t00
     dd_t = t[1:, 1:] - t00 - du_t - dv_t
     # the cells asked for (need), each a row of the evaluations; the others get infinity (not used)
-    sel = np.ones((nu - 1, nv - 1), bool) if need is None else need
+    sel = need
     m = int(np.count_nonzero(sel))
     Fuu, Fvv = np.full((nu - 1, nv - 1), np.inf), np.full((nu - 1, nv - 1), np.inf)
     if m:

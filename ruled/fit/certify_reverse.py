@@ -7,7 +7,7 @@ import numpy as np
 
 from ruled.core.basis import SpanRangeMax
 from ruled.core.nurbs import Surface
-from ruled.fit.bounds import _crease_term, _curve_feet, _knot_grid, _range_max, _twin, crease_jumps
+from ruled.fit.bounds import _crease_term, _curve_feet, _knot_grid, _nodes_of, _range_max, _twin, crease_jumps
 from ruled.fit.cells import FLOOR, Certificate, _cells_to_split, _corner_max
 from ruled.fit.pairing import Pairing
 
@@ -54,7 +54,7 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
         if prev is not None:      # the nodes of the last round's grid keep their closest points (the same
             new = ~_nodes_of(prev, ss, tt, uv)      # point from the same seed: the same projection)
         uv[new] = project_points(S, Y[new], seeds[new], 8, closed)[0]
-        prev = (ss, tt, uv.copy())
+        prev = (ss, tt, uv)
         U = uv[:, :, 0].copy()
         W = uv[:, :, 1].copy()
         if closed:  # continuous (unwrapped) u
@@ -110,17 +110,3 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
             tt = np.unique(np.concatenate([tt, 0.5 * (tt[iv] + tt[iv + 1])]))
     return best
 
-
-def _nodes_of(prev: tuple, ss: np.ndarray, tt: np.ndarray, out: np.ndarray) -> np.ndarray:
-    """The nodes of the grid (ss, tt) that the previous grid (prev = (ss, tt, values (ns, nt, k))) has
-    too: their values copied into out, and the mask of them returned."""
-    ps, pt, val = prev
-
-    def where(old, x):
-        i = np.minimum(np.searchsorted(old, x), old.size - 1)
-        return i, old[i] == x
-    i, hs = where(ps, ss)
-    j, ht = where(pt, tt)
-    known = hs[:, None] & ht[None, :]
-    out[known] = val[i[:, None], j[None, :]][known]
-    return known

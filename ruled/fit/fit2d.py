@@ -113,6 +113,12 @@ def span_area(S: Surface, m: int = 8) -> float:
     return total
 
 
+def zero_area(S: Surface) -> bool:
+    """Whether the surface has no area to speak of (a point, a curve)."""
+    diag = S.diagonal()
+    return diag == 0 or surface_area(S) <= 1e-12 * diag ** 2
+
+
 def _polyline_length(P: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
 
@@ -236,8 +242,7 @@ def ruling_figure(S: Surface, options: FitOptions) -> float:
     allow, the smallest largest distance of the DP pairing's rulings (sampled between the DP's rulings
     too) from the surface.  inf when no direction can be fitted."""
     opts = options.checked()
-    diag = S.diagonal()
-    if diag == 0 or surface_area(S) <= 1e-12 * diag ** 2:
+    if zero_area(S):
         return np.inf
     dirs = ["v", "u"] if opts.direction == Direction.AUTO else [opts.direction.value]
     best = np.inf
@@ -390,8 +395,7 @@ def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Pro
     chooses between this and the 4D fit."""
     opts = options.checked()
     t0 = time.perf_counter()
-    diag = S.diagonal()
-    if surface_area(S) <= 1e-12 * max(diag, 1e-300) ** 2 or diag == 0:
+    if zero_area(S):
         raise DegenerateFaceError("the face has zero area; pick a proper face (see 'ruled faces')")
     dirs = ["v", "u"] if opts.direction == Direction.AUTO else [opts.direction.value]
     cands: dict = {}
