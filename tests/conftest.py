@@ -1,8 +1,16 @@
 import os
 import sys
 
-import numpy as np
-import pytest
+# Under pytest-xdist every worker (and the batches, CLI runs and FreeCAD sessions it starts) computes on
+# one thread: the workers already fill the cores, and OpenBLAS's, numba's and the kernels' own threads
+# would only contend with the other worker (OpenBLAS's spin on the other core: about 10 % of the suite).
+# Set before numpy loads OpenBLAS; a variable the caller set wins.
+if int(os.environ.get("PYTEST_XDIST_WORKER_COUNT") or 1) > 1:
+    for _var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS", "NUMBA_NUM_THREADS", "RULED_THREADS"):
+        os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
