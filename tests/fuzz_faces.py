@@ -140,8 +140,8 @@ FIXED_KINDS = {"2d": (3402, 60), "4d": (3404, 10)}
 ROTATING = {"2d": 60, "4d": 10}
 ROTATING_KINDS = {"2d": 8, "4d": 3}
 # Faces that once failed a check, or came within 0.2 % of failing one, as (method, seed, index): face
-# `index` of random_faces(seed, ...).  CI runs them every time, beside the rotating faces.  A face that
-# fails goes here, with what it found.
+# `index` of random_faces(seed, ...), or of kind_faces when it reads "kN".  CI runs them every time, beside
+# the rotating faces.  A face that fails goes here, with what it found.
 REGRESSIONS = [
     # no face of a fixed or rotating run has failed since the fixed runs were made sound (stop 31); these
     # are the fixed runs' tightest, measured / bound at stop 31 in the comment
@@ -153,6 +153,10 @@ REGRESSIONS = [
     # found by the rotating run of 0ba438b: a rational face with a collapsed row, 2D bound 0.0219 against a
     # measured 0.0144; its 4D surface measures 0.0128 but is certified at 0.739 (33.7x the 2D bound)
     ("4d", 195311794, 6, "issue 34"),
+    # found by the rotating run of 7b44d42: a sheet with a hole, read back from STEP, where OCCT's ray
+    # classifier (and BRepExtrema with it) puts a wedge of the face outside it: the oracle measured 22.7
+    # against the bound 6.01, the product 1.45; trimmed_faces.classifier settles such disagreements
+    ("2d", 2068108334, "k0", "oracle"),
 ]
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 3 s)
 SAMPLES = 12           # the DP's and the measure's samples: small faces of every kind, not fine fits

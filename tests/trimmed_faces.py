@@ -276,32 +276,70 @@ def band_face(kind: str):
                                 curve2d([[a, top(a)], [a, bot(a)]])]])
 
 
+def classifier(face, per_edge: int = 400):
+    """inside(u, v): whether a (u, v) point lies in the face as bounded by its edges, by OCCT alone.
+    BRepClass_FaceClassifier decides, unless BRepTopAdaptor_FClass2d disagrees: then the even-odd rule over
+    the face's pcurves (sampled by OCCT, per_edge points each) does.  The ray classifier alone puts a wedge
+    of a face read back from STEP outside it (2d:2068108334:k0, a sheet with a hole: the wedge runs from its
+    left edge towards the hole, and BRepExtrema, which classifies the same way, measured 23 where the face
+    is 0.13 away)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve2d
+    from OCP.BRepClass import BRepClass_FaceClassifier
+    from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
+    from OCP.TopAbs import TopAbs_ShapeEnum, TopAbs_State
+    from OCP.TopExp import TopExp_Explorer
+
+    fclass = BRepTopAdaptor_FClass2d(face, 1e-9)
+    keep = (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
+    chains = []             # each edge's pcurve as a polyline: the even-odd rule needs no order of edges
+    edges = TopExp_Explorer(face, TopAbs_ShapeEnum.TopAbs_EDGE)
+    while edges.More():
+        c = BRepAdaptor_Curve2d(TopoDS.Edge_s(edges.Current()), face)
+        chains.append(np.array([(q.X(), q.Y()) for q in (c.Value(float(t)) for t in
+                                np.linspace(c.FirstParameter(), c.LastParameter(), per_edge))]))
+        edges.Next()
+
+    def odd(u, v):
+        crossings = 0
+        for P in chains:
+            a, b = P[:-1], P[1:]
+            up = (a[:, 1] > v) != (b[:, 1] > v)
+            x = a[up, 0] + (v - a[up, 1]) * (b[up, 0] - a[up, 0]) / (b[up, 1] - a[up, 1])
+            crossings += int((x > u).sum())
+        return crossings % 2 == 1
+
+    def inside(u, v):
+        p = gp_Pnt2d(float(u), float(v))
+        ray = BRepClass_FaceClassifier(face, p, 1e-7).State() in keep
+        return ray if ray == (fclass.Perform(p) in keep) else odd(u, v)
+    return inside
+
+
 def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
     """(A to B, B to A): the largest distance from points of each face as bounded by its edges to the other,
-    by OCCT alone (no product code): an n x n (u, v) grid of the face's bounds kept where OCCT's classifier
-    puts it inside the face, and n points along every edge, each projected by BRepExtrema onto the other
-    face.  Each value is a distance to an actual point, so the measure is at most the true Hausdorff
+    by OCCT alone (no product code): an n x n (u, v) grid of the face's bounds kept where OCCT's classifiers
+    (classifier) put it inside the face, and n points along every edge, each projected by BRepExtrema onto
+    the other face.  Each value is a distance to an actual point, so the measure is at most the true Hausdorff
     distance, the samples' resolution below it (where BRepExtrema's foot is not the nearest, the surface's own
-    projections and Newton's feet from a grid count too, where OCCT classifies the foot inside the face: each
-    is still an actual distance)."""
+    projections and Newton's feet from a grid count too, where the classifiers put the foot inside the face:
+    each is still an actual distance)."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
-    from OCP.BRepClass import BRepClass_FaceClassifier
     from OCP.BRepExtrema import BRepExtrema_DistShapeShape
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
-    from OCP.gp import gp_Pnt2d, gp_Vec
-    from OCP.TopAbs import TopAbs_ShapeEnum, TopAbs_State
+    from OCP.gp import gp_Vec
+    from OCP.TopAbs import TopAbs_ShapeEnum
     from OCP.TopExp import TopExp_Explorer
     from scipy.spatial import cKDTree
 
     def points(face):
         surf = BRep_Tool.Surface_s(face)
         u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+        inside = classifier(face)
         out = []
         for u in np.linspace(u0, u1, n):
             for v in np.linspace(v0, v1, n):
-                c = BRepClass_FaceClassifier(face, gp_Pnt2d(float(u), float(v)), 1e-7)
-                if c.State() in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON):
+                if inside(float(u), float(v)):
                     out.append(surf.Value(float(u), float(v)))
         ex = TopExp_Explorer(face, TopAbs_ShapeEnum.TopAbs_EDGE)
         while ex.More():
@@ -311,10 +349,6 @@ def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
                 out += [ad.Value(float(x)) for x in np.linspace(ad.FirstParameter(), ad.LastParameter(), n)]
             ex.Next()
         return out
-
-    def inside(face, u, v):
-        return BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-7).State() in (TopAbs_State.TopAbs_IN,
-                                                                                  TopAbs_State.TopAbs_ON)
 
     def newton(surf, p, u, v, box):
         """Gauss-Newton on |S(u, v) - p| from (u, v), kept in the box: the foot (u, v) and its distance."""
@@ -334,6 +368,7 @@ def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
     def far(pts, face):
         surf = BRep_Tool.Surface_s(face)
         box = BRepTools.UVBounds_s(face)
+        inside = classifier(face)
         g = [(float(u), float(v)) for u in np.linspace(box[0], box[1], 48) for v in np.linspace(box[2], box[3], 48)]
         tree = cKDTree(np.array([[q.X(), q.Y(), q.Z()] for q in (surf.Value(u, v) for u, v in g)]))
         worst = 0.0
@@ -347,7 +382,7 @@ def extrema_measure(face_a, face_b, n: int = 16) -> tuple:
             for i in tree.query([p.X(), p.Y(), p.Z()], k=4)[1]:
                 feet.append(newton(surf, p, *g[i], box))
             for u, v, dist in feet:
-                if dist < d and inside(face, u, v):
+                if dist < d and inside(u, v):
                     d = dist
             worst = max(worst, d)
         return worst

@@ -158,11 +158,13 @@ def done_row(job: dict) -> Optional[dict]:
 # ------------------------------------------------------------------------------------------ executors
 def _worker(conn, threads: int) -> None:
     """A pool process: run the tasks it is sent, one at a time, until it receives None; its kernels use
-    `threads` threads (the cores shared among the workers)."""
+    `threads` threads (the cores shared among the workers), or fewer where the caller's environment caps
+    them (RULED_THREADS=1 and the like: a batch started beside other work)."""
     import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)         # Ctrl-C is the parent's to handle
     for name in ("RULED_THREADS", "NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ[name] = str(threads)
+        given = os.environ.get(name, "")
+        os.environ[name] = str(min(threads, int(given)) if given.isdigit() and int(given) > 0 else threads)
     while True:
         job = conn.recv()
         if job is None:

@@ -27,8 +27,8 @@ def test_faces_on_every_shared_file():
     files = sorted(f for f in glob.glob(os.path.join(SHARED_DATA, "*")) if not f.endswith(".md"))
     if not files:
         pytest.skip("../shared/data is absent")
-    for f in files:
-        out = ruled("faces", f)
+    for f in files:                 # in this process: the listing, not a second of start-up per file, is tested
+        out = ruled_here("faces", f)
         assert out.returncode == 0, (f, out.stderr)
         lines = out.stdout.strip().splitlines()
         assert len(lines) >= 1
@@ -242,8 +242,8 @@ def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
 def test_negative_values_of_list_options_are_values(tmp_path):
     """--planes -1.5,20 is the option's value, not an unknown option."""
     out = str(tmp_path / "w.ngc")
-    r = ruled("machine", data_file("kj66_impeller.step"), "--face", "6", "--xyuv", "--planes", "-1.5,20", "-o", out,
-              "--measure-samples", "4", "--quiet")
+    r = ruled_here("machine", data_file("kj66_impeller.step"), "--face", "6", "--xyuv", "--planes", "-1.5,20", "-o",
+                   out, "--samples", "12", "--measure-samples", "4", "--quiet")
     assert r.returncode == 0, r.stderr
     rep_lines = open(out).read().splitlines()
     assert any("height -1.5" in x for x in rep_lines[:3]) and any("height 20" in x for x in rep_lines[:3])
