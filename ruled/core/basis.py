@@ -104,17 +104,26 @@ def taylor_table(knots: np.ndarray, degree: int) -> np.ndarray:
     return tab
 
 
-def refine_axis(H: np.ndarray, knots: np.ndarray, p: int, pieces: int, axis: int = 0) -> tuple:
+def refine_axis(H: np.ndarray, knots: np.ndarray, p: int, pieces: int, axis: int = 0, extra=None) -> tuple:
     """Coefficients H (homogeneous) and knots with every non-empty knot span of the domain split into
-    ``pieces`` equal spans: the same spline in the finer space, whose basis spans the old one, so the
-    old basis functions are exact combinations T of the new (solved on collocation points inside the
-    domain, several per new span)."""
-    if pieces <= 1:
-        return H, knots
+    ``pieces`` equal spans, and knots inserted at ``extra`` too: the same spline in the finer space, whose
+    basis spans the old one, so the old basis functions are exact combinations T of the new (solved on
+    collocation points inside the domain, several per new span)."""
     a, b = knots[p], knots[-p - 1]
     kv = np.unique(knots)
     kv = kv[(kv >= a) & (kv <= b)]
-    new = (kv[:-1, None] + np.diff(kv)[:, None] * (np.arange(1, pieces) / pieces)[None, :]).ravel()
+    new = (kv[:-1, None] + np.diff(kv)[:, None] * (np.arange(1, max(pieces, 1)) / max(pieces, 1))[None, :]).ravel()
+    if extra is not None and len(extra):
+        # apart from every knot (a span far shorter than its neighbours makes the collocation ill-posed)
+        gap = 1e-9 * (b - a)
+        extra = np.unique(np.asarray(extra, float))
+        extra = extra[(extra > a + gap) & (extra < b - gap)]
+        have = np.unique(np.concatenate([kv, new]))
+        at = np.clip(np.searchsorted(have, extra), 1, have.size - 1)
+        extra = extra[np.minimum(extra - have[at - 1], have[at] - extra) > gap]
+        new = np.concatenate([new, extra])
+    if new.size == 0:
+        return H, knots
     k2 = np.sort(np.concatenate([knots, new]))
     br = np.unique(k2[(k2 >= a) & (k2 <= b)])
     x = (br[:-1, None] + np.diff(br)[:, None] * ((np.arange(p + 2) + 0.5) / (p + 2))[None, :]).ravel()

@@ -307,19 +307,22 @@ class Surface:
         return Curve(Hc[:, :3] / w[:, None], self.knots_u, self.degree_u, weights, self.periodic_u)
 
     # ------------------------------------------------------------------ bounds
-    def subdivided(self, pieces_u: int, pieces_v: int) -> "Surface":
-        """The same surface with each knot span split into pieces (Boehm insertion): its per-span
-        derivative bounds are local to smaller pieces, hence tighter (cached; not periodic any more)."""
-        if pieces_u <= 1 and pieces_v <= 1:
+    def subdivided(self, pieces_u: int, pieces_v: int, extra_u=None, extra_v=None) -> "Surface":
+        """The same surface with each knot span split into pieces, and knots inserted at extra_u, extra_v
+        (Boehm insertion): its per-span derivative bounds are local to smaller pieces, hence tighter
+        (cached; not periodic any more)."""
+        none = (extra_u is None or len(extra_u) == 0) and (extra_v is None or len(extra_v) == 0)
+        if pieces_u <= 1 and pieces_v <= 1 and none:
             return self
         cache = self.__dict__.get("_sub_cache")
         if cache is None:
             cache = {}
             object.__setattr__(self, "_sub_cache", cache)
-        key = (pieces_u, pieces_v)
+        key = (pieces_u, pieces_v) + (() if none else (np.asarray(extra_u, float).tobytes(),
+                                                        np.asarray(extra_v, float).tobytes()))
         if key not in cache:
-            H, ku = refine_axis(self._hom, self.knots_u, self.degree_u, pieces_u, 0)
-            H, kv = refine_axis(H, self.knots_v, self.degree_v, pieces_v, 1)
+            H, ku = refine_axis(self._hom, self.knots_u, self.degree_u, pieces_u, 0, extra_u)
+            H, kv = refine_axis(H, self.knots_v, self.degree_v, pieces_v, 1, extra_v)
             w = H[..., 3]
             cache[key] = Surface(H[..., :3] / w[..., None], ku, kv, self.degree_u, self.degree_v,
                                  None if self.weights is None else w)

@@ -18,6 +18,11 @@ FEET_ITERS = 40
 # derivative bounds come from twins of S and R with about this many knot spans per direction (the same
 # surfaces, knots inserted): control-net bounds over smaller pieces are local, hence tighter
 BOUND_SPANS = 24
+# a rational surface whose weights differ by more than this factor among a span's poles is graded: its
+# parameter speed varies by about as much, so grids and twins get nodes at equal steps of arc length too
+WEIGHT_SPREAD = 100.0
+# the speed profile of graded_nodes: samples along the direction, and iso-curves across it
+GRADE_SAMPLES, GRADE_ACROSS = 4096, 9
 
 
 def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface = None):
@@ -113,11 +118,39 @@ def _crease_term(creases: tuple, lo: np.ndarray, hi: np.ndarray, period: float =
     return out
 
 
+def graded_nodes(S: Surface, direction: str, count: int) -> np.ndarray:
+    """Parameters at ``count`` equal steps of arc length along ``direction`` (the longest of a few
+    iso-curves across it, step by step) where S is rational with extreme weights (WEIGHT_SPREAD), else
+    none.  There the parameter speed varies by orders of magnitude, and cells uniform in the parameter
+    are far too long where the surface rushes (a second-derivative remainder in the thousands where
+    the fit is 0.01 away); any grid is valid, so the graded nodes only tighten the bound."""
+    if S.weights is None:
+        return np.zeros(0)
+    p = S.degree_u if direction == "u" else S.degree_v
+    w = S.weights if direction == "u" else S.weights.T
+    win = np.lib.stride_tricks.sliding_window_view(w, p + 1, axis=0)
+    if float((win.max(axis=2) / np.maximum(win.min(axis=2), 1e-300)).max()) <= WEIGHT_SPREAD:
+        return np.zeros(0)
+    u0, u1, v0, v1 = S.domain
+    a, b, c, d = (u0, u1, v0, v1) if direction == "u" else (v0, v1, u0, u1)
+    x = np.linspace(a, b, GRADE_SAMPLES + 1)
+    y = np.linspace(c, d, GRADE_ACROSS)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    P = (S(X.ravel(), Y.ravel()) if direction == "u" else S(Y.ravel(), X.ravel())).reshape(x.size, y.size, 3)
+    step = np.linalg.norm(np.diff(P, axis=0), axis=2).max(axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(step)])
+    if not arc[-1] > 0.0:
+        return np.zeros(0)
+    return np.interp(np.linspace(0.0, arc[-1], count + 1)[1:-1], arc, x)
+
+
 def _twin(S: Surface, ruled: bool = False) -> Surface:
-    """S with finer knot spans for its derivative bounds (ruled: R, whose t direction is linear)."""
+    """S with finer knot spans for its derivative bounds (ruled: R, whose t direction is linear); a
+    rational surface with extreme weights gets knots at equal steps of arc length too (graded_nodes)."""
     pu = pieces_for(S.knots_u, S.degree_u, BOUND_SPANS)
     pv = 1 if ruled else pieces_for(S.knots_v, S.degree_v, BOUND_SPANS)
-    return S.subdivided(pu, pv)
+    return S.subdivided(pu, pv, graded_nodes(S, "u", BOUND_SPANS),
+                        None if ruled else graded_nodes(S, "v", BOUND_SPANS))
 
 
 def _rail(Rb: Surface, side: int) -> Curve:

@@ -51,6 +51,7 @@ from ruled.fit.bounds import (
     _soft_knots,
     _spanmax,
     _twin,
+    graded_nodes,
 )
 from ruled.fit.cells import FLOOR, Certificate, _cells_to_split, _corner_max
 from ruled.fit.certify_reverse import certify_reverse
@@ -140,6 +141,9 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
     # graded rows next to both boundaries, where a fan of rulings makes psi steep
     grade = (v1 - v0) / target_v * 0.5 ** np.arange(1, 11)
     extra_v = np.concatenate([v0 + grade, v1 - grade])
+    # and at equal steps of arc length where extreme weights make the parameter speed vary
+    extra_u = np.concatenate([extra_u, graded_nodes(S, "u", target_u)])
+    extra_v = np.concatenate([extra_v, graded_nodes(S, "v", target_v)])
     tw = (_twin(S), _twin(R, ruled=True))
     b = tw[0].derivative_bounds()
     best = prev = None

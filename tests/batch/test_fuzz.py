@@ -67,16 +67,16 @@ def test_a_4d_attempt_stays_within_ten_times_the_2d_bound(batch, seed):
     """Issue 22: the 4D rebuild once made knot spans so small (or lifted ends so torn at creases and
     focal points) that its bound reached 30,890 against 0.506 in 2D.  Whether or not the 4D result wins,
     its own certified bound stays within 10x the 2D bound of the same face.  Where its surface is within
-    that by its own measure and only a certificate is loose (issue 34, open), the face is named as an
-    expected failure."""
+    that by its own measure and only a certificate is loose (a 4D fit at a collapsed row; the product
+    returns the 2D result and says why), the face is named as an expected failure."""
     if batch.method != "4d":
         pytest.skip("the 4D batch compares its 4D attempt with its 2D baseline")
     bad = fz.check_4d(batch)
     known = fz.known_blowups(batch)
     unknown = [x for x in bad if x not in known]
     assert not unknown, f"seed {seed}: " + "\n".join(unknown)
-    if known:       # reported, not hidden: the faces are named, and the test passes again once issue 34 is fixed
-        pytest.xfail(f"issue 34 (certificates that blow up), seed {seed}: "
+    if known:       # reported, not hidden: the faces are named, and the test passes again once they are tight
+        pytest.xfail(f"loose 4D certificates (the 2D result returned), seed {seed}: "
                      + "; ".join(f"{x} ({why})" for x, why in known.items()))
 
 

@@ -15,7 +15,9 @@ from conftest import ruled_here  # noqa: E402
 @pytest.fixture(scope="module")
 def loose_face(tmp_path_factory):
     """The fuzz's face 2378750657:2 (rational, extreme weights, 0.044 across): its 2D bound was 78.9 against
-    a measured 0.0027, and it was told that 'no ruled surface comes near' it."""
+    a measured 0.0027, and it was told that 'no ruled surface comes near' it.  Its bound is 0.0277 now
+    (graded grids), still loose against what the measure at 12 samples finds (5e-11: its samples miss where
+    the result runs past the face, 0.006 by OCCT alone; see the test after this one)."""
     import fuzz_faces as fz
 
     from ruled.occ.io import write_step
@@ -45,6 +47,39 @@ def test_a_loose_bound_is_said_loose_and_never_far(loose_face, tmp_path):
     assert f"ruled: warning: face 0: {loose[0]}" in run.stderr.splitlines(), run.stderr
     fit = rcq.fit_face(get_face(loose_face, 0), samples=12, measure_samples=12)
     assert [w for w in fit.warnings if "is loose" in w] == loose
+
+
+@pytest.mark.slow
+def test_extreme_weights_get_a_bound_near_their_distance_and_their_true_area():
+    """The same face (weights from 0.007 to 290 over a 4 x 3 net): its parameter speed varies a
+    million-fold, and a grid uniform in the parameter bounded its second derivatives at 1e8 (a bound of 69
+    on a fit 0.006 away); and its area, integrated by a fixed rule (OCCT's adaptive one too), came out 0.0044
+    instead of 0.0076, so that the best candidate (along u) was refused as covering 1.77 times the face.
+    Now the area is OCCT's fine mesh's to 1e-3, the fit along u is returned, and OCCT alone (points inside
+    and on the edges, both ways) finds it within a bound no more than 10x its distance."""
+    import fuzz_faces as fz
+    import numpy as np
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.TopLoc import TopLoc_Location
+    from trimmed_faces import extrema_measure
+
+    import ruled.cq as rcq
+    from ruled.fit.fit2d import span_area
+    from ruled.occ.convert import face_to_container
+    face = fz.face_named("2d:2378750657:2").face
+    BRepMesh_IncrementalMesh(face, 2e-5, False, 0.05, True)
+    tri = BRep_Tool.Triangulation_s(face, TopLoc_Location())
+    P = np.array([tri.Node(i).Coord() for i in range(1, tri.NbNodes() + 1)])
+    T = np.array([tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)]) - 1
+    mesh = 0.5 * np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1).sum()
+    area = span_area(face_to_container(face))
+    assert abs(area / mesh - 1.0) < 1e-3, (area, mesh)
+    fit = rcq.fit_face(face, samples=12, measure_samples=12)
+    assert fit.result.best.direction == "u" and not any("another region" in n for n in fit.result.notes), \
+        fit.result.notes
+    there, back = extrema_measure(face, fit.face.wrapped, 40)
+    assert max(there, back) <= fit.error_bound <= 10.0 * max(there, back), (there, back, fit.error_bound)
 
 
 @pytest.mark.slow
