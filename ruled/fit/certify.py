@@ -324,7 +324,10 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
         Rss = (1.0 - tlo) * A2 + thi * B2
     ru = (Suu * hu ** 2 + Rss * dsu ** 2 + 2 * Rst * dsu * dtu) / 8.0
     rv = (Svv * hv ** 2 + Rss * dsv ** 2 + 2 * Rst * dsv * dtv) / 8.0
-    for sk in bd.kinks:
+    # R's kinks, and for a closed result its seam (s = 0, where R_s jumps when the face's boundary has a
+    # corner there: a degree-1 tube's seam is one; a smooth seam adds only its round-off jump)
+    kinks = bd.kinks if not closed or np.any(bd.kinks == 0.0) else np.concatenate([[0.0], bd.kinks])
+    for sk in kinks:
         hit = _crossing(slo, shi, sk, closed)
         if hit.any():
             J = _joint_jumps(R, sk)[0]
