@@ -112,7 +112,8 @@ def refine_axis(H: np.ndarray, knots: np.ndarray, p: int, pieces: int, axis: int
     a, b = knots[p], knots[-p - 1]
     kv = np.unique(knots)
     kv = kv[(kv >= a) & (kv <= b)]
-    new = (kv[:-1, None] + np.diff(kv)[:, None] * (np.arange(1, max(pieces, 1)) / max(pieces, 1))[None, :]).ravel()
+    pieces = max(pieces, 1)
+    new = (kv[:-1, None] + np.diff(kv)[:, None] * (np.arange(1, pieces) / pieces)[None, :]).ravel()
     if extra is not None and len(extra):
         # apart from every knot (a span far shorter than its neighbours makes the collocation ill-posed)
         gap = 1e-9 * (b - a)

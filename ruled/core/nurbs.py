@@ -311,14 +311,14 @@ class Surface:
         """The same surface with each knot span split into pieces, and knots inserted at extra_u, extra_v
         (Boehm insertion): its per-span derivative bounds are local to smaller pieces, hence tighter
         (cached; not periodic any more)."""
-        none = (extra_u is None or len(extra_u) == 0) and (extra_v is None or len(extra_v) == 0)
-        if pieces_u <= 1 and pieces_v <= 1 and none:
+        plain = (extra_u is None or len(extra_u) == 0) and (extra_v is None or len(extra_v) == 0)
+        if pieces_u <= 1 and pieces_v <= 1 and plain:
             return self
         cache = self.__dict__.get("_sub_cache")
         if cache is None:
             cache = {}
             object.__setattr__(self, "_sub_cache", cache)
-        key = (pieces_u, pieces_v) + (() if none else (np.asarray(extra_u, float).tobytes(),
+        key = (pieces_u, pieces_v) + (() if plain else (np.asarray(extra_u, float).tobytes(),
                                                         np.asarray(extra_v, float).tobytes()))
         if key not in cache:
             H, ku = refine_axis(self._hom, self.knots_u, self.degree_u, pieces_u, 0, extra_u)

@@ -123,9 +123,17 @@ def graded_nodes(S: Surface, direction: str, count: int) -> np.ndarray:
     iso-curves across it, step by step) where S is rational with extreme weights (WEIGHT_SPREAD), else
     none.  There the parameter speed varies by orders of magnitude, and cells uniform in the parameter
     are far too long where the surface rushes (a second-derivative remainder in the thousands where
-    the fit is 0.01 away); any grid is valid, so the graded nodes only tighten the bound."""
+    the fit is 0.01 away); any grid is valid, so the graded nodes only tighten the bound.  Cached on S
+    (every certificate of a face, and the twins of each, ask for the same)."""
     if S.weights is None:
         return np.zeros(0)
+    cache = S.__dict__.setdefault("_graded_cache", {})
+    if (direction, count) not in cache:
+        cache[(direction, count)] = _graded(S, direction, count)
+    return cache[(direction, count)]
+
+
+def _graded(S: Surface, direction: str, count: int) -> np.ndarray:
     p = S.degree_u if direction == "u" else S.degree_v
     w = S.weights if direction == "u" else S.weights.T
     win = np.lib.stride_tricks.sliding_window_view(w, p + 1, axis=0)

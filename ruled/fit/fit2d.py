@@ -95,7 +95,7 @@ def span_area(S: Surface, m: int = 8, rtol: float = 1e-7, cells: int = 1 << 17) 
     """The surface's area to about rtol: Gauss-Legendre with m x m points on every pair of knot spans (the
     integrand is smooth inside one, not across its knots), each cell whose m- and m/2-point rules differ
     by more than rtol of the area split in four, until they agree (a rational surface with extreme
-    weights rushes through a corner of a span: a fixed rule was 35 % off on one) or ``cells`` are reached."""
+    weights rushes through a corner of a span: a fixed rule was 43 % low on one) or ``cells`` are reached."""
     u0, u1, v0, v1 = S.domain
     ku = np.unique(np.clip(S.knots_u, u0, u1))
     kv = np.unique(np.clip(S.knots_v, v0, v1))
@@ -129,8 +129,8 @@ def _cell_areas(S: Surface, box: np.ndarray, g: np.ndarray, w: np.ndarray) -> np
     for i in range(0, box.shape[0], block):
         b = box[i:i + block]
         hu, hv = b[:, 1] - b[:, 0], b[:, 3] - b[:, 2]
-        U = (b[:, 0, None, None] + hu[:, None, None] * x[None, :, None]) + 0.0 * x[None, None, :]
-        V = (b[:, 2, None, None] + hv[:, None, None] * x[None, None, :]) + 0.0 * x[None, :, None]
+        U, V = np.broadcast_arrays(b[:, 0, None, None] + hu[:, None, None] * x[None, :, None],
+                                   b[:, 2, None, None] + hv[:, None, None] * x[None, None, :])
         D = S.evaluate(U.ravel(), V.ravel(), 1)
         J = np.linalg.norm(np.cross(D.Su, D.Sv), axis=1).reshape(b.shape[0], k * k)
         out[i:i + block] = 0.25 * hu * hv * (J @ W)

@@ -49,6 +49,18 @@ def test_a_loose_bound_is_said_loose_and_never_far(loose_face, tmp_path):
     assert [w for w in fit.warnings if "is loose" in w] == loose
 
 
+def _fuzz_face_fitted(name: str) -> tuple:
+    """A fuzz face by name, its fit in Python at the fuzz's samples, and OCCT alone's measure of the result
+    (face to result, result to face: points inside and on the edges of each)."""
+    import fuzz_faces as fz
+    from trimmed_faces import extrema_measure
+
+    import ruled.cq as rcq
+    face = fz.face_named(name).face
+    fit = rcq.fit_face(face, samples=fz.SAMPLES, measure_samples=fz.SAMPLES)
+    return (face, fit) + tuple(extrema_measure(face, fit.face.wrapped, 40))
+
+
 @pytest.mark.slow
 def test_extreme_weights_get_a_bound_near_their_distance_and_their_true_area():
     """The same face (weights from 0.007 to 290 over a 4 x 3 net): its parameter speed varies a
@@ -57,17 +69,14 @@ def test_extreme_weights_get_a_bound_near_their_distance_and_their_true_area():
     instead of 0.0076, so that the best candidate (along u) was refused as covering 1.77 times the face.
     Now the area is OCCT's fine mesh's to 1e-3, the fit along u is returned, and OCCT alone (points inside
     and on the edges, both ways) finds it within a bound no more than 10x its distance."""
-    import fuzz_faces as fz
     import numpy as np
     from OCP.BRep import BRep_Tool
     from OCP.BRepMesh import BRepMesh_IncrementalMesh
     from OCP.TopLoc import TopLoc_Location
-    from trimmed_faces import extrema_measure
 
-    import ruled.cq as rcq
     from ruled.fit.fit2d import span_area
     from ruled.occ.convert import face_to_container
-    face = fz.face_named("2d:2378750657:2").face
+    face, fit, there, back = _fuzz_face_fitted("2d:2378750657:2")
     BRepMesh_IncrementalMesh(face, 2e-5, False, 0.05, True)
     tri = BRep_Tool.Triangulation_s(face, TopLoc_Location())
     P = np.array([tri.Node(i).Coord() for i in range(1, tri.NbNodes() + 1)])
@@ -75,10 +84,8 @@ def test_extreme_weights_get_a_bound_near_their_distance_and_their_true_area():
     mesh = 0.5 * np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1).sum()
     area = span_area(face_to_container(face))
     assert abs(area / mesh - 1.0) < 1e-3, (area, mesh)
-    fit = rcq.fit_face(face, samples=12, measure_samples=12)
     assert fit.result.best.direction == "u" and not any("another region" in n for n in fit.result.notes), \
         fit.result.notes
-    there, back = extrema_measure(face, fit.face.wrapped, 40)
     assert max(there, back) <= fit.error_bound <= 10.0 * max(there, back), (there, back, fit.error_bound)
 
 
@@ -89,14 +96,8 @@ def test_a_closed_result_with_a_corner_at_its_seam_is_within_its_bound():
     whose seam is a corner of the result.  The certificate left out the jump of the result's derivative
     there: 1.747e-5, while OCCT alone (and a brute force over 500 x 500 points of each face) finds points
     of the result 1.854e-5 from the face.  Now OCCT alone finds both faces within the bound."""
-    import fuzz_faces as fz
-    from trimmed_faces import extrema_measure
-
-    import ruled.cq as rcq
-    face = fz.face_named("2d:1008149261:42").face
-    fit = rcq.fit_face(face, samples=12, measure_samples=12)
+    _, fit, there, back = _fuzz_face_fitted("2d:1008149261:42")
     assert fit.result.best.closed, fit.result.notes
-    there, back = extrema_measure(face, fit.face.wrapped, 40)
     assert back > 1.8e-5 and max(there, back) <= fit.error_bound, (there, back, fit.error_bound)
 
 
