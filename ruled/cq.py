@@ -84,17 +84,19 @@ def _cq(shape, kind: str = "Face"):
 def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optional[float] = None,
              direction: str = "auto", refine: bool = True, measure: bool = True, measure_samples: int = 40,
              progress: Progress = None, method: str = "2d", elevations: Optional[int] = None,
-             step: Optional[float] = None, metric: str = "lsad", rails=None) -> RuledFit:
+             step: Optional[float] = None, metric: str = "lsad", rails=None, ends: str = "pinned") -> RuledFit:
     """Fit the best ruled surface to a face as bounded by its edges (2D-DP over boundary samples, or
     4D-DP with the ruling ends lifted along the normal; refined, certified).  rails: two edge indices
-    of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join."""
+    of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join.  ends:
+    'pinned' (the end rulings at the face's corners), 'trimmed' (the rails run past the face, the result
+    trimmed by its edges) or 'auto' (the smaller certified bound)."""
     from ruled.fit.facefit import area_ratio, first_consistent, measured_warnings
     from ruled.occ.convert import container_to_face
     from ruled.occ.measure import hausdorff
     from ruled.occ.region import fit_face as _fit_face
 
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
-                      refine=refine, method=method, elevations=elevations, step=step, metric=metric)
+                      refine=refine, method=method, elevations=elevations, step=step, metric=metric, ends=ends)
     slack = 0.0
     if isinstance(face, Surface):
         src = container_to_face(face)
@@ -106,10 +108,11 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     area = face_area(src, 1e-6) if measure else None      # once: each candidate tried is compared with it
 
     def built(r):
-        out = container_to_face(r.surface)
+        from ruled.occ.trimmed import result_face
+        out = result_face(r)
         h = hausdorff(src, out, measure_samples) if measure else None
         size = r.patch.face_size if r.patch is not None else r.surface.diagonal()
-        ratio = None if h is None else area_ratio(r, area)
+        ratio = None if h is None else area_ratio(r, area, face_area(out, 1e-6) if r.best.trim is not None else None)
         return out, h, measured_warnings(r, r.error_bound + slack, None if h is None else h.max, size, ratio)
     res, out, h, more = first_consistent(res, built)
     warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + more

@@ -43,7 +43,7 @@ def cmd_faces(args) -> int:
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
             elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True,
-            text=cli_text, face_timeout=None) -> dict:
+            text=cli_text, face_timeout=None, ends="pinned") -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
     already (the batch's workers keep the files they have read); say: print the warnings and notes
     (the batch keeps them in the reports); text: how the warnings name options (the command's terms);
@@ -51,7 +51,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     from ruled.fit.options import FitOptions
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
-                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
+                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20, ends=ends).checked()
     check_outputs(output, report, plot, inputs=(input_path,))
     check_measure_samples(measure_samples)
     if face_timeout is not None:
@@ -100,11 +100,11 @@ def _built_and_measured(res, slack, face, area, face_index, output, input_path, 
     from ruled.core.errors import FiguresError
     from ruled.fit.facefit import area_ratio, measured_warnings
     from ruled.fit.report import report_dict
-    from ruled.occ.convert import container_to_face
     from ruled.occ.io import face_area, write_step
     from ruled.occ.measure import hausdorff
+    from ruled.occ.trimmed import result_face
     t1 = time.perf_counter()
-    out_face = container_to_face(res.surface)
+    out_face = result_face(res)
     write_step(out_face, output)
     t_write = time.perf_counter() - t1
     t2 = time.perf_counter()
@@ -120,7 +120,11 @@ def _built_and_measured(res, slack, face, area, face_index, output, input_path, 
                                  "resolution": h.resolution},
                       timings={**timings, "build_and_write": t_write, "measure": t_meas}, version=__version__,
                       conversion_slack=slack)
-    rep["area"] = {"face": area, "result": face_area(out_face, 1e-6), "ratio": area_ratio(res, area)}
+    result_area = face_area(out_face, 1e-6)
+    rep["area"] = {"face": area, "result": result_area, "ratio": area_ratio(res, area, result_area)}
+    if res.best.trim is not None:
+        rep["trim"] = {"ends": "trimmed", "trim_eps": res.best.trim.eps, "trim_bound": res.best.trim.added,
+                       **(res.patch.extension or {})}
     try:
         more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size,
                                                    rep["area"]["ratio"])]
@@ -134,7 +138,9 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
     h = rep["hausdorff"]
     rg = rep.get("region")
     where = f"along {rep['direction']}"
-    if rg is not None and rg["trimmed"]:
+    if rep.get("trim"):
+        where = "crossing the face's end edges (the rails run past the face; the result is trimmed by its edges)"
+    elif rg is not None and rg["trimmed"]:
         where = f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and " \
                 f"{','.join(map(str, rg['rails'][1])) or 'a point'} of the trimmed face"
     print(f"face {rep['face']}: rulings {where}{' (closed)' if rep['closed'] else ''}, "
@@ -166,7 +172,8 @@ def cmd_fit(args) -> int:
                   max_error=args.max_error, direction=args.direction, refine=not args.no_refine,
                   report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet,
                   method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
-                  memory_cap_mb=args.memory_cap, rails=args.rails, face_timeout=args.face_timeout)
+                  memory_cap_mb=args.memory_cap, rails=args.rails, face_timeout=args.face_timeout,
+                  ends=args.ends)
     _summary(rep, args.output, args.report, args.plot)
     return 0
 

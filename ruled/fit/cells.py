@@ -4,6 +4,7 @@ where its bound is loose."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -19,6 +20,7 @@ class Certificate:
     nodes: tuple        # grid size (nu, nv)
     map_deviation: float = 0.0   # included in bound: the fitted patch's deviation from the bounded face
     rounding: float = 0.0        # included in bound: double precision's round-off in the evaluations
+    psi: Optional[tuple] = None  # a masked (trimmed) certificate's map: (us, vs, s, t), R's (s, t) at the grid's nodes
 
 
 def _corner_max(f: np.ndarray) -> np.ndarray:

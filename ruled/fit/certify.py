@@ -55,6 +55,7 @@ from ruled.fit.bounds import (
 )
 from ruled.fit.cells import FLOOR, Certificate, _cells_to_split, _corner_max
 from ruled.fit.certify_reverse import certify_reverse
+from ruled.fit.extend import face_mask
 from ruled.fit.pairing import Pairing
 from ruled.fit.reparam import Boundaries
 
@@ -285,7 +286,11 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
     sw = np.mod(s, 1.0) if closed else s
     Rp = R(sw.ravel(), t.ravel()).reshape(nu, nv, 3)
     f = np.linalg.norm(X - Rp, axis=2)
-    if float(f.max()) >= prune:
+    # a trimmed result: only the cells that meet the face count (ruled.fit.extend)
+    mask = face_mask(S)
+    cm = None if mask is None else mask.cells(us, vs)
+    fmax = float(f.max()) if cm is None else float(_corner_max(f)[cm].max())
+    if fmax >= prune:
         return None
     # per-cell remainder
     Suu = _range_max(_range_max(b["Suu"], span_u, 0), span_v, 1)
@@ -336,13 +341,19 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
     if second:
         # only where it can matter: a cell whose first-order bound is within the node maximum (which the
         # bound is at least) leaves the bound, and the cells the refinement splits, as they are
-        need = _corner_max(f) + ru + rv > f.max()
+        need = _corner_max(f) + ru + rv > fmax
         r2u, r2v = _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw, need)
         use = r2u + r2v < ru + rv
         ru, rv = np.where(use, r2u, ru), np.where(use, r2v, rv)
+    if cm is not None:
+        ru, rv = np.where(cm, ru, 0.0), np.where(cm, rv, 0.0)
     rem = ru + rv
     cell = _corner_max(f) + rem
-    return Certificate(float(cell.max()), float(f.max()), float(rem.max()), (nu, nv)), cell, (ru, rv)
+    psi = None
+    if cm is not None:
+        cell = np.where(cm, cell, 0.0)
+        psi = (us.copy(), vs.copy(), s.copy(), t.copy())
+    return Certificate(float(cell.max()), fmax, float(rem.max()), (nu, nv), psi=psi), cell, (ru, rv)
 
 
 def _remainder2(S, us, vs, span_u, span_v, s, t, slo, shi, closed, R, bd, tw, need) -> tuple:
@@ -453,6 +464,10 @@ def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, ta
     win), from S's side (certify)."""
     rnd = (ROUND_ULPS * np.finfo(float).eps + WRITTEN) * max(float(np.abs(S.poles).max()),
                                                              float(np.abs(R.poles).max()))
+    if face_mask(S) is not None:
+        # a trimmed result: the forward map's image of the face is the result (ruled.fit.trim)
+        fwd = certify(S, pairing, bd, R, target_u, target_v, rival=cutoff)
+        return replace(fwd, bound=fwd.bound + rnd, rounding=rnd)
     rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
     if not (rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff):
         fwd = certify(S, pairing, bd, R, target_u, target_v, rival=min(rev.bound, cutoff))

@@ -22,7 +22,7 @@ from ruled.core.progress import Progress
 from ruled.core.region import Region, Sides, four_sides, side_candidates
 from ruled.fit.coons import coons_map
 from ruled.fit.fit2d import GRID_COARSE, GRID_FINE, FitResult, iso_fit, recertify, ruling_figure
-from ruled.fit.options import Direction, FitOptions
+from ruled.fit.options import Direction, Ends, FitOptions, Method
 from ruled.fit.surface import fit_surface
 from ruled.split.strips import side_surface
 
@@ -48,6 +48,12 @@ class FacePatch:
     warnings: tuple = ()
     edge_gap: float = 0.0              # part of deviation: the face's edges lie off its surface by up to this
     hole_span: float = 0.0             # part of deviation: the spanning part over holes is this near the face
+    mask: Optional[object] = None      # an extended patch (ruled.fit.extend): the face in its (s, t); result trimmed
+    extension: Optional[dict] = None   # how far the extended patch's rails run past the face
+
+    @property
+    def trimmed(self) -> bool:
+        return self.mask is not None
 
     def rails(self, direction: str) -> tuple:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
@@ -59,6 +65,8 @@ class FacePatch:
 
     @property
     def how(self) -> str:
+        if self.trimmed:
+            return f"rails past the face ({self.sides.how}), trimmed by the face's edges"
         return "the face is its surface's whole (u, v) rectangle" if self.identity else self.sides.how
 
 
@@ -168,14 +176,128 @@ def with_deviation(res: FitResult, dev: float) -> FitResult:
 @one_thread
 def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Progress = None,
                rails: Optional[tuple] = None, patch: Optional[FacePatch] = None) -> FitResult:
-    """The globally optimal ruled fit of the face as bounded by its edges (fit_surface on its patch);
-    the result's ``patch`` tells the rails, and its bound includes the patch's deviation."""
+    """The globally optimal ruled fit of the face as bounded by its edges: with the end rulings pinned
+    to its corners (fit_pinned), and with the rails run past the face and the result trimmed by its
+    edges (ruled.fit.extend, ruled.fit.trim); by default the one with the smaller certified bound
+    (options.ends), its notes saying which and why."""
+    opts = options.checked()
+    if patch is not None or opts.ends == Ends.PINNED or opts.method != Method.D2:
+        return fit_pinned(region, opts, progress, rails, patch)
+    pinned = why = None
+    if opts.ends == Ends.AUTO:
+        try:
+            pinned = fit_pinned(region, opts, progress, rails)
+        except DegenerateFaceError as exc:
+            why = exc
+    trimmed, reason = fit_trimmed(region, opts, progress, rails,
+                                  None if pinned is None else pinned.best.direction,
+                                  None if pinned is None else pinned.patch.sides)
+    if trimmed is None:
+        if pinned is None:
+            if why is not None:
+                raise why
+            pinned = fit_pinned(region, opts, progress, rails)
+        note = f"the rulings are pinned to the face's corners: {reason}"
+        return replace(pinned, notes=tuple(pinned.notes) + (note,))
+    if pinned is None:
+        return trimmed
+    tb, pb = trimmed.error_bound, pinned.error_bound
+    if tb < pb:
+        return replace(trimmed, notes=tuple(trimmed.notes) + (
+            f"the rails run past the face and the result is trimmed by its edges: its bound {tb:.4g} is below "
+            f"{pb:.4g} for rulings pinned to the face's corners",))
+    return replace(pinned, notes=tuple(pinned.notes) + (
+        f"the rulings are pinned to the face's corners: their bound {pb:.4g} is at most {tb:.4g} for rails run "
+        f"past the face and trimmed by its edges",))
+
+
+def _rotated(sides: Sides) -> Sides:
+    """The same sides with sides 1 and 3 as the rails."""
+    p = sides.pieces
+    return replace(sides, pieces=(p[1], p[2], p[3], p[0]))
+
+
+def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePatch]:
+    """The face's extended patch with rails on sides 0 and 2 (ruled.fit.extend), sampled like the pinned
+    patch, or None where no extension covers the face."""
+    from ruled.fit.extend import extended_map, masked
+    got = extended_map(region, sides)
+    if got is None:
+        return None
+    m, mask = got
+    try:
+        side = side_surface(region.surface, m, PATCH_TOL * max(size, 1e-300), PATCH_MAX_SPANS, PATCH_ACCEPT * size)
+    except RuledError:
+        return None
+    E = masked(side.surface, mask)
+    gap = EDGE_MARGIN * region.max_gap()
+    # the loop's points a hair past the rails were clipped onto them: the face runs past the patch by so much
+    gap += mask.overshoot * float(E.derivative_bounds()["Sv"].max())
+    # how far the rails run past the face: in the patch's s, and along the rails in model units
+    s_lo = min(float(st[:, 0].min()) for st in mask.edges)
+    s_hi = max(float(st[:, 0].max()) for st in mask.edges)
+    run = {}
+    for name, (a, b) in (("before", (0.0, s_lo)), ("after", (s_hi, 1.0))):
+        x = np.linspace(a, b, 65)
+        run[name] = max(float(np.linalg.norm(np.diff(E(x, np.full(x.size, t)), axis=0), axis=1).sum())
+                        for t in (0.0, 1.0))
+    ext = {"s_range": [s_lo, s_hi], "past_start": run["before"], "past_end": run["after"],
+           "uv_past": [float(m.A.a), float(1.0 - m.A.b)]}
+    return FacePatch(region, E, float(side.deviation) + gap, False, sides, "v", side.spans, size, (), gap, 0.0,
+                     mask=mask, extension=ext)
+
+
+def fit_trimmed(region: Region, opts: FitOptions, progress: Progress = None, rails: Optional[tuple] = None,
+                direction: Optional[str] = None, sides: Optional[Sides] = None) -> tuple:
+    """(FitResult, None) of the face's extended patch, its candidates trimmed by the face's edges (the
+    rails the pinned fit chose, by its direction, when known; else both pairs of opposite sides), or
+    (None, why) where no extension covers the face or no fit of it can be trimmed."""
+    from ruled.fit.trim import with_trim
+    size = region_size(region)
+    if sides is None or rails is not None:
+        try:
+            sides = four_sides(region, rails)
+        except RuledError as exc:
+            return None, f"its sides cannot be found ({exc})"
+    pairs = [sides, _rotated(sides)] if rails is None else [sides]
+    if direction is not None and rails is None:
+        pairs = [sides if direction == "v" else _rotated(sides)]
+    best, why = None, "its rails cannot be run past the face without folding its map"
+    for sd in pairs:
+        patch = extended_patch(region, sd, size)
+        if patch is None:
+            continue
+        try:
+            res = with_iso(fit_surface(patch.surface, replace(opts, direction=Direction.V), progress), progress)
+        except RuledError as exc:
+            why = f"the extended patch cannot be fitted ({exc})"
+            continue
+        cands = {}
+        for d, c in res.candidates.items():
+            cands[d] = c if isinstance(c, str) else (with_trim(c, patch.mask) or "its map folds over the face")
+        ok = [c for c in cands.values() if not isinstance(c, str)]
+        other = res.other if res.other is None or isinstance(res.other, str) else with_trim(res.other, patch.mask)
+        if not ok:
+            why = "the fit's map folds over the face, so its image is not trimmed by the face's edges"
+            continue
+        top = min(ok, key=lambda c: c.error_bound)
+        r = replace(with_deviation(replace(res, best=top, candidates=cands, other=other), patch.deviation),
+                    patch=patch)
+        if best is None or r.error_bound < best.error_bound:
+            best = r
+    return (best, None) if best is not None else (None, why)
+
+
+def fit_pinned(region: Region, opts: FitOptions, progress: Progress = None, rails: Optional[tuple] = None,
+               patch: Optional[FacePatch] = None) -> FitResult:
+    """The fit with its end rulings pinned to the face's corners: fit_surface on the face's patch (its own
+    surface when it is its whole (u, v) rectangle, else its Coons patch); the result's ``patch`` tells
+    the rails, and its bound includes the patch's deviation."""
     if progress is not None:
         progress("the face's own parametrization", 0.0)
     patch = face_patch(region, rails) if patch is None else patch
     if progress is not None:
         progress("the face's own parametrization", 1.0)
-    opts = options.checked()
     if patch.direction is not None:
         opts = replace(opts, direction=Direction(patch.direction))
     res = with_iso(fit_surface(patch.surface, opts, progress), progress)
@@ -219,12 +341,15 @@ def loose_bound(res: FitResult, bound: float, measured: float, size: float) -> O
                 f"{measured:.4g}{why}")
 
 
-def area_ratio(res: FitResult, face_area: float) -> Optional[float]:
+def area_ratio(res: FitResult, face_area: float, result_area: Optional[float] = None) -> Optional[float]:
     """The result's area over the face's (None for a face with holes, which its result spans): both
     integrated span by span (ruled.fit.fit2d.span_area), the face's from its surface when it is its
-    surface's whole rectangle, else face_area (the CAD kernel's, adaptive)."""
+    surface's whole rectangle, else face_area (the CAD kernel's, adaptive).  A trimmed result's area is
+    result_area (the CAD kernel's, of the trimmed face), its holes left out like the face's."""
     from ruled.fit.fit2d import span_area
     p = res.patch
+    if res.best.trim is not None:
+        return result_area / face_area if result_area is not None and face_area > 0 else None
     if p is not None and p.region.holes:
         return None
     a = span_area(p.surface) if p is not None and p.identity else face_area

@@ -51,6 +51,7 @@ class DirectionFit:
     elevations: Optional[np.ndarray] = None   # (K, 2) 4D: elevation of each DP ruling's ends (model units)
     lift: Optional[dict] = None               # 4D: levels, step, metric, ns
     measured: Optional[float] = None          # sampled two-sided distance to the input (engine's own measure)
+    trim: Optional[Any] = None                # the face's edges on the result (ruled.fit.trim.Trim): a trimmed result
 
     @property
     def error_bound(self) -> float:

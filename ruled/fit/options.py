@@ -32,6 +32,12 @@ class Direction(str, Enum):
     V = "v"   # rulings run along v, joining the v-min and v-max boundaries
 
 
+class Ends(str, Enum):
+    AUTO = "auto"          # the one with the smaller certified bound
+    PINNED = "pinned"      # the end rulings at the face's corners (the rails are two of its sides)
+    TRIMMED = "trimmed"    # the rails run past the face and the result is trimmed by its edges
+
+
 @dataclass(frozen=True)
 class FitOptions:
     """Options of a fit; defaults live here and nowhere else.
@@ -52,6 +58,7 @@ class FitOptions:
     step: Optional[float] = None
     metric: Metric = Metric.LSAD
     memory_cap: Optional[float] = None
+    ends: Ends = Ends.PINNED     # the trimmed result is opt-in until its fit is as fast (issue 35)
 
     def __post_init__(self) -> None:
         """Validates every option on construction (one BadInputError line naming it) and normalises the
@@ -72,7 +79,7 @@ class FitOptions:
             put(self, "memory_cap", positive("memory_cap", self.memory_cap / 2.0 ** 20, "a size in MiB") * 2.0 ** 20)
         try:
             for name, kind in (("method", Method), ("metric", Metric), ("objective", Objective),
-                               ("direction", Direction)):
+                               ("direction", Direction), ("ends", Ends)):
                 put(self, name, kind(getattr(self, name)))
         except ValueError as exc:
             raise BadInputError(f"{exc}; see «fit_help»") from None

@@ -27,6 +27,7 @@ SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local project
 SEEDS = 8          # the exact distance also searches locally from this many nearest seeds
 PIECES = 6         # ... and in this many nearest smooth pieces between creases, from their own seeds
 EDGE_SEEDS = 8     # ... and along the edges near this many nearest edge samples
+REACH_MARGIN = 1.1  # an edge's arc between two samples is at most this many times their chord (dense samples)
 
 
 def face_bounds(face):
@@ -225,6 +226,13 @@ class _Projector:
             self.crease = (cKDTree(np.concatenate(crease_pts)), np.concatenate(crease_uv), np.concatenate(crease_dir))
         self.edge_pts = np.concatenate(pts) if pts else np.zeros((0, 3))
         self.edge_id = np.concatenate(ids) if ids else np.zeros(0, int)
+        # per sample, how far along its edge the next samples lie (a margin over their chords): no point of
+        # the edge between them is nearer to a point than its distance to the sample less this
+        self.edge_reach = np.zeros(len(self.edge_pts))
+        if len(self.edge_pts) > 1:
+            chord = np.linalg.norm(np.diff(self.edge_pts, axis=0), axis=1)
+            chord[self.edge_id[1:] != self.edge_id[:-1]] = 0.0
+            self.edge_reach = REACH_MARGIN * np.maximum(np.concatenate([[0.0], chord]), np.concatenate([chord, [0.0]]))
         self.edge_t = np.concatenate(ts) if ts else np.zeros(0)
         self.face = face
         self._local = None
@@ -289,7 +297,7 @@ class _Projector:
         if etree is not None:
             de, ke = etree.query(X)
             ub = np.minimum(ub, de)
-            for i in np.nonzero(de < 1.5 * ub + 1e-12)[0]:
+            for i in np.nonzero(de - self.edge_reach[ke] < ub)[0]:
                 ub[i] = min(ub[i], self._edge_refine(X[i], ke[i]))
         return ub
 
@@ -389,8 +397,9 @@ class _Projector:
             # samples (a corner's sample is on both its edges, and an edge that moves fast in its
             # parameter can pass far nearer than its samples between two of them)
             de = np.linalg.norm(self.edge_pts - x, axis=1)
-            for k in np.argsort(de)[:EDGE_SEEDS]:
-                if de[k] >= 1.5 * best + 1e-12:
+            lower = de - self.edge_reach        # no point of the edge near sample k is nearer than this
+            for k in np.argsort(lower)[:EDGE_SEEDS]:
+                if lower[k] >= best:
                     break
                 best = min(best, float(de[k]), self._edge_refine(x, int(k)))
         return best

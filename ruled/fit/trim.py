@@ -1,0 +1,154 @@
+"""The result trimmed by the face's edges: the face's boundary mapped onto the ruled surface.
+
+A fit of the face's extended patch E (ruled.fit.extend) is certified over the cells that meet the face
+only, through a map psi of E's domain onto the result R's (ruled.fit.certify: |E - R o psi| <= B over the
+face).  Where psi keeps its orientation on every such cell, the image psi(face) is the region of R's
+domain that psi(boundary) encloses, so R restricted to it is within B of the face both ways.  The trim
+curves C are cubic B-splines through psi's image of the boundary's samples (the segment of R's rail where
+an edge lies on a rail of the patch), within eps of psi(boundary) point by point; the region C encloses
+differs from psi(face) only within eps of its boundary, so the trimmed result T is within
+
+    B + eps (max |R_s| + max |R_t|)
+
+of the face, both ways (a point of either region is within eps, in R's domain, of the other).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Optional
+
+import numpy as np
+
+from ruled.core.basis import bspline_basis_matrix
+from ruled.core.nurbs import Curve
+
+SPANS = (8, 16, 32, 64, 128) # the trim curves' knot spans, tried in turn
+FIT_TOL = 1e-8                      # in R's domain (a unit square): the trim curve follows psi's image to this
+EPS_MARGIN = 1.5               # eps is sampled: raised by half
+ON_RAIL = 1e-4                 # an edge whose (s, t) in the patch is this near t = 0 (1) all along lies on a rail
+FOLD_TOL = 1e-3                # psi's Jacobian below -this of its median on a cell of the face: a fold
+
+
+@dataclass(frozen=True)
+class Trim:
+    """The face's boundary on the result R: per outer-loop edge a 2D Curve in R's (s, t) (in loop order),
+    per hole a tuple of them; eps, how far they are from psi's image of the boundary (in R's domain), and
+    added, the part of the bound that covers it (model units)."""
+
+    outer: tuple
+    holes: tuple = ()
+    eps: float = 0.0
+    added: float = 0.0
+
+
+def psi_at(psi: tuple, st: np.ndarray) -> np.ndarray:
+    """R's (s, t) at points (N, 2) of E's domain: psi, bilinear on its grid (us, vs, s, t)."""
+    us, vs, S, T = psi
+    iu = np.clip(np.searchsorted(us, st[:, 0], side="right") - 1, 0, us.size - 2)
+    iv = np.clip(np.searchsorted(vs, st[:, 1], side="right") - 1, 0, vs.size - 2)
+    a = np.clip((st[:, 0] - us[iu]) / (us[iu + 1] - us[iu]), 0.0, 1.0)
+    b = np.clip((st[:, 1] - vs[iv]) / (vs[iv + 1] - vs[iv]), 0.0, 1.0)
+    out = []
+    for F in (S, T):
+        out.append((1 - a) * (1 - b) * F[iu, iv] + a * (1 - b) * F[iu + 1, iv] + (1 - a) * b * F[iu, iv + 1]
+                   + a * b * F[iu + 1, iv + 1])
+    return np.stack(out, axis=1)
+
+
+def folds(psi: tuple, cells: np.ndarray) -> bool:
+    """Whether psi fails to keep its orientation on a cell of the mask: its bilinear Jacobian, at each
+    corner of each such cell, below -FOLD_TOL of its median somewhere (the grid's rows next to R's rails
+    are a hair high, and their nodes go to the rails' closest points: a corner there may come out flat,
+    or negative at round-off's scale, without folding anything)."""
+    us, vs, S, T = psi
+    hu, hv = np.diff(us)[:, None], np.diff(vs)[None, :]
+
+    def edge(F, axis, k):
+        # the cell's edge difference along axis at its side k (0 or 1)
+        if axis == 0:
+            return (F[1:, k:F.shape[1] - 1 + k] - F[:-1, k:F.shape[1] - 1 + k]) / hu
+        return (F[k:F.shape[0] - 1 + k, 1:] - F[k:F.shape[0] - 1 + k, :-1]) / hv
+    dets = [(edge(S, 0, j0) * edge(T, 1, i0) - edge(S, 1, i0) * edge(T, 0, j0))[cells]
+            for j0 in (0, 1) for i0 in (0, 1)]
+    d = np.concatenate(dets)
+    med = float(np.median(d)) if d.size else 0.0
+    return not (med > 0 and d.min() > -FOLD_TOL * med)
+
+
+def _fit_curve(x: np.ndarray, Y: np.ndarray, ends: tuple) -> Curve:
+    """A cubic B-spline through the points Y (N, 2) at parameters x, its end points pinned to ends, with
+    the first of SPANS that follows Y within FIT_TOL (else the last)."""
+    C = None
+    for spans in SPANS:
+        spans = min(spans, max(1, (x.size - 1) // 3))
+        knots = np.concatenate([[x[0]] * 3, np.linspace(x[0], x[-1], spans + 1), [x[-1]] * 3])
+        M = bspline_basis_matrix(knots, 3, x)
+        n = M.shape[1]
+        P = np.empty((n, 2))
+        P[0], P[-1] = ends
+        rhs = Y - M[:, :1] * P[0] - M[:, -1:] * P[-1]
+        P[1:-1] = np.linalg.lstsq(M[:, 1:-1], rhs, rcond=None)[0]
+        C = Curve(P, knots, 3)
+        if np.abs(C(x) - Y).max() <= FIT_TOL:
+            break
+    return C
+
+
+def trim_of(fit, mask) -> Optional[Trim]:
+    """The Trim of a fit of the extended patch (fit.oriented is E, its certificate carries psi), or None
+    where psi folds over the face (then the image of the face is not the region its boundary encloses)."""
+    cert = fit.certificate
+    if cert.psi is None:
+        return None
+    R = fit.surface
+    us, vs = cert.psi[0], cert.psi[1]
+    if folds(cert.psi, mask.cells(us, vs)):
+        return None
+    loops = [mask.edges] + list(mask.hole_edges)
+    out, eps = [], 0.0
+    for edges in loops:
+        # psi's image of each edge's samples; the corners, each its two edges' ends averaged
+        ys = [psi_at(cert.psi, st) for st in edges]
+        n = len(edges)
+        corner = [0.5 * (ys[k][0] + ys[k - 1][-1]) for k in range(n)]
+        rails = [0.0 if st[:, 1].max() <= ON_RAIL else 1.0 if st[:, 1].min() >= 1.0 - ON_RAIL else None
+                 for st in edges]
+        for k in range(n):          # a corner on a rail: on it exactly (its two edges meet there)
+            r = rails[k] if rails[k] is not None else rails[k - 1]
+            if r is not None:
+                corner[k] = np.array([corner[k][0], r])
+        curves = []
+        for k, y in enumerate(ys):
+            x = np.linspace(0.0, 1.0, y.shape[0])
+            st = edges[k]
+            if rails[k] is not None:
+                # an edge on a rail of the patch: the segment of R's rail between its ends' images, which psi's
+                # image follows within its distance in t (the same s: psi's s-values parametrize both)
+                curves.append(Curve(np.array([corner[k], corner[(k + 1) % n]]), np.array([0.0, 0, 1, 1]), 1))
+                eps = max(eps, float(np.abs(y[:, 1] - rails[k]).max()))
+                continue
+            C = _fit_curve(x, y, (corner[k], corner[(k + 1) % n]))
+            xx = np.linspace(0.0, 1.0, 4 * y.shape[0] - 3)
+            # psi's image between the samples: psi of the edge's (s, t), linear between the samples
+            st_f = np.stack([np.interp(xx, x, st[:, 0]), np.interp(xx, x, st[:, 1])], axis=1)
+            eps = max(eps, float(np.linalg.norm(C(xx) - psi_at(cert.psi, st_f), axis=1).max()))
+            curves.append(C)
+        out.append(tuple(curves))
+    eps *= EPS_MARGIN
+    b = R.derivative_bounds()
+    added = eps * (float(b["Su"].max()) + float(b["Sv"].max()))
+    return Trim(out[0], tuple(out[1:]), eps, added)
+
+
+def with_trim(fit, mask):
+    """The fit with its Trim and its bound raised by the trim's part; None where it has none."""
+    tr = trim_of(fit, mask)
+    if tr is None:
+        return None
+    c = fit.certificate
+    cert = replace(c, bound=c.bound + tr.added, map_deviation=c.map_deviation + tr.added)
+    return replace(fit, certificate=cert, trim=tr)
+
+
+__all__ = ["Trim", "trim_of", "with_trim", "psi_at"]

@@ -1,0 +1,78 @@
+"""Rulings that cross the face's end edges (issue 35, ``ends="trimmed"``): the rails run past the face and
+the result is trimmed by the face's own edges.
+
+Measured with OCCT alone (ruled.occ.measure: points inside each face's edges and along them, projected
+onto the other bounded face), areas by BRepGProp, validity by BRepCheck, and FreeCAD's Part "Ruled
+Surface" (BRepFill) between the face's rails as the reference a user has today.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+pytest.importorskip("OCP")
+
+from conftest import data_file  # noqa: E402
+from trimmed_faces import diamond_on_ruled_face, measure, part_ruled  # noqa: E402
+
+from ruled.fit.options import FitOptions  # noqa: E402
+from ruled.occ.io import face_area, get_face  # noqa: E402
+from ruled.occ.measure import hausdorff  # noqa: E402
+from ruled.occ.region import fit_face  # noqa: E402
+from ruled.occ.trimmed import result_face  # noqa: E402
+
+N = 24
+
+
+def _size(face) -> float:
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+    b = Bnd_Box()
+    BRepBndLib.Add_s(face, b)
+    x0, y0, z0, x1, y1, z1 = b.Get()
+    return float(((x1 - x0) ** 2 + (y1 - y0) ** 2 + (z1 - z0) ** 2) ** 0.5)
+
+
+def _fitted(face, ends: str):
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    res, slack = fit_face(face, FitOptions(ends=ends))
+    out = result_face(res)
+    assert BRepCheck_Analyzer(out).IsValid()
+    return res, res.error_bound + slack, hausdorff(face, out, N).max, face_area(out, 1e-6) / face_area(face, 1e-6)
+
+
+@pytest.fixture(scope="module")
+def diamond():
+    face = diamond_on_ruled_face()
+    return face, _fitted(face, "trimmed"), _fitted(face, "pinned")
+
+
+@pytest.mark.slow
+def test_a_ruled_face_cut_by_four_curved_edges_comes_back_near_exact_and_covers_the_face(diamond):
+    """The face lies on an exactly ruled surface and none of its four edges is a ruling: pinned at its corners
+    the best ruled surface is 5 % of its size away and misses a seventh of it; with the rails past the face it
+    is within 2e-3 of its size (0.11 for 6.5 pinned: the DP's 40 samples over the longer span, not yet the
+    1e-5 the issue asks), its bound at least the measure, and its area the face's."""
+    face, (res, bound, measured, area), (_, pbound, pmeasured, parea) = diamond
+    size = _size(face)
+    assert res.best.trim is not None
+    assert measured <= 2e-3 * size
+    assert measured <= bound
+    assert abs(area - 1.0) <= 5e-3
+    assert measured * 30 <= pmeasured           # pinned: the sagitta of the curved end edges
+    assert abs(parea - 1.0) > 0.05              # ... and it misses part of the face
+    assert bound < pbound
+
+
+@pytest.mark.slow
+def test_kj66_face_1_trimmed_is_a_tenth_of_part_ruled_between_its_rails():
+    """kj66 face 1: its end edges are curves 0.6 and 1.4 long whose sagitta sets Part Ruled's (and the
+    pinned fit's) error; the trimmed result is under a tenth of the better of Part Ruled's two orientations,
+    measured trim-aware both ways, with its bound at least the measure and its area the face's."""
+    face = get_face(data_file("kj66_impeller.step"), 1)
+    res, bound, measured, area = _fitted(face, "trimmed")
+    assert res.best.trim is not None
+    part = min(measure(face, s, N) for s in part_ruled(face, [0], [2]))
+    assert measured <= 0.1 * part
+    assert measured <= bound
+    assert abs(area - 1.0) <= 5e-3
