@@ -10,75 +10,31 @@ joins sides 0 and 2, 'u' sides 1 and 3.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Optional
 
 import numpy as np
 
 from ruled.core.blas import one_thread
 from ruled.core.errors import BadInputError, DegenerateFaceError, RuledError, Text
-from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
-from ruled.core.region import Region, Sides, four_sides, side_candidates
+from ruled.core.region import Region, four_sides, side_candidates
 from ruled.fit.coons import coons_map
-from ruled.fit.fit2d import GRID_COARSE, GRID_FINE, FitResult, iso_fit, recertify, ruling_figure
+from ruled.fit.facepatch import (  # noqa: F401 (FacePatch, region_size, with_deviation, with_iso: re-exported)
+    EDGE_MARGIN,
+    PATCH_ACCEPT,
+    PATCH_MAX_SPANS,
+    PATCH_TOL,
+    FacePatch,
+    region_size,
+    with_deviation,
+    with_iso,
+)
+from ruled.fit.facetrim import fit_trimmed
+from ruled.fit.fit2d import FitResult, ruling_figure
 from ruled.fit.options import Direction, Ends, FitOptions, Method
 from ruled.fit.surface import fit_surface
 from ruled.split.strips import side_surface
-
-PATCH_TOL = 1e-6         # the sampled patch's target deviation from S o Omega, a fraction of the face's size
-PATCH_ACCEPT = 1e-4      # kept when the surface's creases (C0 knot lines) keep the patch from the target
-PATCH_MAX_SPANS = 192
-EDGE_MARGIN = 1.05       # sampled distances between a face's 3D edges and its surface, raised by 5 %
-
-
-@dataclass(frozen=True)
-class FacePatch:
-    """The face as a four-sided patch: ``surface`` (the input surface itself when ``identity``),
-    its deviation from the bounded face, the region and its sides."""
-
-    region: Region
-    surface: Surface
-    deviation: float
-    identity: bool
-    sides: Optional[Sides] = None
-    direction: Optional[str] = None    # forced by the given rails
-    spans: tuple = (0, 0)
-    face_size: float = 0.0
-    warnings: tuple = ()
-    edge_gap: float = 0.0              # part of deviation: the face's edges lie off its surface by up to this
-    hole_span: float = 0.0             # part of deviation: the spanning part over holes is this near the face
-    mask: Optional[object] = None      # an extended patch (ruled.fit.extend): the face in its (s, t); result trimmed
-    extension: Optional[dict] = None   # how far the extended patch's rails run past the face
-
-    @property
-    def trimmed(self) -> bool:
-        return self.mask is not None
-
-    def rails(self, direction: str) -> tuple:
-        """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
-        if self.sides is not None:
-            return self.sides.rails(direction)
-        # the rectangle: the loop edges on its v-min / v-max (direction v) or u-min / u-max sides
-        sides = self.region.rect_sides() or []
-        return tuple(tuple(k for k, (n, _) in enumerate(sides) if n == f"{direction}{i}") for i in (0, 1))
-
-    @property
-    def how(self) -> str:
-        if self.trimmed:
-            return f"rails past the face ({self.sides.how}), trimmed by the face's edges"
-        return "the face is its surface's whole (u, v) rectangle" if self.identity else self.sides.how
-
-
-def region_size(region: Region) -> float:
-    """The diagonal of the bounding box of the face's boundary (dense samples of its image)."""
-    S = region.surface
-    pts = []
-    for k, c in enumerate(region.loop):
-        uv = region.uv(k, np.linspace(c.domain[0], c.domain[1], 33))
-        pts.append(S(uv[:, 0], uv[:, 1]))
-    P = np.concatenate(pts)
-    return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
 
 
 def _rect_direction(region: Region, rails) -> str:
@@ -159,20 +115,6 @@ def _choose_sides(region: Region, rails, size: float):
     return best
 
 
-def with_deviation(res: FitResult, dev: float) -> FitResult:
-    """The fit with every candidate's certified bound raised by the patch's deviation."""
-    if dev == 0.0:
-        return res
-
-    def up(c):
-        if isinstance(c, str) or c is None:
-            return c
-        return replace(c, certificate=replace(c.certificate, bound=c.certificate.bound + dev,
-                                              map_deviation=c.certificate.map_deviation + dev))
-    return replace(res, best=up(res.best), candidates={d: up(c) for d, c in res.candidates.items()},
-                   other=up(res.other))
-
-
 @one_thread
 def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Progress = None,
                rails: Optional[tuple] = None, patch: Optional[FacePatch] = None) -> FitResult:
@@ -202,90 +144,10 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     if pinned is None:
         return trimmed
     tb, pb = trimmed.error_bound, pinned.error_bound
-    if tb < pb:
-        return replace(trimmed, notes=tuple(trimmed.notes) + (
-            f"the rails run past the face and the result is trimmed by its edges: its bound {tb:.4g} is below "
-            f"{pb:.4g} for rulings pinned to the face's corners",))
-    return replace(pinned, notes=tuple(pinned.notes) + (
-        f"the rulings are pinned to the face's corners: their bound {pb:.4g} is at most {tb:.4g} for rails run "
-        f"past the face and trimmed by its edges",))
-
-
-def _rotated(sides: Sides) -> Sides:
-    """The same sides with sides 1 and 3 as the rails."""
-    p = sides.pieces
-    return replace(sides, pieces=(p[1], p[2], p[3], p[0]))
-
-
-def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePatch]:
-    """The face's extended patch with rails on sides 0 and 2 (ruled.fit.extend), sampled like the pinned
-    patch, or None where no extension covers the face."""
-    from ruled.fit.extend import extended_map, masked
-    got = extended_map(region, sides)
-    if got is None:
-        return None
-    m, mask = got
-    try:
-        side = side_surface(region.surface, m, PATCH_TOL * max(size, 1e-300), PATCH_MAX_SPANS, PATCH_ACCEPT * size)
-    except RuledError:
-        return None
-    E = masked(side.surface, mask)
-    gap = EDGE_MARGIN * region.max_gap()
-    # the loop's points a hair past the rails were clipped onto them: the face runs past the patch by so much
-    gap += mask.overshoot * float(E.derivative_bounds()["Sv"].max())
-    # how far the rails run past the face: in the patch's s, and along the rails in model units
-    s_lo = min(float(st[:, 0].min()) for st in mask.edges)
-    s_hi = max(float(st[:, 0].max()) for st in mask.edges)
-    run = {}
-    for name, (a, b) in (("before", (0.0, s_lo)), ("after", (s_hi, 1.0))):
-        x = np.linspace(a, b, 65)
-        run[name] = max(float(np.linalg.norm(np.diff(E(x, np.full(x.size, t)), axis=0), axis=1).sum())
-                        for t in (0.0, 1.0))
-    ext = {"s_range": [s_lo, s_hi], "past_start": run["before"], "past_end": run["after"],
-           "uv_past": [float(m.A.a), float(1.0 - m.A.b)]}
-    return FacePatch(region, E, float(side.deviation) + gap, False, sides, "v", side.spans, size, (), gap, 0.0,
-                     mask=mask, extension=ext)
-
-
-def fit_trimmed(region: Region, opts: FitOptions, progress: Progress = None, rails: Optional[tuple] = None,
-                direction: Optional[str] = None, sides: Optional[Sides] = None) -> tuple:
-    """(FitResult, None) of the face's extended patch, its candidates trimmed by the face's edges (the
-    rails the pinned fit chose, by its direction, when known; else both pairs of opposite sides), or
-    (None, why) where no extension covers the face or no fit of it can be trimmed."""
-    from ruled.fit.trim import with_trim
-    size = region_size(region)
-    if sides is None or rails is not None:
-        try:
-            sides = four_sides(region, rails)
-        except RuledError as exc:
-            return None, f"its sides cannot be found ({exc})"
-    pairs = [sides, _rotated(sides)] if rails is None else [sides]
-    if direction is not None and rails is None:
-        pairs = [sides if direction == "v" else _rotated(sides)]
-    best, why = None, "its rails cannot be run past the face without folding its map"
-    for sd in pairs:
-        patch = extended_patch(region, sd, size)
-        if patch is None:
-            continue
-        try:
-            res = with_iso(fit_surface(patch.surface, replace(opts, direction=Direction.V), progress), progress)
-        except RuledError as exc:
-            why = f"the extended patch cannot be fitted ({exc})"
-            continue
-        cands = {}
-        for d, c in res.candidates.items():
-            cands[d] = c if isinstance(c, str) else (with_trim(c, patch.mask) or "its map folds over the face")
-        ok = [c for c in cands.values() if not isinstance(c, str)]
-        other = res.other if res.other is None or isinstance(res.other, str) else with_trim(res.other, patch.mask)
-        if not ok:
-            why = "the fit's map folds over the face, so its image is not trimmed by the face's edges"
-            continue
-        top = min(ok, key=lambda c: c.error_bound)
-        r = replace(with_deviation(replace(res, best=top, candidates=cands, other=other), patch.deviation),
-                    patch=patch)
-        if best is None or r.error_bound < best.error_bound:
-            best = r
-    return (best, None) if best is not None else (None, why)
+    won, how = (trimmed, "the rails run past the face, trimmed by its edges") if tb < pb else \
+        (pinned, "the rulings are pinned to the face's corners")
+    note = f"{how}: bound {min(tb, pb):.4g} (trimmed {tb:.4g}, pinned {pb:.4g})"
+    return replace(won, notes=tuple(won.notes) + (note,))
 
 
 def fit_pinned(region: Region, opts: FitOptions, progress: Progress = None, rails: Optional[tuple] = None,
@@ -460,48 +322,6 @@ def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:
                                   "with «rails=A,B»)")
     best = min(ok, key=lambda c: c.error_bound)
     return res if best is res.best else replace(res, best=best, candidates=cands)
-
-
-ISO_MARGIN = 1e-3
-
-
-def with_iso(res: FitResult, progress: Progress = None) -> FitResult:
-    """The fit, where in either direction the iso-parametric ruled surface between the same rails has
-    the lower certified bound, with that surface instead (the DP's objective is a sum over its rulings,
-    so the straight pairing can win on the largest distance): never worse than a CAD system's ruled
-    surface between two opposite edges."""
-    cands = dict(res.candidates)
-    notes = list(res.notes)
-    for d, c in res.candidates.items():
-        if isinstance(c, str) or (c.method == "2d" and np.all(c.pairs[:, 0] == c.pairs[:, 1])):
-            continue
-        if progress is not None:
-            progress(f"iso-parametric check ({d})", 0.0)
-        # a coarse certificate first (an upper bound too), one-sided where it cannot beat the best bound
-        # yet (c is among them) ...
-        rival = min(o.error_bound for o in cands.values() if not isinstance(o, str))
-        iso = iso_fit(c, GRID_COARSE, rival)
-        # ... the fine one only where it may win by more than 0.1 %, and samples closer than the DP's fit
-        # (a tie within that is not worth a fine certificate: either surface is as good)
-        if iso is not None and iso.certificate.node_max < (1.0 - ISO_MARGIN) * min(rival, c.certificate.node_max):
-            iso = recertify(iso, GRID_FINE, rival)
-        if progress is not None:
-            progress(f"iso-parametric check ({d})", 1.0)
-        if iso is not None and iso.error_bound < c.error_bound:
-            cands[d] = iso
-            if c is res.best:
-                notes.append(f"the iso-parametric ruled surface between the rails has the lower bound "
-                             f"({iso.error_bound:.4g} against {c.error_bound:.4g} for the DP's pairing) and is "
-                             f"the result")
-    ok = [c for c in cands.values() if not isinstance(c, str)]
-    best = min(ok, key=lambda c: c.error_bound)
-    if best is res.best:
-        return res
-    if best.direction != res.best.direction and best.method == "iso":
-        notes.append(f"the iso-parametric ruled surface along {best.direction} has the lowest bound "
-                     f"({best.error_bound:.4g}) and is the result")
-    return replace(res, best=best, candidates=cands, notes=tuple(notes),
-                   other=res.best if res.other is None else res.other)
 
 
 __all__ = ["FacePatch", "face_patch", "fit_region", "region_size", "with_deviation", "PATCH_TOL"]

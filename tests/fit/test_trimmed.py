@@ -247,8 +247,11 @@ def test_real_trimmed_faces_fit_the_face_never_worse_than_part(real_fits):
         assert bound >= meas, (name, k, bound, meas)
         # never worse than Part's ruled surface between the rails: where both meet the face's own limit (the
         # blades' curved end edges, which no ruled surface through the rails can follow), they tie within
-        # the sampled measure's resolution at N = 20 (2 %)
-        assert meas <= part * 1.02 + 1e-7 * size, (name, k, meas, part)
+        # the sampled measure's resolution at N = 20 (2 %); faces 80 and 81 are fitted on their surfaces, whose
+        # rectangles their edges miss by 0.0011 (within their tolerance): Part rules between the edges themselves
+        # (4e-12 since the measure stopped overestimating points near long edges), the fit is that far
+        slack = res.patch.edge_gap if res.patch.identity else 0.0
+        assert meas <= part * 1.02 + 1e-7 * size + slack, (name, k, meas, part, slack)
     print("\n" + "\n".join(rows))
 
 
