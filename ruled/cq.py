@@ -84,12 +84,12 @@ def _cq(shape, kind: str = "Face"):
 def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optional[float] = None,
              direction: str = "auto", refine: bool = True, measure: bool = True, measure_samples: int = 40,
              progress: Progress = None, method: str = "2d", elevations: Optional[int] = None,
-             step: Optional[float] = None, metric: str = "lsad", rails=None, ends: str = "pinned") -> RuledFit:
+             step: Optional[float] = None, metric: str = "lsad", rails=None, ends: str = "auto") -> RuledFit:
     """Fit the best ruled surface to a face as bounded by its edges (2D-DP over boundary samples, or
     4D-DP with the ruling ends lifted along the normal; refined, certified).  rails: two edge indices
     of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join.  ends:
-    'pinned' (the end rulings at the face's corners), 'trimmed' (the rails run past the face, the result
-    trimmed by its edges) or 'auto' (the smaller certified bound)."""
+    'auto' (default: the smaller certified bound of) 'pinned' (the end rulings at the face's corners) and
+    'trimmed' (the rails run past the face, the result trimmed by its edges)."""
     from ruled.fit.facefit import area_ratio, first_consistent, measured_warnings
     from ruled.occ.convert import container_to_face
     from ruled.occ.measure import hausdorff

@@ -43,7 +43,7 @@ def cmd_faces(args) -> int:
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
             elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True,
-            text=cli_text, face_timeout=None, ends="pinned") -> dict:
+            text=cli_text, face_timeout=None, ends="auto") -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
     already (the batch's workers keep the files they have read); say: print the warnings and notes
     (the batch keeps them in the reports); text: how the warnings name options (the command's terms);

@@ -51,10 +51,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "v-max boundaries of an untrimmed face); u, sides 1 and 3; auto: the better")
     g.add_argument("--rails", type=_rails, default=None, metavar="A,B",
                    help="the two opposite edges the rulings join (indices as 'ruled faces INPUT --edges' lists them)")
-    g.add_argument("--ends", choices=["pinned", "trimmed", "auto"], default="pinned",
-                   help="pinned: the end rulings at the face's corners (default); trimmed: the rails run past the "
-                        "face and the result is trimmed by its edges, so rulings may cross its end edges; auto: "
-                        "the one with the smaller certified bound")
+    g.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
+                   help="pinned: the end rulings at the face's corners; trimmed: the rails run past the face and the "
+                        "result is trimmed by its edges, so rulings may cross its end edges; auto (default): the "
+                        "one with the smaller certified bound")
     g.add_argument("--no-refine", action="store_true", help="keep the DP pairing (no continuous refinement)")
     g.add_argument("-o", "--output", required=True, help="STEP file for the ruled face")
     g.add_argument("--report", help="JSON report")

@@ -22,7 +22,7 @@ import numpy as np
 
 from ruled.core.errors import DegenerateFaceError
 from ruled.core.nurbs import Surface
-from ruled.core.region import Region, Sides, _crossings_odd
+from ruled.core.region import Region, Sides
 from ruled.fit.coons import SideCurve, _merge, _on
 
 # the rails run past each end by this many times the length (in (u, v)) of the end side there; tried in
@@ -192,12 +192,7 @@ class FaceMask:
         boundary passing through it), and the cells next to those (conservative: the boundary's samples
         are dense, not continuous)."""
         nu, nv = us.size, vs.size
-        U, V = np.meshgrid(us, vs, indexing="ij")
-        P = np.stack([U.ravel(), V.ravel()], axis=1)
-        ins = np.zeros(P.shape[0], bool)
-        for poly in self.polygons:
-            ins ^= _crossings_odd(poly, P)
-        g = ins.reshape(nu, nv)
+        g = inside_grid(self.polygons, us, vs)
         cell = g[:-1, :-1] | g[1:, :-1] | g[:-1, 1:] | g[1:, 1:]
         X = self._points
         iu = np.clip(np.searchsorted(us, X[:, 0], side="right") - 1, 0, nu - 2)
@@ -210,6 +205,28 @@ class FaceMask:
         g2[:, 1:] |= grown[:, :-1]
         g2[:, :-1] |= grown[:, 1:]
         return g2
+
+
+def inside_grid(polygons, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
+    """(nu, nv) whether each node of the grid us x vs lies inside the closed polylines (even-odd rule; the
+    ray from a node runs towards -v): per polyline segment, the columns us in [lo, hi) of its s-range
+    crossed at its t there, counted at every node above the crossing."""
+    nu, nv = us.size, vs.size
+    count = np.zeros((nu, nv + 1), np.int64)
+    for P in polygons:
+        a, b = P, np.roll(P, -1, axis=0)
+        lo, hi = np.minimum(a[:, 0], b[:, 0]), np.maximum(a[:, 0], b[:, 0])
+        i0, i1 = np.searchsorted(us, lo, side="left"), np.searchsorted(us, hi, side="left")
+        n = np.maximum(i1 - i0, 0)
+        if not n.sum():
+            continue
+        seg = np.repeat(np.arange(a.shape[0]), n)
+        col = i0[seg] + (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n))
+        ds = b[seg, 0] - a[seg, 0]
+        t = a[seg, 1] + (us[col] - a[seg, 0]) * (b[seg, 1] - a[seg, 1]) / ds
+        j = np.searchsorted(vs, t, side="right")      # the nodes above the crossing: vs > t
+        np.add.at(count, (col, j), 1)
+    return (np.cumsum(count, axis=1)[:, :nv] % 2).astype(bool)
 
 
 def _samples(region: Region, curves) -> list:

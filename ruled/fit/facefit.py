@@ -131,6 +131,8 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
             pinned = fit_pinned(region, opts, progress, rails)
         except DegenerateFaceError as exc:
             why = exc
+    if any(region.seams) or (pinned is not None and pinned.best.closed):
+        return pinned if pinned is not None else fit_pinned(region, opts, progress, rails)    # closed: no ends
     trimmed, reason = fit_trimmed(region, opts, progress, rails,
                                   None if pinned is None else pinned.best.direction,
                                   None if pinned is None else pinned.patch.sides)

@@ -26,6 +26,7 @@ from ruled.core.nurbs import Curve
 SPANS = (8, 16, 32, 64, 128) # the trim curves' knot spans, tried in turn
 FIT_TOL = 1e-8                      # in R's domain (a unit square): the trim curve follows psi's image to this
 EPS_MARGIN = 1.5               # eps is sampled: raised by half
+RAIL_T = 1e-3                  # a cell whose corners map this near a rail of R lies along it
 ON_RAIL = 1e-4                 # an edge whose (s, t) in the patch is this near t = 0 (1) all along lies on a rail
 FOLD_TOL = 1e-3                # psi's Jacobian below -this of its median on a cell of the face: a fold
 
@@ -54,6 +55,23 @@ def psi_at(psi: tuple, st: np.ndarray) -> np.ndarray:
         out.append((1 - a) * (1 - b) * F[iu, iv] + a * (1 - b) * F[iu + 1, iv] + (1 - a) * b * F[iu, iv + 1]
                    + a * b * F[iu + 1, iv + 1])
     return np.stack(out, axis=1)
+
+
+def rail_cells(psi: tuple, segments: list) -> np.ndarray:
+    """(nu - 1, nv - 1) the cells of the grid whose images lie along a rail of R (their corners within
+    RAIL_T of t = 0 or 1) strictly inside one of the trim's segments on that rail, (rail t, s_lo, s_hi)
+    each, by their own width: whatever psi does there, their points go into the trimmed result."""
+    us, vs, S, T = psi
+    cs = np.stack([S[:-1, :-1], S[1:, :-1], S[:-1, 1:], S[1:, 1:]])
+    ct = np.stack([T[:-1, :-1], T[1:, :-1], T[:-1, 1:], T[1:, 1:]])
+    lo, hi = cs.min(axis=0), cs.max(axis=0)
+    out = np.zeros(lo.shape, bool)
+    for r, a, b in segments:
+        a, b = min(a, b), max(a, b)
+        along = np.abs(ct - r).max(axis=0) <= RAIL_T
+        w = hi - lo
+        out |= along & (lo >= a + w) & (hi <= b - w)
+    return out
 
 
 def folds(psi: tuple, cells: np.ndarray) -> bool:
@@ -103,10 +121,8 @@ def trim_of(fit, mask) -> Optional[Trim]:
         return None
     R = fit.surface
     us, vs = cert.psi[0], cert.psi[1]
-    if folds(cert.psi, mask.cells(us, vs)):
-        return None
     loops = [mask.edges] + list(mask.hole_edges)
-    out, eps = [], 0.0
+    out, eps, segments = [], 0.0, []
     for edges in loops:
         # psi's image of each edge's samples; the corners, each its two edges' ends averaged
         ys = [psi_at(cert.psi, st) for st in edges]
@@ -127,6 +143,7 @@ def trim_of(fit, mask) -> Optional[Trim]:
                 # image follows within its distance in t (the same s: psi's s-values parametrize both)
                 curves.append(Curve(np.array([corner[k], corner[(k + 1) % n]]), np.array([0.0, 0, 1, 1]), 1))
                 eps = max(eps, float(np.abs(y[:, 1] - rails[k]).max()))
+                segments.append((rails[k], float(corner[k][0]), float(corner[(k + 1) % n][0])))
                 continue
             C = _fit_curve(x, y, (corner[k], corner[(k + 1) % n]))
             xx = np.linspace(0.0, 1.0, 4 * y.shape[0] - 3)
@@ -135,6 +152,8 @@ def trim_of(fit, mask) -> Optional[Trim]:
             eps = max(eps, float(np.linalg.norm(C(xx) - psi_at(cert.psi, st_f), axis=1).max()))
             curves.append(C)
         out.append(tuple(curves))
+    if folds(cert.psi, mask.cells(us, vs) & ~rail_cells(cert.psi, segments)):
+        return None
     eps *= EPS_MARGIN
     b = R.derivative_bounds()
     added = eps * (float(b["Su"].max()) + float(b["Sv"].max()))

@@ -243,13 +243,29 @@ def test_a_face_with_a_hole_gets_a_bound_that_covers_the_spanning_part():
 
     import ruled.cq as rcq
     face = ruled_sheet_face(hole=0.1)
-    fit = rcq.fit_face(face, samples=16, measure_samples=16)
+    fit = rcq.fit_face(face, samples=16, measure_samples=16, ends="pinned")
     span = fit.result.patch.hole_span
     a, b = extrema_measure(face, fit.face.wrapped, 16)
     assert a < 1e-4 and 1.0 < b <= fit.error_bound, (a, b, fit.error_bound)
     assert span <= fit.error_bound < span + 1e-3 and span < 1.6 * b, (span, fit.error_bound, b)
     assert any(f"its bound includes {span:.4g}, how far the spanning part" in w for w in fit.warnings), fit.warnings
     assert not any("comes near" in w for w in fit.warnings), fit.warnings
+
+
+def test_a_face_with_a_hole_comes_back_with_the_hole_when_trimmed():
+    """Issue 35: trimmed by the face's edges, the result has the face's hole: OCCT finds it within its bound
+    both ways (no spanning part), its area the face's, and no warning about spanning the hole."""
+    from trimmed_faces import extrema_measure, ruled_sheet_face
+
+    import ruled.cq as rcq
+    from ruled.occ.io import face_area
+    face = ruled_sheet_face(hole=0.1)
+    fit = rcq.fit_face(face, samples=16, measure_samples=16, ends="trimmed")
+    assert fit.result.best.trim is not None and len(fit.result.best.trim.holes) == 1
+    a, b = extrema_measure(face, fit.face.wrapped, 16)
+    assert max(a, b) <= fit.error_bound < 0.1, (a, b, fit.error_bound)
+    assert abs(face_area(fit.face.wrapped) / face_area(face) - 1) < 5e-3
+    assert not any("spans" in w for w in fit.warnings), fit.warnings
 
 
 @pytest.mark.parametrize("name", ["2d:2202:69", pytest.param("2d:2202:54", marks=pytest.mark.slow),
