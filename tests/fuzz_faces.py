@@ -163,6 +163,9 @@ REGRESSIONS = [
     # the iso surface, certified at 1.747e-5 while points of the result lie 1.854e-5 from it: the forward
     # certificate left out the jump of R_s at the closed result's seam (now 1.998e-5)
     ("2d", 1008149261, 42, "seam kink"),
+    # found by the rotating run of 54a5a4f: a rational face whose natural extension past the face (issue 35's
+    # trimmed fit) reaches a zero weight: the fit crashed dividing by it; no extension there now
+    ("2d", 1420141814, 19, "zero weight past the face"),
 ]
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 3 s)
 SAMPLES = 12           # the DP's and the measure's samples: small faces of every kind, not fine fits

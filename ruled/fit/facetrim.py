@@ -42,8 +42,13 @@ def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePa
         return None
     m, mask = got
     try:
-        side = side_surface(region.surface, m, PATCH_TOL * max(size, 1e-300), PATCH_MAX_SPANS, PATCH_ACCEPT * size)
-    except RuledError:
+        # (a rational surface's natural extension can reach a zero weight: no extension there)
+        with np.errstate(divide="raise", over="raise", invalid="raise"):
+            side = side_surface(region.surface, m, PATCH_TOL * max(size, 1e-300), PATCH_MAX_SPANS,
+                                PATCH_ACCEPT * size)
+    except (RuledError, ArithmeticError):
+        return None
+    if not np.all(np.isfinite(side.surface.poles)):
         return None
     E = masked(side.surface, mask)
     gap = EDGE_MARGIN * region.max_gap()

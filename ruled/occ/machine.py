@@ -123,6 +123,11 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     t0 = time.perf_counter()
     S = face_to_container(face)
     slack = conversion_slack(face, S)
+    if fit is not None and getattr(fit.best, "trim", None) is not None:
+        # a result trimmed by the face's edges is not machined yet (issue 35): its rulings run past the face
+        warnings = list(warnings or []) + ["the machine path is made from the fit pinned to the face's corners: "
+                                           "a result trimmed by the face's edges is not machined yet"]
+        fit = None
     if not given and fit is None:
         fit, slack = fit_face(face, fit_options.checked(), progress, rails, S)
     res = None if given else fit
