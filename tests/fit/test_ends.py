@@ -76,3 +76,24 @@ def test_kj66_face_1_trimmed_is_a_tenth_of_part_ruled_between_its_rails():
     assert measured <= 0.1 * part
     assert measured <= bound
     assert abs(area - 1.0) <= 5e-3
+
+
+def test_the_face_mask_by_scanlines_is_the_even_odd_rule_node_by_node():
+    """ruled.fit.extend.inside_grid (scanlines over a tensor grid) against the even-odd ray test of every
+    node (brute force), on a five-lobed loop with a hole and an irregular grid."""
+    import numpy as np
+
+    from ruled.core.region import _crossings_odd
+    from ruled.fit.extend import inside_grid
+    rng = np.random.default_rng(3)
+    th = np.linspace(0, 2 * np.pi, 300, endpoint=False)
+    r = 0.3 + 0.1 * np.sin(5 * th)
+    outer = np.stack([0.5 + r * np.cos(th), 0.5 + r * np.sin(th)], 1)
+    hole = np.stack([0.5 + 0.05 * np.cos(th), 0.45 + 0.05 * np.sin(th)], 1)
+    us, vs = np.sort(rng.random(97)), np.sort(rng.random(61))
+    U, V = np.meshgrid(us, vs, indexing="ij")
+    Q = np.stack([U.ravel(), V.ravel()], 1)
+    ref = (_crossings_odd(outer, Q) ^ _crossings_odd(hole, Q)).reshape(U.shape)
+    got = inside_grid((outer, hole), us, vs)
+    assert ref.sum() > 500 and (~ref).sum() > 500
+    assert np.array_equal(got, ref)
