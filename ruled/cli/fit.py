@@ -165,6 +165,17 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
 def cmd_fit(args) -> int:
     check_measure_samples(args.measure_samples)
     if args.tol is not None:
+        if args.ends != "pinned" and not args.split_faces and args.method == "2d":
+            # the whole face first: with its rails past the face, one ruled face may hold the tolerance
+            positive("tol", args.tol)
+            rep = run_fit(args.input, args.face, args.output, samples=args.samples, objective=args.objective,
+                          direction=args.direction, refine=not args.no_refine, report=args.report,
+                          measure_samples=args.measure_samples, quiet=args.quiet, rails=args.rails,
+                          face_timeout=args.face_timeout, ends=args.ends, say=False)
+            if rep["error_bound"] <= args.tol and rep["hausdorff"]["max"] <= args.tol:
+                print(f"face {args.face}: one ruled face within {args.tol:.6g}: no strips needed")
+                _summary(rep, args.output, args.report)
+                return 0
         return cmd_partition(args)
     if args.split_faces:
         raise RuledError("--split-faces needs --tol (the partition); for one split use 'ruled split'")

@@ -97,3 +97,23 @@ def test_the_face_mask_by_scanlines_is_the_even_odd_rule_node_by_node():
     got = inside_grid((outer, hole), us, vs)
     assert ref.sum() > 500 and (~ref).sum() > 500
     assert np.array_equal(got, ref)
+
+
+@pytest.mark.slow
+def test_fit_to_a_tolerance_keeps_the_whole_face_when_its_trimmed_fit_holds_it(tmp_path):
+    """`ruled fit kj66 --face 1 --tol 0.005`: pinned at its corners the face needs 3 strips (its curved end edges
+    are 0.0249 from any ruled surface through its rails); with its rails past the face one ruled face holds
+    the tolerance: the STEP has one face, within 0.005 of the face by OCCT both ways, its area the face's."""
+    from conftest import ruled_here
+
+    from ruled.occ.io import faces_of, read_shape
+    src = data_file("kj66_impeller.step")
+    out = str(tmp_path / "p.step")
+    r = ruled_here("fit", src, "--face", "1", "--tol", "0.005", "-o", out, "--quiet", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "one ruled face within 0.005" in r.stdout
+    faces = faces_of(read_shape(out))
+    assert len(faces) == 1
+    face = get_face(src, 1)
+    assert hausdorff(face, faces[0], N).max <= 0.005
+    assert abs(face_area(faces[0], 1e-6) / face_area(face, 1e-6) - 1.0) <= 5e-3
