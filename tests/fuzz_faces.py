@@ -166,6 +166,10 @@ REGRESSIONS = [
     # found by the rotating run of 54a5a4f: a rational face whose natural extension past the face (issue 35's
     # trimmed fit) reaches a zero weight: the fit crashed dividing by it; no extension there now
     ("2d", 1420141814, 19, "zero weight past the face"),
+    # found by the rotating run of f06e6dd: a face with a hole and an inset outer loop, whose result trimmed by
+    # its edges built an invalid face (measured 0.0118 against its bound 0.00124; the product refused it): by
+    # default a face with holes is now pinned, and an invalid trimmed face is refused
+    ("2d", 4033768917, "k1", "trimmed face with a hole"),
 ]
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 3 s)
 SAMPLES = 12           # the DP's and the measure's samples: small faces of every kind, not fine fits

@@ -131,6 +131,11 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
             pinned = fit_pinned(region, opts, progress, rails)
         except DegenerateFaceError as exc:
             why = exc
+    if opts.ends == Ends.AUTO and region.holes and pinned is not None:
+        # a trimmed result with holes built an invalid face on a fuzz face (issue 35): asked for only
+        return replace(pinned, notes=tuple(pinned.notes) + (
+            "the rulings are pinned to the face's corners: a face with holes is trimmed only when asked "
+            "(«ends=trimmed»)",))
     if any(region.seams) or (pinned is not None and pinned.best.closed):
         return pinned if pinned is not None else fit_pinned(region, opts, progress, rails)    # closed: no ends
     trimmed, reason = fit_trimmed(region, opts, progress, rails,

@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
+from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepLib import BRepLib
 from OCP.ShapeFix import ShapeFix_Face
 from OCP.TopoDS import TopoDS_Face
 
-from ruled.core.errors import BadInputError
+from ruled.core.errors import BadInputError, FiguresError
 from ruled.core.nurbs import Curve, Surface
 from ruled.occ.convert import container_to_bspline, container_to_face, curve2d_to_bspline
 
@@ -58,7 +59,11 @@ def trimmed_face(R: Surface, trim) -> TopoDS_Face:
     BRepLib.BuildCurves3d_s(face)
     fix = ShapeFix_Face(face)
     fix.Perform()
-    return fix.Face()
+    face = fix.Face()
+    if not BRepCheck_Analyzer(face).IsValid():
+        raise FiguresError("the result trimmed by the face's edges is not a valid face (OCCT's check), so it is "
+                           "not returned (please report the face); try «ends=pinned»")
+    return face
 
 
 def result_face(fit) -> TopoDS_Face:
