@@ -8,6 +8,11 @@
     print(fit.error_bound, fit.hausdorff.max)
     cq.exporters.export(cq.Workplane().add(fit.face), "ruled.step")
 
+    from ruled.cq import replace_face
+    part = cq.importers.importStep("part.step")
+    rp = replace_face(part, 3, samples=40)                 # the part, its face 3 ruled and sewn back
+    cq.exporters.export(rp.part, "part-ruled.step"); print(rp.closed_solid, rp.fit.error_bound)
+
     from ruled.cq import curve_on_face
     c = curve_on_face(face, [(0.1, 0.2), (0.5, 0.8), (0.9, 0.3)], tol=1e-3, angle=1.0)
     print(c.result.segments, c.result.error_bound, c.measure.hausdorff)
@@ -117,6 +122,53 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     res, out, h, more = first_consistent(res, built)
     warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + more
     return RuledFit(_cq(out), res.surface, res.best.rulings, res.error_bound + slack, h, res, warnings)
+
+
+@dataclass(frozen=True)
+class ReplacedFace:
+    """A part with one face replaced by its ruled fit, sewn to the face's neighbours."""
+
+    part: Any                 # the whole part (cadquery.Shape when CadQuery is installed, else TopoDS_Shape)
+    face: Any                 # the ruled face as sewn into the part (cadquery.Face, else TopoDS_Face)
+    index: int                # its index among the part's faces (the replaced face's: the order is kept)
+    fit: RuledFit             # the fit: its bound, measure and result
+    sewing_tolerance: float
+    closed_solid: bool        # the face's solid is a valid closed solid (checked by OCCT)
+
+
+def replace_face(part, face, **fit_options) -> ReplacedFace:
+    """The part with its face replaced by the face's best ruled surface (fit_face, with fit_options), sewn
+    to its neighbours within 1.1x the fit's bound.  part: a cadquery.Shape or Workplane, or an OCP shape;
+    face: the face's index among the part's faces, or the face itself.  Raises RuledError, naming the
+    face's edges that did not meet, where the sewn part is not closed where it was."""
+    from ruled.occ.io import faces_of
+    from ruled.occ.replace import replaced_part, sewing_tolerance
+    if hasattr(part, "vals") and hasattr(part, "objects"):        # a Workplane: its shapes as one compound
+        part = part.val() if len(part.vals()) == 1 else _compound(part.vals())
+    shape = _topods(part)
+    faces = faces_of(shape)
+    if isinstance(face, (int, np.integer)):
+        index = int(face)
+        if not 0 <= index < len(faces):
+            raise BadInputError(f"face {index} is not in the part ({len(faces)} faces, from 0)")
+    else:
+        index = next((i for i, f in enumerate(faces) if f.IsSame(_topods(face))), -1)
+        if index < 0:
+            raise BadInputError("the face is not a face of the part; pass one of its faces, or its index")
+    fit = fit_face(faces[index], **fit_options)
+    new = _topods(fit.face)
+    r = replaced_part(shape, index, new, sewing_tolerance(fit.error_bound, faces[index], new))
+    return ReplacedFace(_cq(r.shape, "Shape"), _cq(r.face), r.index, fit, r.tolerance, r.solid)
+
+
+def _compound(shapes):
+    from OCP.BRep import BRep_Builder
+    from OCP.TopoDS import TopoDS_Compound
+    b, c = BRep_Builder(), TopoDS_Compound()
+    b.MakeCompound(c)
+    for x in shapes:
+        b.Add(c, _topods(x))
+    return c
 
 
 @dataclass(frozen=True)

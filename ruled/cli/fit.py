@@ -43,11 +43,12 @@ def cmd_faces(args) -> int:
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
             elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True,
-            text=cli_text, face_timeout=None, ends="auto") -> dict:
+            text=cli_text, face_timeout=None, ends="auto", replace=False) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
     already (the batch's workers keep the files they have read); say: print the warnings and notes
     (the batch keeps them in the reports); text: how the warnings name options (the command's terms);
-    face_timeout: seconds the fit and the measure may take (None: no limit; the batch has its own)."""
+    face_timeout: seconds the fit and the measure may take (None: no limit; the batch has its own);
+    replace: output holds the whole part, the face replaced by its result (ruled.occ.replace)."""
     from ruled.fit.options import FitOptions
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
@@ -77,9 +78,12 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
             bar.done()
         t_fit = time.perf_counter() - t_fit
         area = face_area(face, 1e-6)          # once: each candidate tried is compared with it
+        built: dict = {}
         res, rep, more = first_consistent(res, lambda r: _built_and_measured(
             r, slack, face, area, face_index, output, input_path, method, measure_samples, quiet, limit, text,
-            {"read": t_read, "fit": t_fit}))
+            {"read": t_read, "fit": t_fit}, built))
+        if replace:
+            rep["replace"] = _replaced(input_path, face_index, built["face"], rep["error_bound"], output)
     warnings = [text(w) for w in res.patch.warnings]
     for w in warnings + more if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
@@ -94,7 +98,7 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
 
 
 def _built_and_measured(res, slack, face, area, face_index, output, input_path, method, measure_samples, quiet,
-                        limit, text, timings) -> tuple:
+                        limit, text, timings, built: dict) -> tuple:
     """The result built, written and measured: (its report, the measure's warnings); area: the face's (OCCT's,
     adaptive).  A result whose figures contradict each other is refused (the STEP removed), naming the face."""
     from ruled.core.errors import FiguresError
@@ -104,7 +108,7 @@ def _built_and_measured(res, slack, face, area, face_index, output, input_path, 
     from ruled.occ.measure import hausdorff
     from ruled.occ.trimmed import result_face
     t1 = time.perf_counter()
-    out_face = result_face(res)
+    out_face = built["face"] = result_face(res)
     write_step(out_face, output)
     t_write = time.perf_counter() - t1
     t2 = time.perf_counter()
@@ -134,6 +138,22 @@ def _built_and_measured(res, slack, face, area, face_index, output, input_path, 
     return rep, more
 
 
+def _replaced(input_path: str, index: int, face, bound: float, output: str) -> dict:
+    """The whole part written to output, its face ``index`` replaced by the result face and sewn; returns
+    the report's ``replace`` section.  A part that cannot be sewn is refused (output removed)."""
+    from ruled.occ.io import faces_of, read_shape, write_step
+    from ruled.occ.replace import replaced_part, sewing_tolerance
+    t0 = time.perf_counter()
+    shape = read_shape(input_path)
+    try:
+        part = replaced_part(shape, index, face, sewing_tolerance(bound, faces_of(shape)[index], face))
+    except RuledError:
+        os.unlink(output)              # the face alone is not what was asked for
+        raise
+    write_step(part.shape, output)
+    return {**part.report(), "seconds": time.perf_counter() - t0}
+
+
 def _summary(rep: dict, output: str, report=None, plot=None) -> None:
     h = rep["hausdorff"]
     rg = rep.get("region")
@@ -155,6 +175,10 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
                   f"the {rep['result_method']} fit")
     print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g}"
           + (f"   area {rep['area']['ratio']:.4g} x the face's" if rep.get("area", {}).get("ratio") else ""))
+    if rep.get("replace"):
+        r = rep["replace"]
+        print(f"part:   face {r['face']} replaced, sewn within {r['sewing_tolerance']:.3g}: {r['faces']} faces, "
+              + ("a valid closed solid" if r["closed_solid"] else f"{r['free_edges']} free edges as before"))
     print(f"STEP:   {os.path.abspath(output)}")
     if report:
         print(f"report: {os.path.abspath(report)}")
@@ -165,17 +189,25 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
 def cmd_fit(args) -> int:
     check_measure_samples(args.measure_samples)
     if args.tol is not None:
+        if args.replace and (args.ends == "pinned" or args.split_faces or args.method != "2d"):
+            raise RuledError("--replace puts one ruled face back into the part, and --tol with --ends pinned, "
+                             "--split-faces or --method 4d makes strips; drop one of them")
         if args.ends != "pinned" and not args.split_faces and args.method == "2d":
             # the whole face first: with its rails past the face, one ruled face may hold the tolerance
             positive("tol", args.tol)
             rep = run_fit(args.input, args.face, args.output, samples=args.samples, objective=args.objective,
                           direction=args.direction, refine=not args.no_refine, report=args.report,
                           measure_samples=args.measure_samples, quiet=args.quiet, rails=args.rails,
-                          face_timeout=args.face_timeout, ends=args.ends, say=False)
+                          face_timeout=args.face_timeout, ends=args.ends, say=False, replace=args.replace)
             if rep["error_bound"] <= args.tol and rep["hausdorff"]["max"] <= args.tol:
                 print(f"face {args.face}: one ruled face within {args.tol:.6g}: no strips needed")
                 _summary(rep, args.output, args.report)
                 return 0
+            if args.replace:
+                os.unlink(args.output)
+                raise RuledError(f"--replace puts one ruled face back into the part, and face {args.face}'s best is "
+                                 f"{max(rep['error_bound'], rep['hausdorff']['max']):.4g} from it (bound or measure), "
+                                 f"above --tol {args.tol:.4g}; drop --replace to write its strips, or raise --tol")
         return cmd_partition(args)
     if args.split_faces:
         raise RuledError("--split-faces needs --tol (the partition); for one split use 'ruled split'")
@@ -184,7 +216,7 @@ def cmd_fit(args) -> int:
                   report=args.report, plot=args.plot, measure_samples=args.measure_samples, quiet=args.quiet,
                   method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
                   memory_cap_mb=args.memory_cap, rails=args.rails, face_timeout=args.face_timeout,
-                  ends=args.ends)
+                  ends=args.ends, replace=args.replace)
     _summary(rep, args.output, args.report, args.plot)
     return 0
 

@@ -57,6 +57,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "one with the smaller certified bound")
     g.add_argument("--no-refine", action="store_true", help="keep the DP pairing (no continuous refinement)")
     g.add_argument("-o", "--output", required=True, help="STEP file for the ruled face")
+    g.add_argument("--replace", action="store_true",
+                   help="OUTPUT holds the whole part, its face --face replaced by the ruled result and sewn to its "
+                        "neighbours (refused if the sewn part is no longer closed)")
     g.add_argument("--report", help="JSON report")
     g.add_argument("--plot", help="PNG plot of the pairing and the error per ruling")
     g.add_argument("--measure-samples", type=int, default=40, help="n x n samples per face for the measure")

@@ -64,20 +64,6 @@ def test_a_ruled_face_cut_by_four_curved_edges_comes_back_near_exact_and_covers_
     assert bound < pbound
 
 
-@pytest.mark.slow
-def test_kj66_face_1_trimmed_is_a_tenth_of_part_ruled_between_its_rails():
-    """kj66 face 1: its end edges are curves 0.6 and 1.4 long whose sagitta sets Part Ruled's (and the
-    pinned fit's) error; the trimmed result is under a tenth of the better of Part Ruled's two orientations,
-    measured trim-aware both ways, with its bound at least the measure and its area the face's."""
-    face = get_face(data_file("kj66_impeller.step"), 1)
-    res, bound, measured, area = _fitted(face, "trimmed")
-    assert res.best.trim is not None
-    part = min(measure(face, s, N) for s in part_ruled(face, [0], [2]))
-    assert measured <= 0.1 * part
-    assert measured <= bound
-    assert abs(area - 1.0) <= 5e-3
-
-
 def test_the_face_mask_by_scanlines_is_the_even_odd_rule_node_by_node():
     """ruled.fit.extend.inside_grid (scanlines over a tensor grid) against the even-odd ray test of every
     node (brute force), on a five-lobed loop with a hole and an irregular grid."""
@@ -99,21 +85,43 @@ def test_the_face_mask_by_scanlines_is_the_even_odd_rule_node_by_node():
     assert np.array_equal(got, ref)
 
 
-@pytest.mark.slow
-def test_fit_to_a_tolerance_keeps_the_whole_face_when_its_trimmed_fit_holds_it(tmp_path):
-    """`ruled fit kj66 --face 1 --tol 0.005`: pinned at its corners the face needs 3 strips (its curved end edges
-    are 0.0249 from any ruled surface through its rails); with its rails past the face one ruled face holds
-    the tolerance: the STEP has one face, within 0.005 of the face by OCCT both ways, its area the face's."""
+@pytest.fixture(scope="module")
+def kj66_face_1_to_a_tolerance(tmp_path_factory):
+    """`ruled fit kj66 --face 1 --tol 0.005`: (the input face, the one face written, its report)."""
+    import json
+
     from conftest import ruled_here
 
     from ruled.occ.io import faces_of, read_shape
-    src = data_file("kj66_impeller.step")
-    out = str(tmp_path / "p.step")
-    r = ruled_here("fit", src, "--face", "1", "--tol", "0.005", "-o", out, "--quiet", cwd=tmp_path)
+    src, tmp = data_file("kj66_impeller.step"), tmp_path_factory.mktemp("kj66f1")
+    out, rep = str(tmp / "p.step"), str(tmp / "r.json")
+    r = ruled_here("fit", src, "--face", "1", "--tol", "0.005", "-o", out, "--report", rep, "--quiet", cwd=tmp)
     assert r.returncode == 0, r.stderr
     assert "one ruled face within 0.005" in r.stdout
     faces = faces_of(read_shape(out))
     assert len(faces) == 1
-    face = get_face(src, 1)
-    assert hausdorff(face, faces[0], N).max <= 0.005
-    assert abs(face_area(faces[0], 1e-6) / face_area(face, 1e-6) - 1.0) <= 5e-3
+    with open(rep) as fh:
+        return get_face(src, 1), faces[0], json.load(fh)
+
+
+@pytest.mark.slow
+def test_fit_to_a_tolerance_keeps_the_whole_face_when_its_trimmed_fit_holds_it(kj66_face_1_to_a_tolerance):
+    """`ruled fit kj66 --face 1 --tol 0.005`: pinned at its corners the face needs 3 strips (its curved end edges
+    are 0.0249 from any ruled surface through its rails); with its rails past the face one ruled face holds
+    the tolerance: the STEP has one face, within 0.005 of the face by OCCT both ways, its area the face's."""
+    face, result, _ = kj66_face_1_to_a_tolerance
+    assert hausdorff(face, result, N).max <= 0.005
+    assert abs(face_area(result, 1e-6) / face_area(face, 1e-6) - 1.0) <= 5e-3
+
+
+@pytest.mark.slow
+def test_kj66_face_1_trimmed_is_a_tenth_of_part_ruled_between_its_rails(kj66_face_1_to_a_tolerance):
+    """kj66 face 1: its end edges are curves 0.6 and 1.4 long whose sagitta sets Part Ruled's (and the
+    pinned fit's) error; the trimmed result (the one face of the run above) is under a tenth of the better
+    of Part Ruled's two orientations, measured trim-aware both ways, with its bound at least the measure."""
+    face, result, rep = kj66_face_1_to_a_tolerance
+    assert rep.get("trim", {}).get("ends") == "trimmed"
+    measured = measure(face, result, N)
+    part = min(measure(face, s, N) for s in part_ruled(face, [0], [2]))
+    assert measured <= 0.1 * part
+    assert measured <= rep["error_bound"]
