@@ -155,6 +155,44 @@ def surface_to_face(S: Surface):
     return arrays_to_surface(S).toShape()
 
 
+def curve2d(c: Curve):
+    """A 2D curve container (poles (n, 2)) as a Part.Geom2d.BSplineCurve2d."""
+    from ruled.core.hostform import compress
+    knots, mults = compress(c.knots)
+    bc = Part.Geom2d.BSplineCurve2d()
+    w = [1.0] * len(c.poles) if c.weights is None else [float(x) for x in c.weights]
+    bc.buildFromPolesMultsKnots([FreeCAD.Base.Vector2d(float(p[0]), float(p[1])) for p in c.poles],
+                                [int(m) for m in mults], [float(k) for k in knots], False, int(c.degree), w)
+    return bc
+
+
+def _loop(curves: tuple, bs):
+    return Part.Wire([curve2d(c).toShape(bs, float(c.domain[0]), float(c.domain[1])) for c in curves])
+
+
+def result_face(fit):
+    """The result of a fit (a FitResult or one of its candidates) as a Part.Face: the ruled surface trimmed
+    by the face's edges mapped onto it (ruled.fit.trim.Trim) when it has them, else its natural boundary."""
+    from ruled.core.errors import FiguresError
+    best = getattr(fit, "best", fit)
+    trim = getattr(best, "trim", None)
+    if trim is None:
+        return surface_to_face(best.surface)
+    bs = arrays_to_surface(best.surface)
+    try:
+        face = Part.Face(bs, _loop(trim.loop(trim.outer, True), bs))
+        if trim.holes:
+            face = face.cutHoles([_loop(trim.loop(h, False), bs) for h in trim.holes])
+        face.validate()
+        ok = face.isValid()
+    except Exception as exc:      # Part.OCCError and friends
+        raise FiguresError(f"the result trimmed by the face's edges could not be built ({exc}); try «ends=pinned»")
+    if not ok:
+        raise FiguresError("the result trimmed by the face's edges is not a valid face (OCCT's check), so it is "
+                           "not returned; try «ends=pinned»")
+    return face
+
+
 def curve_to_edge(c):
     """A 3D curve container (ruled.core.nurbs.Curve) as a Part edge."""
     from ruled.core.hostform import compress

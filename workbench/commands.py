@@ -1,5 +1,5 @@
 """Commands of the Ruled workbench: "Fit ruled surface", "Fit several faces", "Split for ruling", "Fit
-to tolerance", "Cone spline", "Curve on face" and "Export for machining...".  Registered when the
+to tolerance", "Cone spline", "Curve on face", "Replace in part" and "Export for machining...".  Registered when the
 workbench is activated (InitGui.py)."""
 
 from __future__ import annotations
@@ -169,12 +169,7 @@ class FitManyCommand:
             for k, (obj, sub) in enumerate(faces):
                 FreeCADGui.getMainWindow().statusBar().showMessage(f"Ruled: fitting {obj.Label} {sub} "
                                                                    f"({k + 1} of {len(faces)})")
-                fit = make_ruled_fit(doc, obj, sub)
-                made.append(fit)
-                try:
-                    fit.recompute()
-                except Exception:  # refused: the object is invalid, its Status says why
-                    pass
+                made.append(_recomputed(make_ruled_fit(doc, obj, sub)))
         finally:
             doc.commitTransaction()
             FreeCADGui.getMainWindow().statusBar().clearMessage()
@@ -182,6 +177,40 @@ class FitManyCommand:
         FreeCAD.Console.PrintMessage(f"Ruled: {len(made) - len(bad)} of {len(made)} faces fitted"
                                      + (f"; not fitted: {', '.join(bad)} (see their Status)" if bad else "") + "\n")
         return made
+
+
+class ReplaceCommand:
+    """The selected RuledFit's result put back into its part in place of its face: a parametric RuledReplace."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("replace.svg"), "MenuText": "Replace in part",
+                "ToolTip": "Put the selected Ruled fit's result back into its part in place of its face, bounded by "
+                           "the face's own edges: a parametric copy of the part (select one Ruled fit)"}
+
+    def IsActive(self):
+        sel = FreeCADGui.Selection.getSelection()
+        return len(sel) == 1 and _is_fit(sel[0])
+
+    def Activated(self):
+        sel = FreeCADGui.Selection.getSelection()
+        if not (len(sel) == 1 and _is_fit(sel[0])):
+            _say("select one Ruled fit (a RuledFit object) to put back into its part")
+            return
+        from .replace import make_ruled_replace
+        doc = sel[0].Document
+        doc.openTransaction("Replace in part")
+        try:
+            return _recomputed(make_ruled_replace(doc, sel[0]))
+        finally:
+            doc.commitTransaction()
+
+
+def _recomputed(obj):
+    try:
+        obj.recompute()
+    except Exception:  # refused: the object is invalid, its Status says why
+        pass
+    return obj
 
 
 def export_step(objects, path: str) -> None:
@@ -228,7 +257,7 @@ def export(objs, path: str, kind: str, **params) -> None:
 
 COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Split": SplitCommand,
             "Ruled_Partition": PartitionCommand, "Ruled_Cone": ConeCommand, "Ruled_Curve": CurveCommand,
-            "Ruled_Export": ExportCommand}
+            "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand}
 NAMES = list(COMMANDS)
 
 

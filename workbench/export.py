@@ -91,9 +91,24 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
 
     from .adapter import face_region, face_to_arrays, surface_to_face
     from .features import value
-    from .measure import distances, face_points
+    from .measure import distances, face_points, trimmed
     obj, src = _one_fit(objects)
-    R = result_arrays(obj.Shape.Faces[0])
+    fit_figures = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}
+    warnings = []
+    if trimmed(obj.Shape.Faces[0]):
+        # a result trimmed by the face's edges is not machined yet (issue 35; as ruled.occ.machine): its rulings
+        # run past the face, so the path is made from the fit pinned to the face's corners
+        from dataclasses import replace
+
+        from ruled.fit.facefit import fit_region
+        pinned = replace(obj.Proxy.options(obj), ends="pinned").checked()
+        res = fit_region(face_region(src, face_to_arrays(src)), pinned, progress)
+        R = res.surface if res.surface.degree_v == 1 else res.surface.transposed()
+        fit_figures = {"error_bound": float(res.error_bound), "measured": float(res.error_bound)}
+        warnings.append("the machine path is made from the fit pinned to the face's corners: a result trimmed by "
+                        "the face's edges is not machined yet")
+    else:
+        R = result_arrays(obj.Shape.Faces[0])
     S = face_patch(face_region(src, face_to_arrays(src))).surface     # the face as bounded by its edges
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
     opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed).checked()
@@ -107,7 +122,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
             Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]), cam_step)
     rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
            "machine": path_report(mp),
-           "fit": {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}}
+           "fit": fit_figures}
     if kind == "xyuv":
         if measure_samples:
             target = src
@@ -118,10 +133,10 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
             to_design = distances(cut_points(mp, 3 * n * n), target).max()
             rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
                           "cut_to_design": float(to_design),
-                          "bound": value(obj.Hausdorff) + mp.stats["cut_bound_beyond_fit"]}
+                          "bound": fit_figures["measured"] + mp.stats["cut_bound_beyond_fit"]}
     elif measure_samples:
         rep["tool_envelope"] = tool_envelope(S, out_side, mp)
-    rep["warnings"] = list(mp.warnings)
+    rep["warnings"] = warnings + list(mp.warnings)
     from ruled.core.outputs import write_text
     write_text(os.path.splitext(path)[0] + ".json", json.dumps(rep, indent=1, default=float))
     return rep

@@ -308,6 +308,11 @@ class RuledFit(_Feature):
         _add(obj, "App::PropertyBool", "Refine", FIT_GROUP, "refine the pairing beyond the samples", True)
         _add(obj, "App::PropertyInteger", "MeasureSamples", FIT_GROUP, "n x n samples per face for the measured "
              "Hausdorff distance (0: do not measure)", 40)
+        _enum(obj, "Ends", FIT_GROUP, "trimmed: the rails run past the face and the result is trimmed by its "
+              "edges, so rulings may cross its end edges; pinned: the end rulings at the face's corners; auto: the "
+              "one with the smaller certified bound", ["auto", "pinned", "trimmed"], "auto")
+        _add(obj, "App::PropertyString", "EndsUsed", RESULT_GROUP, "which result the fit returned (trimmed by "
+             "the face's edges, or pinned at its corners) and why", "", True)
         _add(obj, "App::PropertyLength", "ErrorBound", RESULT_GROUP, "certified upper bound of the distance to the "
              "source face", 0.0, True)
         _add(obj, "App::PropertyLength", "Hausdorff", RESULT_GROUP, "measured Hausdorff distance (OCCT, "
@@ -334,20 +339,26 @@ class RuledFit(_Feature):
                           direction=str(obj.Direction), refine=bool(obj.Refine), method=str(obj.Method),
                           elevations=int(obj.Elevations) if obj.Method == "4d" else None,
                           step=value(obj.Step) if obj.Method == "4d" and value(obj.Step) > 0 else None,
-                          metric=str(obj.Metric)).checked()
+                          metric=str(obj.Metric), ends=str(obj.Ends)).checked()
+
+    def onDocumentRestored(self, obj):
+        before = "Ends" not in obj.PropertiesList
+        super().onDocumentRestored(obj)
+        if before:          # saved before issue 35: its result was pinned at the face's corners, and stays so
+            obj.Ends = "pinned"
 
     def compute(self, obj):
         from ruled.core.hostform import bounds_slack
         from ruled.fit.facefit import area_ratio, first_consistent, fit_region, measured_warnings
 
-        from .adapter import face_region, outer_edges, surface_to_face
+        from .adapter import face_region, outer_edges, result_face
         face, opts, S, progress = self.inputs(obj, "fitting")
         names = source_edge_names(obj, outer_edges(face))
 
         def built(res):
             """The result face, its figures on obj, and what only the measure says (FiguresError where its
             figures disagree: the next candidate is tried)."""
-            result = surface_to_face(res.surface)
+            result = result_face(res)
             obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
             p = res.patch
             obj.Rails = [" + ".join(names[k] for k in rail) or "a point" for rail in p.rails(res.direction)]
@@ -359,13 +370,16 @@ class RuledFit(_Feature):
             if int(obj.MeasureSamples) < 2:
                 return result, ()
             return result, measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size,
-                                             area_ratio(res, float(face.Area)))
+                                             area_ratio(res, float(face.Area), float(result.Area)))
         try:
             res, result, more = first_consistent(fit_region(face_region(face, S), opts, progress), built)
             for w in tuple(res.patch.warnings) + tuple(more):
                 FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             for note in res.notes:          # what the fit decided (the iso surface, the next candidate)
                 FreeCAD.Console.PrintMessage(f"{obj.Label}: {in_our_terms(note)}\n")
+            obj.EndsUsed = next((in_our_terms(n) for n in reversed(res.notes) if "rail" in n or "corners" in n),
+                                "trimmed by the face's edges" if res.best.trim is not None else
+                                "pinned at the face's corners")
         finally:
             progress.stop()
         obj.Shape = result

@@ -51,9 +51,10 @@ def classifier(face) -> PolygonClassifier:
     return PolygonClassifier(lambda: _polylines(face), face_bounds(face), face.isPartOfDomain)
 
 
-def face_points(face, n: int) -> np.ndarray:
-    """About n x n points of the face inside its edges (a grid of its parameter range as dense as it takes)
-    and n points along every edge."""
+def _inside(face, n: int) -> tuple:
+    """(m, keep, points): the m x m grid of the face's parameter range as dense as it takes for about n x n
+    of its nodes to lie inside its edges, which do (m * m booleans, u outer, v inner, as ``grid``), and
+    their points."""
     u0, u1, v0, v1 = face_bounds(face)
     s = face.Surface
     cls = classifier(face)
@@ -62,11 +63,19 @@ def face_points(face, n: int) -> np.ndarray:
     us, vs = np.linspace(u0, u1, m), np.linspace(v0, v1, m)
     keep = np.ones((m, m), bool) if m == n else cls.grid(us, vs)
     pts = [tuple(s.value(float(us[i]), float(vs[j]))) for i, j in zip(*np.nonzero(keep))]
-    for e in face.Edges:
-        if not e.Degenerated:
-            a, b = e.ParameterRange
-            pts += [tuple(e.valueAt(float(t))) for t in np.linspace(a, b, n)]
-    return np.array(pts)
+    return m, keep.ravel(), np.array(pts).reshape(-1, 3)
+
+
+def _edge_points(face, n: int) -> np.ndarray:
+    pts = [tuple(e.valueAt(float(t))) for e in face.Edges if not e.Degenerated
+           for t in np.linspace(*e.ParameterRange, n)]
+    return np.array(pts).reshape(-1, 3)
+
+
+def face_points(face, n: int) -> np.ndarray:
+    """About n x n points of the face inside its edges (a grid of its parameter range as dense as it takes)
+    and n points along every edge."""
+    return np.concatenate([_inside(face, n)[2], _edge_points(face, n)])
 
 
 def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
@@ -78,19 +87,52 @@ def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
     return out
 
 
+def trimmed(face) -> bool:
+    """The face is trimmed inside its surface's rectangle (a result trimmed by the design face's edges)."""
+    u0, u1, v0, v1 = face_bounds(face)
+    return bool(face.Area < (1.0 - 1e-3) * face.Surface.toShape(u0, u1, v0, v1).Area)
+
+
+def _filled(d: np.ndarray, inside: np.ndarray, m: int) -> np.ndarray:
+    """Grid values outside a trimmed face taken from the nearest node inside (for colouring only)."""
+    ij = np.stack(np.divmod(np.arange(m * m), m), axis=1)
+    src = ij[inside]
+    if not src.size:
+        return d
+    near = np.argmin(((ij[:, None, :] - src[None, :, :]) ** 2).sum(axis=2), axis=1)
+    return d[inside][near]
+
+
+def _result_side(f, design, n: int, progress) -> tuple:
+    """(the distances to the design face of the result's grid, for colouring: n x n over its parameters,
+    or for a trimmed result m x m, about n x n inside its edges, and values outside from the nearest inside;
+    the distances measured: inside its edges and along them for a trimmed result)."""
+    if not trimmed(f):
+        d = distances(grid(f, n), design, progress)
+        return d, d
+    m, keep, pts = _inside(f, n)
+    d = distances(np.concatenate([pts, _edge_points(f, n)]), design, progress)
+    full = np.zeros(m * m)
+    full[keep] = d[:len(pts)]
+    return _filled(full, keep, m), d
+
+
 def hausdorff(results: list, design, n: int = 24, progress=None) -> Hausdorff:
     """Several result faces (strips, sides, patches) against the face they replace together: each
-    result's n x n grid to the bounded design face (kept per face, in order, for colouring), and the
-    design face's points to the nearest result (one compound, so the distance is to their union)."""
+    result's n x n grid to the bounded design face (kept per face, in order, for colouring; a result
+    trimmed by the design's edges measured inside its edges and along them), and the design face's points
+    to the nearest result (one compound, so the distance is to their union)."""
     total = len(results) * n * n
-    dab, done = [], 0
+    colours, dab, done = [], [], 0
     for f in results:
-        dab.append(distances(grid(f, n), design, None if progress is None else
-                             (lambda x, d=done: progress(0.5 * (d + x * n * n) / total))))
+        c, d = _result_side(f, design, n, None if progress is None else
+                            (lambda x, d=done: progress(0.5 * (d + x * n * n) / total)))
+        colours.append(c)
+        dab.append(d)
         done += n * n
     dab = np.concatenate(dab) if dab else np.zeros(0)
     pb = face_points(design, n)
     dba = distances(pb, Part.Compound(results), None if progress is None else (lambda x: progress(0.5 + 0.5 * x)))
     alld = np.concatenate([dab, dba])
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size),
-                     tuple(dab))
+                     tuple(np.concatenate(colours)) if colours else ())

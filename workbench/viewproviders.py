@@ -228,6 +228,7 @@ class ViewProviderRuledFit(_Editable):
         return _icon(self.vobj) if hasattr(self, "vobj") else _icon(None)
 
     def _rebuild(self, obj):
+        from .measure import trimmed
         self.mesh.removeAllChildren()
         self.lines.removeAllChildren()
         faces = obj.Shape.Faces if not obj.Shape.isNull() else []
@@ -246,6 +247,11 @@ class ViewProviderRuledFit(_Editable):
             hide_legend(obj.Document.Name, obj.Name)
         m = max(n, MESH)
         for k, face in enumerate(faces):
+            if trimmed(face):     # a result trimmed by the face's edges: shown inside them
+                grid = None if dev is None else dev[k * n * n:(k + 1) * n * n].reshape(n, n) / top
+                self.mesh.addChild(_trimmed_mesh(face, grid))
+                self.lines.addChild(_polylines(face.Edges, (0.25, 0.25, 0.25), 1.0))
+                continue
             cols = np.tile([0.75, 0.78, 0.82], (m * m, 1)) if dev is None else \
                 colour_ramp(_resampled(dev[k * n * n:(k + 1) * n * n].reshape(n, n), m).ravel() / top)
             self.mesh.addChild(_face_mesh(face, m, cols))
@@ -277,27 +283,50 @@ def _resampled(grid: np.ndarray, m: int) -> np.ndarray:
     return np.array([np.interp(y, x, c) for c in rows.T]).T
 
 
+def _trimmed_mesh(face, values):
+    """A face trimmed inside its surface's rectangle as Part's own triangulation (so that it shows inside
+    its edges only), coloured per vertex by values, an n x n grid over its parameter range (None: grey)."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    from .measure import face_bounds
+    pts, tris = face.tessellate(face.BoundBox.DiagonalLength / 400.0)
+    if values is None:
+        cols = np.tile([0.75, 0.78, 0.82], (len(pts), 1))
+    else:
+        u0, u1, v0, v1 = face_bounds(face)
+        n = values.shape[0]
+        f = RegularGridInterpolator((np.linspace(u0, u1, n), np.linspace(v0, v1, n)), values, bounds_error=False,
+                                    fill_value=None)
+        uv = np.array([face.Surface.parameter(p) for p in pts], float)
+        cols = colour_ramp(np.clip(f(uv), 0.0, None))
+    return _mesh_node([(p.x, p.y, p.z) for p in pts], cols, [i for t in tris for i in (*map(int, t), -1)])
+
+
 def _face_mesh(face, n: int, cols):
     """The face's n x n parameter grid as triangles, coloured per vertex."""
-    from pivy import coin
-
     from .measure import grid
     pts = grid(face, n)            # the same grid (and order) as the measured deviations
+    idx = []
+    for i in range(n - 1):
+        for j in range(n - 1):
+            a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
+            idx += [a, b, c, -1, a, c, d, -1]
+    return _mesh_node([tuple(map(float, p)) for p in pts], cols, idx)
+
+
+def _mesh_node(points: list, cols, idx: list):
+    """Triangles (idx: three vertex indices and -1 each) through points, coloured per vertex."""
+    from pivy import coin
     sep = coin.SoSeparator()
     mat = coin.SoMaterial()
-    mat.diffuseColor.setValues(0, n * n, [tuple(map(float, c)) for c in cols])
+    mat.diffuseColor.setValues(0, len(cols), [tuple(map(float, c)) for c in cols])
     bind = coin.SoMaterialBinding()
     bind.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
     hints = coin.SoShapeHints()
     hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
     hints.creaseAngle = 0.8
     coords = coin.SoCoordinate3()
-    coords.point.setValues(0, n * n, [tuple(map(float, p)) for p in pts])
-    idx = []
-    for i in range(n - 1):
-        for j in range(n - 1):
-            a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
-            idx += [a, b, c, -1, a, c, d, -1]
+    coords.point.setValues(0, len(points), points)
     tri = coin.SoIndexedFaceSet()
     tri.coordIndex.setValues(0, len(idx), idx)
     tri.materialIndex.setValues(0, len(idx), idx)

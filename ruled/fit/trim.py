@@ -42,6 +42,22 @@ class Trim:
     eps: float = 0.0
     added: float = 0.0
 
+    @staticmethod
+    def loop(curves: tuple, ccw: bool) -> tuple:
+        """A loop of 2D curves running counter-clockwise in (s, t) (ccw: an outer loop, as a host face
+        wants it) or clockwise (a hole)."""
+        P = np.concatenate([c(np.linspace(c.domain[0], c.domain[1], 65)) for c in curves])
+        x, y = P[:, 0], P[:, 1]
+        if (np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) > 0) == ccw:
+            return curves
+        return tuple(_reversed(c) for c in reversed(curves))
+
+
+def _reversed(c: Curve) -> Curve:
+    a, b = c.domain
+    return Curve(c.poles[::-1].copy(), (a + b) - c.knots[::-1], c.degree,
+                 None if c.weights is None else c.weights[::-1].copy())
+
 
 def psi_at(psi: tuple, st: np.ndarray) -> np.ndarray:
     """R's (s, t) at points (N, 2) of E's domain: psi, bilinear on its grid (us, vs, s, t)."""

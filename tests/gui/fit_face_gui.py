@@ -119,7 +119,10 @@ def extra_checks(doc, imp, obj, res):
     b2 = float(o2.ErrorBound)
     res["reopen"] = {"report_found": bool(report), "traceback": "Traceback" in text or "Error" in text,
                      "text": text[-1500:], "valid": [o.isValid() for o in d2.Objects if hasattr(o, "Proxy")],
-                     "same": abs(b2 - bound) <= 1e-9 * bound, "bounds": [bound, b2],
+                     # (a saved document's shapes differ from the STEP's in their last digits: the pinned bound
+                     # of kj66 Face7 moves by 1e-14 of itself, the trimmed one, whose certificate counts the
+                     # cells that meet the face, by up to 2e-6: a cell on the face's edge changes its side)
+                     "same": abs(b2 - bound) <= 1e-5 * bound, "bounds": [bound, b2],
                      "proxies": sorted(type(o.Proxy).__name__ for o in d2.Objects if hasattr(o, "Proxy"))}
     shot = os.path.join(OUT, "ruled_reopen.png")
     FreeCADGui.ActiveDocument.ActiveView.saveImage(shot, 1280, 1024, "White")

@@ -73,6 +73,7 @@ SCRIPT = textwrap.dedent("""
         d2.recompute()
         out["step"] = dict(props(k), area_ratio=k.Shape.Area / imp.Shape.getElement("Face7").Area,
                            rails=list(k.Rails), trimmed=k.Trimmed, patch=float(k.PatchDeviation),
+                           ends=k.Ends, ends_used=k.EndsUsed, result_valid=k.Shape.isValid(),
                            rail_edges=[[imp.Shape.getElement(n).isSame(e) for e in imp.Shape.getElement("Face7").Edges]
                                        for r in k.Rails for n in r.split(" + ")])
         json.dump(out, open({out!r}, "w"))
@@ -117,9 +118,9 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert r["reopened_recomputed"]["valid"] and r["reopened_recomputed"]["bound"] != re["bound"]
     # the command line on the same face (index 6 = Face7): the same bound and measured distance
     rep = tmp_path / "cli.json"
-    # (pinned: the workbench does not trim results by the face's edges yet)
+    # (both at their default ends, auto: here the result trimmed by the face's edges)
     cli = subprocess.run([sys.executable, "-m", "ruled.cli", "fit", step, "--face", "6", "--samples", "16",
-                          "--ends", "pinned", "--measure-samples", "12", "-o", str(tmp_path / "f.step"),
+                          "--measure-samples", "12", "-o", str(tmp_path / "f.step"),
                           "--report", str(rep), "--quiet"],
                          capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert cli.returncode == 0, cli.stderr
@@ -128,8 +129,10 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert st["valid"], st["status"]
     assert st["bound"] == pytest.approx(c["error_bound"], rel=1e-6)
     assert st["hausdorff"] == pytest.approx(c["hausdorff"]["max"], rel=1e-6, abs=1e-9)
-    # the face as bounded by its edges: the result has the face's extent, the rails are two of its edges
-    assert st["trimmed"] and abs(st["area_ratio"] - 1.0) <= 0.05, st
+    # the face as bounded by its edges: the result trimmed by them (issue 35) has the face's area, the rails are
+    # two of its edges
+    assert c["trim"]["ends"] == "trimmed" and st["ends"] == "auto" and "run past the face" in st["ends_used"], st
+    assert st["trimmed"] and st["result_valid"] and abs(st["area_ratio"] - 1.0) <= 5e-3, st
     assert len(st["rails"]) == 2 and all(r.startswith("Edge") for r in st["rails"])
     assert all(any(hits) for hits in st["rail_edges"])          # each rail is an edge of the source face
     assert st["bound"] >= st["hausdorff"] and 0 < st["patch"] < st["bound"]
