@@ -45,7 +45,6 @@ class Rail:
         # second-order one-sided differences: the end tangents
         d0 = (-3 * f0[0] + 4 * f0[1] - f0[2]) / (2 * FD)
         d1 = (3 * f1[0] - 4 * f1[1] + f1[2]) / (2 * FD)
-        speed = 0.5 * (np.linalg.norm(d0) + np.linalg.norm(d1))
         # extension lengths in (u, v) turned into the side's own parameter (its end speeds)
         e0 = before / max(float(np.linalg.norm(d0)), 1e-300)
         e1 = after / max(float(np.linalg.norm(d1)), 1e-300)
@@ -53,7 +52,6 @@ class Rail:
         self.a, self.b = e0 / total, (1.0 + e0) / total
         self.d0, self.d1 = d0, d1
         self.p0, self.p1 = f0[0], f1[0]
-        self.speed = speed
 
     def _side(self, tau) -> np.ndarray:
         """The side at tau in [0, 1] from its pcurves as they are (not clipped to the surface's domain: a
@@ -187,10 +185,23 @@ class FaceMask:
     def _points(self) -> np.ndarray:
         return np.concatenate(self.polygons)
 
+    @cached_property
+    def _cells(self) -> dict:
+        return {}
+
     def cells(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
         """(nu - 1, nv - 1) whether each cell of the grid us x vs meets the face (its nodes inside, or the
         boundary passing through it), and the cells next to those (conservative: the boundary's samples
-        are dense, not continuous)."""
+        are dense, not continuous).  Kept per grid (every candidate of a fit is certified on the same one);
+        read only."""
+        key = (np.asarray(us, float).tobytes(), np.asarray(vs, float).tobytes())
+        got = self._cells.get(key)
+        if got is None:
+            got = self._cells[key] = self._cells_of(us, vs)
+            got.flags.writeable = False
+        return got
+
+    def _cells_of(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
         nu, nv = us.size, vs.size
         g = inside_grid(self.polygons, us, vs)
         cell = g[:-1, :-1] | g[1:, :-1] | g[:-1, 1:] | g[1:, 1:]
