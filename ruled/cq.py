@@ -141,10 +141,10 @@ def replace_face(part, face, **fit_options) -> ReplacedFace:
     to its neighbours within 1.1x the fit's bound.  part: a cadquery.Shape or Workplane, or an OCP shape;
     face: the face's index among the part's faces, or the face itself.  Raises RuledError, naming the
     face's edges that did not meet, where the sewn part is not closed where it was."""
-    from ruled.occ.io import faces_of
+    from ruled.occ.io import compound, faces_of
     from ruled.occ.replace import replaced_part, sewing_tolerance
     if hasattr(part, "vals") and hasattr(part, "objects"):        # a Workplane: its shapes as one compound
-        part = part.val() if len(part.vals()) == 1 else _compound(part.vals())
+        part = part.val() if len(part.vals()) == 1 else compound([_topods(x) for x in part.vals()])
     shape = _topods(part)
     faces = faces_of(shape)
     if isinstance(face, (int, np.integer)):
@@ -159,16 +159,6 @@ def replace_face(part, face, **fit_options) -> ReplacedFace:
     new = _topods(fit.face)
     r = replaced_part(shape, index, new, sewing_tolerance(fit.error_bound, faces[index], new))
     return ReplacedFace(_cq(r.shape, "Shape"), _cq(r.face), r.index, fit, r.tolerance, r.solid)
-
-
-def _compound(shapes):
-    from OCP.BRep import BRep_Builder
-    from OCP.TopoDS import TopoDS_Compound
-    b, c = BRep_Builder(), TopoDS_Compound()
-    b.MakeCompound(c)
-    for x in shapes:
-        b.Add(c, _topods(x))
-    return c
 
 
 @dataclass(frozen=True)

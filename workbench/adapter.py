@@ -155,14 +155,20 @@ def surface_to_face(S: Surface):
     return arrays_to_surface(S).toShape()
 
 
-def curve2d(c: Curve):
-    """A 2D curve container (poles (n, 2)) as a Part.Geom2d.BSplineCurve2d."""
+def _curve_form(c: Curve) -> tuple:
+    """(mults, knots, degree, weights) of a curve container as Part's buildFromPolesMultsKnots takes them."""
     from ruled.core.hostform import compress
     knots, mults = compress(c.knots)
-    bc = Part.Geom2d.BSplineCurve2d()
     w = [1.0] * len(c.poles) if c.weights is None else [float(x) for x in c.weights]
-    bc.buildFromPolesMultsKnots([FreeCAD.Base.Vector2d(float(p[0]), float(p[1])) for p in c.poles],
-                                [int(m) for m in mults], [float(k) for k in knots], False, int(c.degree), w)
+    return [int(m) for m in mults], [float(k) for k in knots], int(c.degree), w
+
+
+def curve2d(c: Curve):
+    """A 2D curve container (poles (n, 2)) as a Part.Geom2d.BSplineCurve2d."""
+    mults, knots, degree, w = _curve_form(c)
+    bc = Part.Geom2d.BSplineCurve2d()
+    bc.buildFromPolesMultsKnots([FreeCAD.Base.Vector2d(float(p[0]), float(p[1])) for p in c.poles], mults, knots,
+                                False, degree, w)
     return bc
 
 
@@ -195,10 +201,7 @@ def result_face(fit):
 
 def curve_to_edge(c):
     """A 3D curve container (ruled.core.nurbs.Curve) as a Part edge."""
-    from ruled.core.hostform import compress
-    knots, mults = compress(c.knots)
+    mults, knots, degree, w = _curve_form(c)
     bc = Part.BSplineCurve()
-    w = [1.0] * len(c.poles) if c.weights is None else [float(x) for x in c.weights]
-    bc.buildFromPolesMultsKnots([FreeCAD.Vector(*map(float, p[:3])) for p in c.poles], [int(m) for m in mults],
-                                [float(k) for k in knots], False, int(c.degree), w)
+    bc.buildFromPolesMultsKnots([FreeCAD.Vector(*map(float, p[:3])) for p in c.poles], mults, knots, False, degree, w)
     return bc.toShape()

@@ -95,6 +95,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     obj, src = _one_fit(objects)
     fit_figures = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}
     warnings = []
+    region = face_region(src, face_to_arrays(src))
     if trimmed(obj.Shape.Faces[0]):
         # a result trimmed by the face's edges is not machined yet (issue 35; as ruled.occ.machine): its rulings
         # run past the face, so the path is made from the fit pinned to the face's corners
@@ -102,14 +103,15 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
 
         from ruled.fit.facefit import fit_region
         pinned = replace(obj.Proxy.options(obj), ends="pinned").checked()
-        res = fit_region(face_region(src, face_to_arrays(src)), pinned, progress)
+        res = fit_region(region, pinned, progress)
         R = res.surface if res.surface.degree_v == 1 else res.surface.transposed()
+        S = res.patch.surface
         fit_figures = {"error_bound": float(res.error_bound), "measured": float(res.error_bound)}
         warnings.append("the machine path is made from the fit pinned to the face's corners: a result trimmed by "
                         "the face's edges is not machined yet")
     else:
         R = result_arrays(obj.Shape.Faces[0])
-    S = face_patch(face_region(src, face_to_arrays(src))).surface     # the face as bounded by its edges
+        S = face_patch(region).surface     # the face as bounded by its edges
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
     opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed).checked()
     mp = machine_path(R, S, opts, out_side, progress)

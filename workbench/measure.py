@@ -95,12 +95,11 @@ def trimmed(face) -> bool:
 
 def _filled(d: np.ndarray, inside: np.ndarray, m: int) -> np.ndarray:
     """Grid values outside a trimmed face taken from the nearest node inside (for colouring only)."""
-    ij = np.stack(np.divmod(np.arange(m * m), m), axis=1)
-    src = ij[inside]
-    if not src.size:
+    from scipy.ndimage import distance_transform_edt
+    if not inside.any():
         return d
-    near = np.argmin(((ij[:, None, :] - src[None, :, :]) ** 2).sum(axis=2), axis=1)
-    return d[inside][near]
+    _, (i, j) = distance_transform_edt(~inside.reshape(m, m), return_indices=True)
+    return d.reshape(m, m)[i, j].ravel()
 
 
 def _result_side(f, design, n: int, progress) -> tuple:

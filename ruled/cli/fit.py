@@ -58,9 +58,10 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
     if face_timeout is not None:
         positive("face_timeout", face_timeout, "seconds")
     # the face before the engine: a wrong --face is answered without loading it
-    from ruled.occ.io import face_area, get_face
+    from ruled.occ.io import face_area, get_face, read_shape
     t0 = time.perf_counter()
-    face = get_face(input_path, face_index) if face is None else face
+    part = read_shape(input_path) if replace else None      # (read once: the face from it, then the part)
+    face = get_face(input_path, face_index, part) if face is None else face
     t_read = time.perf_counter() - t0
     from ruled.core.progress import Bar, TimeLimit
     from ruled.fit.facefit import first_consistent
@@ -83,7 +84,8 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
             r, slack, face, area, face_index, output, input_path, method, measure_samples, quiet, limit, text,
             {"read": t_read, "fit": t_fit}, built))
         if replace:
-            rep["replace"] = _replaced(input_path, face_index, built["face"], rep["error_bound"], output)
+            rep["replace"] = _replaced(part if part is not None else read_shape(input_path), face_index,
+                                       built["face"], rep["error_bound"], output)
     warnings = [text(w) for w in res.patch.warnings]
     for w in warnings + more if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
@@ -138,13 +140,12 @@ def _built_and_measured(res, slack, face, area, face_index, output, input_path, 
     return rep, more
 
 
-def _replaced(input_path: str, index: int, face, bound: float, output: str) -> dict:
-    """The whole part written to output, its face ``index`` replaced by the result face and sewn; returns
-    the report's ``replace`` section.  A part that cannot be sewn is refused (output removed)."""
-    from ruled.occ.io import faces_of, read_shape, write_step
+def _replaced(shape, index: int, face, bound: float, output: str) -> dict:
+    """The whole part (shape, as read) written to output, its face ``index`` replaced by the result face and
+    sewn; returns the report's ``replace`` section.  A part that cannot be sewn is refused (output removed)."""
+    from ruled.occ.io import faces_of, write_step
     from ruled.occ.replace import replaced_part, sewing_tolerance
     t0 = time.perf_counter()
-    shape = read_shape(input_path)
     try:
         part = replaced_part(shape, index, face, sewing_tolerance(bound, faces_of(shape)[index], face))
     except RuledError:

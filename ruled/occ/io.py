@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from typing import Optional
 
 from OCP.BRep import BRep_Builder
 from OCP.BRepGProp import BRepGProp
@@ -57,18 +58,35 @@ def read_shape(path: str) -> TopoDS_Shape:
     return shape
 
 
-def faces_of(shape: TopoDS_Shape) -> list:
-    """Faces in TopExp_Explorer order (the index the CLI's --face uses)."""
+def shapes_of(shape: TopoDS_Shape, kind: TopAbs_ShapeEnum) -> list:
+    """The sub-shapes of one kind in TopExp_Explorer order (as TopoDS_Shape)."""
     out = []
-    exp = TopExp_Explorer(shape, TopAbs_ShapeEnum.TopAbs_FACE)
+    exp = TopExp_Explorer(shape, kind)
     while exp.More():
-        out.append(TopoDS.Face_s(exp.Current()))
+        out.append(exp.Current())
         exp.Next()
     return out
 
 
-def get_face(path: str, index: int):
-    faces = read_faces(path)
+def faces_of(shape: TopoDS_Shape) -> list:
+    """Faces in TopExp_Explorer order (the index the CLI's --face uses)."""
+    return [TopoDS.Face_s(f) for f in shapes_of(shape, TopAbs_ShapeEnum.TopAbs_FACE)]
+
+
+def compound(shapes) -> TopoDS_Compound:
+    """The shapes as one compound."""
+    comp = TopoDS_Compound()
+    b = BRep_Builder()
+    b.MakeCompound(comp)
+    for s in shapes:
+        b.Add(comp, s)
+    return comp
+
+
+def get_face(path: str, index: int, shape: Optional[TopoDS_Shape] = None):
+    """Face ``index`` of the file (of shape, the file read already, when given)."""
+    faces = faces_of(read_shape(path) if shape is None else shape)
+    remember(path, len(faces))
     err = out_of_range(path, index, len(faces))
     if err is not None:
         raise err
@@ -137,13 +155,7 @@ def list_faces(path: str) -> list[FaceInfo]:
 
 def write_step(shapes, path: str) -> None:
     """Write one shape or a list of shapes (as a compound) to STEP AP214."""
-    if not isinstance(shapes, (list, tuple)):
-        shapes = [shapes]
-    comp = TopoDS_Compound()
-    b = BRep_Builder()
-    b.MakeCompound(comp)
-    for s in shapes:
-        b.Add(comp, s)
+    comp = compound(shapes if isinstance(shapes, (list, tuple)) else [shapes])
     Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
     w = STEPControl_Writer()
     w.Transfer(comp, STEPControl_StepModelType.STEPControl_AsIs)
@@ -156,4 +168,5 @@ def write_step(shapes, path: str) -> None:
             raise BadInputError(f"cannot write {path}; check that the folder is writable")
 
 
-__all__ = ["read_shape", "faces_of", "get_face", "face_area", "list_faces", "write_step", "FaceInfo"]
+__all__ = ["read_shape", "shapes_of", "faces_of", "compound", "get_face", "face_area", "list_faces", "write_step",
+           "FaceInfo"]

@@ -15,12 +15,12 @@ from OCP.BRepExtrema import BRepExtrema_DistShapeShape
 from OCP.BRepLib import BRepLib
 from OCP.BRepTools import BRepTools_ReShape
 from OCP.TopAbs import TopAbs_ShapeEnum
-from OCP.TopExp import TopExp, TopExp_Explorer
+from OCP.TopExp import TopExp
 from OCP.TopoDS import TopoDS, TopoDS_Shape, TopoDS_Shell
 from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 
 from ruled.core.errors import BadInputError, RuledError
-from ruled.occ.io import faces_of
+from ruled.occ.io import faces_of, shapes_of
 
 MARGIN = 1.1      # the sewing tolerance: this many times the result's bound (its edges lie that near the face's)
 FLOOR = 1e-7      # ... and never below this, nor below the tolerances the edges carry
@@ -49,19 +49,11 @@ class Replaced:
                 "faces": self.faces, "free_edges": self.free_edges}
 
 
-def _shapes(shape, kind) -> list:
-    out, exp = [], TopExp_Explorer(shape, kind)
-    while exp.More():
-        out.append(exp.Current())
-        exp.Next()
-    return out
-
-
 def _owner(shape, face) -> tuple:
     """(the solid, or else the shell, holding face; None when it is a lone face), and whether a solid."""
     for kind, solid in ((TopAbs_ShapeEnum.TopAbs_SOLID, True), (TopAbs_ShapeEnum.TopAbs_SHELL, False)):
-        for s in _shapes(shape, kind):
-            if any(f.IsSame(face) for f in _shapes(s, TopAbs_ShapeEnum.TopAbs_FACE)):
+        for s in shapes_of(shape, kind):
+            if any(f.IsSame(face) for f in shapes_of(s, TopAbs_ShapeEnum.TopAbs_FACE)):
                 return s, solid
     return None, False
 
@@ -86,9 +78,8 @@ def free_edges(shape) -> list:
 
 def sewing_tolerance(bound: float, *faces) -> float:
     """MARGIN x the result's bound, at least the tolerances the faces' edges carry and FLOOR."""
-    tol = max([FLOOR, MARGIN * float(bound)] + [BRep_Tool.Tolerance_s(TopoDS.Edge_s(e)) for f in faces
-                                                   for e in _shapes(f, TopAbs_ShapeEnum.TopAbs_EDGE)])
-    return tol
+    return max([FLOOR, MARGIN * float(bound)] + [BRep_Tool.Tolerance_s(TopoDS.Edge_s(e)) for f in faces
+                                                    for e in shapes_of(f, TopAbs_ShapeEnum.TopAbs_EDGE)])
 
 
 def _distance(a, b) -> float:
@@ -107,7 +98,8 @@ def _unmet(new_free: list, old_face) -> str:
     free edges lie along, each with how far the result's edge strays from it."""
     from ruled.occ.region import outer_edges
     outer = outer_edges(old_face)
-    edges = outer + [e for e in _shapes(old_face, TopAbs_ShapeEnum.TopAbs_EDGE) if not any(e.IsSame(o) for o in outer)]
+    edges = outer + [e for e in shapes_of(old_face, TopAbs_ShapeEnum.TopAbs_EDGE)
+                     if not any(e.IsSame(o) for o in outer)]
     found: dict = {}
     for fe in new_free:
         pts = _points(fe)
@@ -151,7 +143,7 @@ def replaced_part(shape: TopoDS_Shape, index: int, new_face, tol: float) -> Repl
         b.Add(shell, g)
     before = len(free_edges(target))
     after = free_edges(shell)
-    new_free = [e for e in after if any(e.IsSame(x) for x in _shapes(sewn_new, TopAbs_ShapeEnum.TopAbs_EDGE))]
+    new_free = [e for e in after if any(e.IsSame(x) for x in shapes_of(sewn_new, TopAbs_ShapeEnum.TopAbs_EDGE))]
     if len(after) > before and new_free:
         raise SewingError(f"face {index}'s result could not be sewn into the part: along edges "
                           f"{_unmet(new_free, old)} of face {index} it did not meet the neighbouring "
