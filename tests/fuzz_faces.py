@@ -174,6 +174,10 @@ REGRESSIONS = [
     # whose 4D surface itself measures 5.9e-5 against the 2D bound 4.3e-6 (13.9x): a far 4D rebuild (issue
     # 36's), the 2D result returned (measured 3.2e-7); named in FAR_4D (xfail) until the rebuild holds it
     ("4d", 998512410, 9, "far 4D rebuild"),
+    # found by the rotating run of 247c6cf: a rational face with extreme weights whose rails, run past the face
+    # (issue 35), leave the surface's finite numbers: the fit crashed building the map's inverse; no extension
+    # there now (the fit pinned at the face's corners, with a note)
+    ("2d", 612134142, 10, "non-finite extension"),
 ]
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 3 s)
 SAMPLES = 12           # the DP's and the measure's samples: small faces of every kind, not fine fits

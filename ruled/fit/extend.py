@@ -139,6 +139,8 @@ class ExtendedMap:
         gs, gt = np.meshgrid(np.linspace(0, 1, 257), np.linspace(0, 1, 65), indexing="ij")
         G = self.raw(gs.ravel(), gt.ravel()) / sc
         uvs = uv / sc
+        if not np.all(np.isfinite(G)):          # a rail's extension leaves the surface's numbers: no inverse
+            return np.zeros((len(uv), 2)), np.full(len(uv), np.inf)
         _, near = cKDTree(G).query(uvs)
         st = np.stack([gs.ravel()[near], gt.ravel()[near]], axis=1)
         h = 1e-7
@@ -269,6 +271,8 @@ def extended_map(region: Region, sides: Sides) -> Optional[tuple]:
         B = Rail(c2, reach * end_before, reach * end_after)
         m = ExtendedMap(region, sides, A, B)
         J = m.jacobian()
+        if not np.all(np.isfinite(J)):          # (extreme weights: the extension reaches no finite point)
+            continue
         small = 1e-2 * float(np.median(np.abs(J)))
         pos, neg = int((J > small).sum()), int((J < -small).sum())
         if pos and neg:
