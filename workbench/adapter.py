@@ -123,6 +123,10 @@ def face_region(face, S: Surface = None) -> Region:
     wire order, its holes, seams and degenerate edges; the same Region the OCP adapter reads."""
     S = face_to_arrays(face) if S is None else S
     try:
+        # a face that is not a B-spline: the converted face's pcurves, which bound the same region on S
+        # (the face's own, in angle, do not: S is not parametrised by angle between its knots)
+        if not isinstance(face.Surface, Part.BSplineSurface):
+            face = face.toNurbs().Faces[0]
         edges = outer_edges(face)
         loop = [_pcurve(face, e) for e in edges]
         e3 = [_curve3d(e, c) for e, c in zip(edges, loop)]

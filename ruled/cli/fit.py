@@ -159,7 +159,9 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
     h = rep["hausdorff"]
     rg = rep.get("region")
     where = f"along {rep['direction']}"
-    if rep.get("trim"):
+    if rg is not None and rg.get("own"):
+        where = "along the iso lines of the face's own surface (it is ruled; the result is trimmed by its edges)"
+    elif rep.get("trim"):
         where = "crossing the face's end edges (the rails run past the face; the result is trimmed by its edges)"
     elif rg is not None and rg["trimmed"]:
         where = f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and " \

@@ -182,6 +182,7 @@ class FaceMask:
     edges: tuple              # per outer loop edge: (PER_EDGE, 2) (s, t) samples
     hole_edges: tuple = ()    # per hole: per edge (PER_EDGE, 2)
     overshoot: float = 0.0    # how far (in t) the loop ran past the rails before it was clipped onto them
+    curves: Optional[tuple] = None   # the loops as 2D curves in (s, t) (outer first), where known exactly
 
     @cached_property
     def _points(self) -> np.ndarray:

@@ -30,7 +30,7 @@ from ruled.fit.facepatch import (  # noqa: F401 (FacePatch, region_size, with_de
     with_deviation,
     with_iso,
 )
-from ruled.fit.facetrim import fit_trimmed
+from ruled.fit.facetrim import fit_patch, fit_trimmed, own_patch
 from ruled.fit.fit2d import FitResult, ruling_figure
 from ruled.fit.options import Direction, Ends, FitOptions, Method
 from ruled.fit.surface import fit_surface
@@ -129,8 +129,16 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     if opts.ends == Ends.AUTO:
         try:
             pinned = fit_pinned(region, opts, progress, rails)
-        except DegenerateFaceError as exc:
+        except BadInputError as exc:        # (no four-sided patch: raised again if nothing else fits)
             why = exc
+    own = own_patch(region, region_size(region)) if rails is None else None
+    if own is not None:
+        got, _ = fit_patch(own, opts, progress)
+        if got is not None and (pinned is None or got.error_bound <= pinned.error_bound):
+            vs = "" if pinned is None else f" (pinned {pinned.error_bound:.4g})"
+            note = (f"the face's own surface is ruled along its iso lines: the result is that surface trimmed by "
+                    f"the face's edges, bound {got.error_bound:.4g}{vs}")
+            return replace(got, notes=tuple(got.notes) + (note,))
     if opts.ends == Ends.AUTO and region.holes and pinned is not None:
         # a trimmed result with holes built an invalid face on a fuzz face (issue 35): asked for only
         return replace(pinned, notes=tuple(pinned.notes) + (

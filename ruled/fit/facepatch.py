@@ -38,6 +38,7 @@ class FacePatch:
     hole_span: float = 0.0             # part of deviation: the spanning part over holes is this near the face
     mask: Optional[object] = None      # an extended patch (ruled.fit.extend): the face in its (s, t); result trimmed
     extension: Optional[dict] = None   # how far the extended patch's rails run past the face
+    own: bool = False                  # the face's own surface, whole (exactly ruled along an iso direction)
 
     @property
     def trimmed(self) -> bool:
@@ -45,6 +46,10 @@ class FacePatch:
 
     def rails(self, direction: str) -> tuple:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
+        if self.own:        # the loop edges on the surface's two rails (t = 0 and 1 of the patch)
+            on = [(float(st[:, 1].max()) <= 1e-4, float(st[:, 1].min()) >= 1.0 - 1e-4)
+                  for st in getattr(self.mask, "edges")]
+            return tuple(tuple(k for k, o in enumerate(on) if o[i]) for i in (0, 1))
         if self.sides is not None:
             return self.sides.rails(direction)
         # the rectangle: the loop edges on its v-min / v-max (direction v) or u-min / u-max sides
@@ -53,6 +58,8 @@ class FacePatch:
 
     @property
     def how(self) -> str:
+        if self.own:
+            return "the face's own surface, exactly ruled along its iso lines, trimmed by the face's edges"
         if self.trimmed:
             return f"rails past the face ({self.sides.how}), trimmed by the face's edges"
         return "the face is its surface's whole (u, v) rectangle" if self.identity else self.sides.how

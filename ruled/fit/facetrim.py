@@ -10,6 +10,7 @@ from typing import Optional
 import numpy as np
 
 from ruled.core.errors import RuledError
+from ruled.core.nurbs import Curve, Surface
 from ruled.core.progress import Progress
 from ruled.core.region import Region, Sides, four_sides
 from ruled.fit.facepatch import (
@@ -54,6 +55,14 @@ def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePa
     gap = EDGE_MARGIN * region.max_gap()
     # the loop's points a hair past the rails were clipped onto them: the face runs past the patch by so much
     gap += mask.overshoot * float(E.derivative_bounds()["Sv"].max())
+    ext = _extension(E, mask, [float(m.A.a), float(1.0 - m.A.b)])
+    return FacePatch(region, E, float(side.deviation) + gap, False, sides, "v", side.spans, size, (), gap, 0.0,
+                     mask=mask, extension=ext)
+
+
+def _extension(E, mask, uv_past: list) -> dict:
+    """How far the patch's rails run past the face: the face's s-range in the patch, the rails' lengths
+    before and after it (model units), and uv_past (the fractions of the rails' parameter past the face)."""
     s_lo = min(float(st[:, 0].min()) for st in mask.edges)
     s_hi = max(float(st[:, 0].max()) for st in mask.edges)
     run = {}
@@ -61,10 +70,105 @@ def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePa
         x = np.linspace(a, b, 65)
         run[name] = max(float(np.linalg.norm(np.diff(E(x, np.full(x.size, t)), axis=0), axis=1).sum())
                         for t in (0.0, 1.0))
-    ext = {"s_range": [s_lo, s_hi], "past_start": run["before"], "past_end": run["after"],
-           "uv_past": [float(m.A.a), float(1.0 - m.A.b)]}
-    return FacePatch(region, E, float(side.deviation) + gap, False, sides, "v", side.spans, size, (), gap, 0.0,
-                     mask=mask, extension=ext)
+    return {"s_range": [s_lo, s_hi], "past_start": run["before"], "past_end": run["after"], "uv_past": uv_past}
+
+
+def own_patch(region: Region, size: float) -> Optional[FacePatch]:
+    """The face's own surface, whole, as the patch, when it is exactly ruled along its iso lines (one
+    span of degree 1 across them: a plane, a cylinder's or a cone's face, a bilinear patch) and the face is
+    a trimmed region of it: the fit recovers the surface, and the result is it trimmed by the face's own
+    edges (no four-sided map of the face is needed).  Oriented so that the rulings run along v, on the
+    unit square; None otherwise (or where the face runs past the surface's domain)."""
+    from ruled.fit.extend import BAND, PER_EDGE, FaceMask, masked
+    S = region.surface
+    if region.is_rectangle() or any(region.closed) or any(region.seams) or S.periodic_u or S.periodic_v:
+        return None
+    if S.degree_v == 1 and S.poles.shape[1] == 2:
+        swap = False
+    elif S.degree_u == 1 and S.poles.shape[0] == 2:
+        swap = True
+    else:
+        return None
+    u0, u1, v0, v1 = S.domain
+    lo, span = np.array([u0, v0]), np.array([u1 - u0, v1 - v0])
+    E = Surface(S.poles, (S.knots_u - u0) / span[0], (S.knots_v - v0) / span[1], S.degree_u, S.degree_v, S.weights)
+    if swap:
+        E = E.transposed()
+
+    def st_of(curves):
+        out = []
+        for c in curves:
+            st = (c(np.linspace(c.domain[0], c.domain[1], PER_EDGE)) - lo) / span
+            out.append(st[:, ::-1] if swap else st)
+        return out
+    outer = st_of(region.loop)
+    holes = [st_of(h) for h in region.holes]
+    allst = np.concatenate(outer + [p for h in holes for p in h])
+    over = max(0.0, float(-allst.min()), float(allst.max() - 1.0))
+    if over > BAND:
+        return None
+    outer = tuple(np.clip(st, 0.0, 1.0) for st in outer)
+    holes = [tuple(np.clip(st, 0.0, 1.0) for st in h) for h in holes]
+    def curve_of(c):            # the pcurve in the patch's (s, t): its poles moved (and swapped) affinely
+        P = (c.poles - lo) / span
+        return Curve(P[:, ::-1] if swap else P, c.knots, c.degree, c.weights)
+    curves = None
+    if over <= 1e-12:
+        curves = (tuple(curve_of(c) for c in region.loop),) + tuple(tuple(curve_of(c) for c in h)
+                                                                   for h in region.holes)
+    mask = FaceMask((np.concatenate(outer),) + tuple(np.concatenate(h) for h in holes), outer, tuple(holes), over,
+                    curves)
+    E = masked(E, mask)
+    b = E.derivative_bounds()
+    gap = EDGE_MARGIN * region.max_gap() + over * max(float(b["Su"].max()), float(b["Sv"].max()))
+    s_lo = min(float(st[:, 0].min()) for st in outer)
+    s_hi = max(float(st[:, 0].max()) for st in outer)
+    return FacePatch(region, E, gap, False, None, "v", (0, 0), size, (), gap, 0.0, mask=mask,
+                     extension=_extension(E, mask, [s_lo, 1.0 - s_hi]), own=True)
+
+
+def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> tuple:
+    """(FitResult, None) of a masked patch (rails at t = 0 and 1), its candidates trimmed by the face's
+    edges, or (None, why) where it cannot be fitted or no fit of it can be trimmed."""
+    from ruled.fit.trim import with_trim
+    try:
+        res = with_iso(fit_surface(patch.surface, replace(opts, direction=Direction.V), progress), progress)
+    except RuledError as exc:
+        return None, f"the extended patch cannot be fitted ({exc})"
+    cands = {}
+    for d, c in res.candidates.items():
+        cands[d] = c if isinstance(c, str) else (with_trim(c, patch.mask) or "its map folds over the face")
+    ok = [c for c in cands.values() if not isinstance(c, str)]
+    other = res.other if res.other is None or isinstance(res.other, str) else with_trim(res.other, patch.mask)
+    if not ok:
+        return None, "the fit's map folds over the face, so its image is not trimmed by the face's edges"
+    if patch.own:
+        cands = {d: c if isinstance(c, str) else _as_own(c, patch.surface) for d, c in cands.items()}
+        ok = [c for c in cands.values() if not isinstance(c, str)]
+    top = min(ok, key=lambda c: c.error_bound)
+    return replace(with_deviation(replace(res, best=top, candidates=cands, other=other), patch.deviation),
+                   patch=patch), None
+
+
+def _as_own(c, E):
+    """A trimmed fit of the face's own (ruled) surface E whose result has E's degrees, knots and weights:
+    certified by its poles' largest distance from E's (both surfaces are the same convex combinations of
+    their poles, so they are nowhere farther apart), where that is tighter than its certificate (a result
+    that is E itself: 0, plus round-off and the trim's part).  Only where the trim is the face's own
+    curves (psi the identity), so that the trimmed result is E over the face's own region."""
+    R = c.surface
+    if (not c.trim.own or R.poles.shape != E.poles.shape or (R.degree_u, R.degree_v) != (E.degree_u, E.degree_v)
+            or not np.array_equal(R.knots_u, E.knots_u) or not np.array_equal(R.knots_v, E.knots_v)
+            or (R.weights is None) != (E.weights is None)
+            or (R.weights is not None and not np.array_equal(R.weights, E.weights))):
+        return c
+    d = float(np.linalg.norm(R.poles - E.poles, axis=2).max())
+    cert = c.certificate
+    bound = d + cert.rounding + c.trim.added
+    if bound >= cert.bound:
+        return c
+    return replace(c, certificate=replace(cert, bound=bound, node_max=d, remainder=0.0,
+                                          map_deviation=c.trim.added))
 
 
 def fit_trimmed(region: Region, opts: FitOptions, progress: Progress = None, rails: Optional[tuple] = None,
@@ -72,7 +176,6 @@ def fit_trimmed(region: Region, opts: FitOptions, progress: Progress = None, rai
     """(FitResult, None) of the face's extended patch, its candidates trimmed by the face's edges (the
     rails the pinned fit chose, by its direction, when known; else both pairs of opposite sides), or
     (None, why) where no extension covers the face or no fit of it can be trimmed."""
-    from ruled.fit.trim import with_trim
     size = region_size(region)
     if sides is None or rails is not None:
         try:
@@ -87,25 +190,13 @@ def fit_trimmed(region: Region, opts: FitOptions, progress: Progress = None, rai
         patch = extended_patch(region, sd, size)
         if patch is None:
             continue
-        try:
-            res = with_iso(fit_surface(patch.surface, replace(opts, direction=Direction.V), progress), progress)
-        except RuledError as exc:
-            why = f"the extended patch cannot be fitted ({exc})"
+        r, w = fit_patch(patch, opts, progress)
+        if r is None:
+            why = w
             continue
-        cands = {}
-        for d, c in res.candidates.items():
-            cands[d] = c if isinstance(c, str) else (with_trim(c, patch.mask) or "its map folds over the face")
-        ok = [c for c in cands.values() if not isinstance(c, str)]
-        other = res.other if res.other is None or isinstance(res.other, str) else with_trim(res.other, patch.mask)
-        if not ok:
-            why = "the fit's map folds over the face, so its image is not trimmed by the face's edges"
-            continue
-        top = min(ok, key=lambda c: c.error_bound)
-        r = replace(with_deviation(replace(res, best=top, candidates=cands, other=other), patch.deviation),
-                    patch=patch)
         if best is None or r.error_bound < best.error_bound:
             best = r
     return (best, None) if best is not None else (None, why)
 
 
-__all__ = ["extended_patch", "fit_trimmed"]
+__all__ = ["extended_patch", "fit_patch", "fit_trimmed", "own_patch"]

@@ -157,9 +157,8 @@ def check_direction(S: Surface) -> tuple[bool, Optional[str]]:
     vs = np.linspace(v0, v1, 17)
     C0 = S(us, np.full(us.size, v0))
     C1 = S(us, np.full(us.size, v1))
-    for name, C in (("v-min", C0), ("v-max", C1)):
-        if _polyline_length(C) <= 1e-9 * max(diag, 1e-300):
-            return False, f"the {name} boundary collapses to a point"
+    if all(_polyline_length(C) <= 1e-9 * max(diag, 1e-300) for C in (C0, C1)):
+        return False, "both boundaries collapse to points"
     if np.max(np.linalg.norm(C0 - C1, axis=1)) <= tol:
         return False, "the v-min and v-max boundaries coincide (the face is closed across the rulings)"
     closed = bool(np.max(np.linalg.norm(S(np.full(vs.size, u0), vs) - S(np.full(vs.size, u1), vs), axis=1)) <= tol)

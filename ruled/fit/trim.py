@@ -41,6 +41,7 @@ class Trim:
     holes: tuple = ()
     eps: float = 0.0
     added: float = 0.0
+    own: bool = False       # the face's own curves (psi is the identity to round-off)
 
     @staticmethod
     def loop(curves: tuple, ccw: bool) -> tuple:
@@ -137,6 +138,10 @@ def trim_of(fit, mask) -> Optional[Trim]:
         return None
     R = fit.surface
     us, vs = cert.psi[0], cert.psi[1]
+    if mask.curves is not None:
+        exact = _identity_trim(cert.psi, mask, R)
+        if exact is not None:
+            return exact
     loops = [mask.edges] + list(mask.hole_edges)
     out, eps, segments = [], 0.0, []
     for edges in loops:
@@ -174,6 +179,24 @@ def trim_of(fit, mask) -> Optional[Trim]:
     b = R.derivative_bounds()
     added = eps * (float(b["Su"].max()) + float(b["Sv"].max()))
     return Trim(out[0], tuple(out[1:]), eps, added)
+
+
+IDENTITY = 1e-12     # psi within this of the identity (in R's domain): the face's own curves are the trim
+
+
+def _identity_trim(psi: tuple, mask, R) -> Optional[Trim]:
+    """The Trim where psi is the identity to round-off (the result is the patch itself, as for a face whose
+    own surface is ruled along its iso lines): the face's own curves, exactly, eps psi's distance from the
+    identity at the boundary's samples; None where psi is farther from it."""
+    us, vs, S, T = psi
+    UU, VV = np.meshgrid(us, vs, indexing="ij")
+    if max(float(np.abs(S - UU).max()), float(np.abs(T - VV).max())) > IDENTITY:
+        return None
+    st = np.concatenate(list(mask.edges) + [e for h in mask.hole_edges for e in h])
+    eps = EPS_MARGIN * float(np.abs(psi_at(psi, st) - st).max())
+    b = R.derivative_bounds()
+    return Trim(mask.curves[0], tuple(mask.curves[1:]), eps, eps * (float(b["Su"].max()) + float(b["Sv"].max())),
+                True)
 
 
 def with_trim(fit, mask):

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from OCP.BRep import BRep_Builder, BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Surface
-from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_NurbsConvert
 from OCP.BRepTools import BRepTools
 from OCP.Geom import Geom_BSplineCurve, Geom_BSplineSurface, Geom_RectangularTrimmedSurface
 from OCP.Geom2d import Geom2d_BSplineCurve
@@ -19,7 +19,7 @@ from OCP.GeomConvert import GeomConvert
 from OCP.gp import gp_Pnt, gp_Pnt2d
 from OCP.TColgp import TColgp_Array1OfPnt, TColgp_Array1OfPnt2d, TColgp_Array2OfPnt
 from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal, TColStd_Array2OfReal
-from OCP.TopoDS import TopoDS_Face
+from OCP.TopoDS import TopoDS, TopoDS_Face
 
 from ruled.core.errors import BadInputError
 from ruled.core.hostform import bounds_slack, compress, from_kernel_form, kernel_form
@@ -143,14 +143,35 @@ def _snap_period(a: float, b: float, start: float, period: float) -> tuple:
     return a, b
 
 
+def nurbs_face(face: TopoDS_Face) -> TopoDS_Face:
+    """The face itself where its surface is a B-spline, else the face converted whole to NURBS by OCCT
+    (surface, pcurves and edges together): a cylinder's or a sphere's B-spline form is not parametrised
+    by angle between its knots, so the face's own pcurves, in angle, do not bound the same region on it
+    (0.18 off on a cylinder with a hole cut, issue 35); the converted face's pcurves do."""
+    if BRepAdaptor_Surface(face).GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
+        return face
+    try:
+        conv = BRepBuilderAPI_NurbsConvert(face, True)
+        out = TopoDS.Face_s(conv.Shape()) if conv.IsDone() else None
+    except Exception:  # OCCT raises Standard_Failure subclasses
+        out = None
+    if out is None or BRepAdaptor_Surface(out).GetType() != GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
+        raise BadInputError(f"cannot convert this {face_surface_type(face)} face to a B-spline surface; "
+                            f"convert it to NURBS in your CAD system first")
+    out.Orientation(face.Orientation())
+    return out
+
+
 def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
-    """The face's surface as a Geom_BSplineSurface restricted to the face's UV bounds."""
+    """The face's surface as a Geom_BSplineSurface restricted to the face's UV bounds (a face whose
+    surface is not a B-spline: its nurbs_face's)."""
+    face = nurbs_face(face)
     u0, u1, v0, v1 = face_uv_bounds(face)
     surf = BRep_Tool.Surface_s(face)
     ad = BRepAdaptor_Surface(face)
     if ad.GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
         bs = ad.BSpline().Copy()
-    else:
+    else:  # (not reached: nurbs_face converts every other surface)
         a0, a1, b0, b1 = surf.Bounds()
         if surf.IsUPeriodic():      # a full turn whose bounds overhang the period by round-off
             u0, u1 = _snap_period(u0, u1, a0, surf.UPeriod())
@@ -239,7 +260,7 @@ def face_to_container(face: TopoDS_Face) -> Surface:
 
 def conversion_slack(face: TopoDS_Face, S: Surface) -> float:
     """Upper bound of the distance from the container to the face (ruled.core.hostform.bounds_slack)."""
-    return bounds_slack(S, face_uv_bounds(face))
+    return bounds_slack(S, face_uv_bounds(nurbs_face(face)))
 
 
 def container_to_bspline(s: Surface) -> Geom_BSplineSurface:

@@ -19,7 +19,7 @@ from ruled.core.errors import BadInputError, RuledError
 from ruled.core.hostform import curve_from_kernel_form
 from ruled.core.nurbs import Curve
 from ruled.core.region import Region
-from ruled.occ.convert import face_to_container
+from ruled.occ.convert import face_to_container, nurbs_face
 
 
 def _kernel_curve(bs, reversed_: bool, onto=None) -> Curve:
@@ -82,7 +82,7 @@ def face_region(face, S=None) -> Region:
     boundary as pcurves."""
     S = face_to_container(face) if S is None else S
     try:
-        return _face_region(face, S)
+        return _face_region(nurbs_face(face), S)
     except RuledError:
         raise
     except Exception as exc:     # OCCT's Standard_Failure and friends: a face whose boundary cannot be read

@@ -6,12 +6,15 @@ from __future__ import annotations
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepLib import BRepLib
+from OCP.GeomAbs import GeomAbs_Shape
 from OCP.ShapeFix import ShapeFix_Face
 from OCP.TopoDS import TopoDS_Face
 
 from ruled.core.errors import BadInputError, FiguresError
 from ruled.core.nurbs import Surface
 from ruled.occ.convert import container_to_bspline, container_to_face, curve2d_to_bspline
+
+EDGE_TOL = 1e-7
 
 
 def _wire(curves: tuple, surf):
@@ -36,7 +39,8 @@ def trimmed_face(R: Surface, trim) -> TopoDS_Face:
     if not mk.IsDone():
         raise BadInputError("could not build the trimmed result face; try «ends=pinned»")
     face = mk.Face()
-    BRepLib.BuildCurves3d_s(face)
+    # the 3D edges within EDGE_TOL of the 2D ones on R (OCCT's default, 1e-5, put a plate's edges 2.4e-6 off)
+    BRepLib.BuildCurves3d_s(face, EDGE_TOL, GeomAbs_Shape.GeomAbs_C1, 14, 200)
     fix = ShapeFix_Face(face)
     fix.Perform()
     face = fix.Face()

@@ -73,9 +73,10 @@ def _degenerate_files(tmp_path):
     for i in range(4):
         for j in range(3):
             P[i, j] = (i, j * (1 + 0.3 * i), 0.2 * i * j)
-    # v-max boundary collapsed to a point
+    # both v boundaries collapsed to points (a lens): no rails along v (one collapsed rail is a cone's apex)
     Pc = P.copy()
     Pc[:, 2] = (1.0, 3.0, 1.0)
+    Pc[:, 0] = (1.0, -1.0, 0.0)
     collapsed = Surface(Pc, [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 1, 1, 1], 3, 2)
     write_step(container_to_face(collapsed), str(tmp_path / "collapsed.step"))
     # zero area: every pole on one line
@@ -138,7 +139,7 @@ def test_bad_inputs_give_one_line_and_exit_2(tmp_path):
     _degenerate_files(tmp_path)
     msg = _one_line_error(ruled_here("fit", str(tmp_path / "collapsed.step"), "--face", "0", "--direction", "v",
                                 "-o", o))
-    assert "collapses" in msg
+    assert "both boundaries collapse" in msg
     msg = _one_line_error(ruled_here("fit", str(tmp_path / "flat.step"), "--face", "0", "-o", o))
     assert "zero area" in msg
     msg = _one_line_error(ruled_here("fit", wing, "--face", "0", "-o", str(tmp_path / "no" / "dir" / "o.step")))

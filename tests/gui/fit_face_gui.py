@@ -26,13 +26,13 @@ def extra_checks(doc, imp, obj, res):
     sel = FreeCADGui.Selection
     obj.ViewObject.Visibility = True
     res["legend"] = list(viewproviders.LEGENDS.get(doc.Name, (None, None, []))[2])
-    # "Fit several faces": two blade faces and the cone's face (refused): three objects, one invalid; at
+    # "Fit several faces": two blade faces and the sphere's face (refused): three objects, one invalid; at
     # quick defaults set as a user sets them (Edit > Preferences > Ruled), then the defaults again
     prefs = FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Ruled/Fit")
     prefs.SetInt("Samples", 16)
     prefs.SetInt("MeasureSamples", 12)
     sel.clearSelection()
-    for o, sub in ((imp, "Face7"), (imp, "Face8"), (doc.getObject("Cone"), "Face1")):
+    for o, sub in ((imp, "Face7"), (imp, "Face8"), (doc.getObject("Sphere"), "Face1")):
         sel.addSelection(o, sub)
     before = {o.Name for o in doc.Objects}
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_FitMany"))
@@ -189,12 +189,13 @@ def main():
     shot = os.path.join(OUT, "ruled_fit.png")
     view.saveImage(shot, 1280, 1024, "White")
     res["shot"] = shot
-    # a face the engine cannot take (a cone's face: one boundary collapses to the apex): the panel says why
-    cone = doc.addObject("Part::Feature", "Cone")
-    cone.Shape = Part.makeCone(0, 3, 5).translate(FreeCAD.Vector(200, 0, 0))
+    # a face the engine cannot take (a sphere's: both boundaries collapse to its poles, and it is closed
+    # across them): the panel says why
+    sphere = doc.addObject("Part::Feature", "Sphere")
+    sphere.Shape = Part.makeSphere(3).translate(FreeCAD.Vector(200, 0, 0))
     doc.recompute()
     sel.clearSelection()
-    sel.addSelection(cone, "Face1")
+    sel.addSelection(sphere, "Face1")
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     bad_panel = taskpanels.ACTIVE
     bad_panel.samples.setValue(12)

@@ -48,8 +48,8 @@ SCRIPT = textwrap.dedent("""
         out["fit4"] = props(fit4)
         doc.removeObject(fit4.Name)
         bad_edge = make_ruled_fit(doc, src, "Edge1", Samples=16)
-        cone = doc.addObject("Part::Feature", "Cone"); cone.Shape = Part.makeCone(0, 3, 5)
-        bad_apex = make_ruled_fit(doc, cone, "Face1", Samples=16, MeasureSamples=0)
+        sphere = doc.addObject("Part::Feature", "Sphere"); sphere.Shape = Part.makeSphere(3)  # poles, no rails
+        bad_apex = make_ruled_fit(doc, sphere, "Face1", Samples=16, MeasureSamples=0)
         bad_none = doc.addObject("Part::FeaturePython", "Empty")
         from ruled_workbench.features import RuledFit
         RuledFit(bad_none)

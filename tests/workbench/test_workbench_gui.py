@@ -69,7 +69,7 @@ def test_fit_through_the_task_panel(tmp_path):
     assert os.path.getsize(r["shot"]) > 20_000 and r["step_size"] > 1000
     # a face the engine refuses: the panel stays open with the reason; Cancel removes the object again
     assert not r["bad_face"]["accepted"] and r["bad_face"]["text"].startswith("Cannot fit:")
-    assert sorted(r["after_cancel"]) == ["Cone", "Impeller", "RuledFit"]
+    assert sorted(r["after_cancel"]) == ["Impeller", "RuledFit", "Sphere"]
     # "Split for ruling": previewed and kept, the two fitted sides and the split curve, better than one strip
     assert r["split_preview"] and r["split_accept"] and "kept the" in r["split_text"]
     sp = r["split"]
