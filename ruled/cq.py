@@ -113,15 +113,16 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     area = face_area(src, 1e-6) if measure else None      # once: each candidate tried is compared with it
 
     def built(r):
-        from ruled.occ.trimmed import result_face
+        from ruled.occ.trimmed import built_slack, result_face
         out = result_face(r)
         h = hausdorff(src, out, measure_samples) if measure else None
         size = r.patch.face_size if r.patch is not None else r.surface.diagonal()
         ratio = None if h is None else area_ratio(r, area, face_area(out, 1e-6) if r.best.trim is not None else None)
-        return out, h, measured_warnings(r, r.error_bound + slack, None if h is None else h.max, size, ratio)
-    res, out, h, more = first_consistent(res, built)
+        bound = r.error_bound + slack + built_slack(out, r)
+        return out, h, bound, measured_warnings(r, bound, None if h is None else h.max, size, ratio)
+    res, out, h, bound, more = first_consistent(res, built)
     warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + more
-    return RuledFit(_cq(out), res.surface, res.best.rulings, res.error_bound + slack, h, res, warnings)
+    return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)
 
 
 @dataclass(frozen=True)

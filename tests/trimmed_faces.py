@@ -93,10 +93,27 @@ def folding_face(edges: int = 4):
     hook = np.stack([0.9 - 0.75 * np.sin(np.pi * t) ** 0.5 * (1 - t) - 0.8 * t,
                      0.9 - 0.6 * np.sin(np.pi * t)], axis=1)
     hook[0], hook[-1] = (0.9, 0.9), (0.1, 0.9)
-    bottom = ([curve2d([[0.1, 0.1], [0.9, 0.1]])] if edges == 4 else
-              [curve2d([[0.1, 0.1], [0.5, 0.1]]), curve2d([[0.5, 0.1], [0.9, 0.1]])])
-    return face_from_loops(S, [bottom + [curve2d([[0.9, 0.1], [0.9, 0.9]]), curve2d(hook),
-                                         curve2d([[0.1, 0.9], [0.1, 0.1]])]])
+    return face_from_loops(S, _hooked_loop(hook, edges, lambda p: p))
+
+
+def _hooked_loop(hook, edges: int, at) -> list:
+    bottom = ([curve2d(at([[0.1, 0.1], [0.9, 0.1]]))] if edges == 4 else
+              [curve2d(at([[0.1, 0.1], [0.5, 0.1]])), curve2d(at([[0.5, 0.1], [0.9, 0.1]]))])
+    return [bottom + [curve2d(at([[0.9, 0.1], [0.9, 0.9]])), curve2d(at(hook)), curve2d(at([[0.1, 0.9], [0.1, 0.1]]))]]
+
+
+def folding_face_on_a_dome():
+    """folding_face's C-shaped region, scaled into the middle of a bicubic dome 20 across and 2 high (curved
+    both ways: no iso direction of it is ruled), its hook well inside the surface's domain."""
+    x = np.linspace(0.0, 20.0, 4)
+    poles = np.array([[[a, b, 2.0 * (1 - ((a - 10) / 10) ** 2) * (1 - ((b - 10) / 10) ** 2) + 0.05 * a]
+                       for b in x] for a in x])
+    S = bspline_surface(poles, [0, 1], [4, 4], [0, 1], [4, 4], 3, 3)
+    t = np.linspace(0, 1, 40)
+    hook = np.stack([0.9 - 0.75 * np.sin(np.pi * t) ** 0.5 * (1 - t) - 0.8 * t,
+                     0.9 - 0.6 * np.sin(np.pi * t)], axis=1)
+    hook[0], hook[-1] = (0.9, 0.9), (0.1, 0.9)
+    return face_from_loops(S, _hooked_loop(hook, 4, lambda p: 0.25 + 0.5 * np.asarray(p, float)))
 
 
 def outer_edges(face) -> list:

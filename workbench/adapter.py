@@ -125,7 +125,7 @@ def face_region(face, S: Surface = None) -> Region:
     try:
         # a face that is not a B-spline: the converted face's pcurves, which bound the same region on S
         # (the face's own, in angle, do not: S is not parametrised by angle between its knots)
-        if not isinstance(face.Surface, Part.BSplineSurface):
+        if not isinstance(face.Surface, (Part.BSplineSurface, Part.Plane)):
             face = face.toNurbs().Faces[0]
         edges = outer_edges(face)
         loop = [_pcurve(face, e) for e in edges]
@@ -201,6 +201,14 @@ def result_face(fit):
         raise FiguresError("the result trimmed by the face's edges is not a valid face (OCCT's check), so it is "
                            "not returned; try «ends=pinned»")
     return face
+
+
+def built_slack(face, fit) -> float:
+    """What building a trimmed result adds to its bound: its edges' tolerance (they are made from its 2D
+    trim curves; ruled.occ.trimmed.built_slack is the same for OCP); 0 for a result bounded by its own sides."""
+    if getattr(getattr(fit, "best", fit), "trim", None) is None:
+        return 0.0
+    return max((float(e.Tolerance) for e in face.Edges), default=0.0)
 
 
 def curve_to_edge(c):

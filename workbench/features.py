@@ -351,7 +351,7 @@ class RuledFit(_Feature):
         from ruled.core.hostform import bounds_slack
         from ruled.fit.facefit import area_ratio, first_consistent, fit_region, measured_warnings
 
-        from .adapter import face_region, outer_edges, result_face
+        from .adapter import built_slack, face_region, outer_edges, result_face
         face, opts, S, progress = self.inputs(obj, "fitting")
         names = source_edge_names(obj, outer_edges(face))
 
@@ -359,7 +359,7 @@ class RuledFit(_Feature):
             """The result face, its figures on obj, and what only the measure says (FiguresError where its
             figures disagree: the next candidate is tried)."""
             result = result_face(res)
-            obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange))
+            obj.ErrorBound = float(res.error_bound + bounds_slack(S, face.ParameterRange) + built_slack(result, res))
             p = res.patch
             obj.Rails = [" + ".join(names[k] for k in rail) or "a point" for rail in p.rails(res.direction)]
             obj.Trimmed = not p.identity

@@ -108,9 +108,10 @@ def _built_and_measured(res, slack, face, area, face_index, output, input_path, 
     from ruled.fit.report import report_dict
     from ruled.occ.io import face_area, write_step
     from ruled.occ.measure import hausdorff
-    from ruled.occ.trimmed import result_face
+    from ruled.occ.trimmed import built_slack, result_face
     t1 = time.perf_counter()
     out_face = built["face"] = result_face(res)
+    slack += built_slack(out_face, res)
     write_step(out_face, output)
     t_write = time.perf_counter() - t1
     t2 = time.perf_counter()
@@ -161,6 +162,9 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
     where = f"along {rep['direction']}"
     if rg is not None and rg.get("own"):
         where = "along the iso lines of the face's own surface (it is ruled; the result is trimmed by its edges)"
+    elif rg is not None and rg.get("box"):
+        where = ("between the iso lines bounding the face's own surface (the face has no four-sided map; the "
+                 "result is trimmed by its edges)")
     elif rep.get("trim"):
         where = "crossing the face's end edges (the rails run past the face; the result is trimmed by its edges)"
     elif rg is not None and rg["trimmed"]:

@@ -30,7 +30,7 @@ from ruled.fit.facepatch import (  # noqa: F401 (FacePatch, region_size, with_de
     with_deviation,
     with_iso,
 )
-from ruled.fit.facetrim import fit_patch, fit_trimmed, own_patch
+from ruled.fit.facetrim import box_patches, fit_patch, fit_trimmed, own_patch
 from ruled.fit.fit2d import FitResult, ruling_figure
 from ruled.fit.options import Direction, Ends, FitOptions, Method
 from ruled.fit.surface import fit_surface
@@ -134,7 +134,9 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     own = own_patch(region, region_size(region)) if rails is None else None
     if own is not None:
         got, _ = fit_patch(own, opts, progress)
-        if got is not None and (pinned is None or got.error_bound <= pinned.error_bound):
+        # within the file's own edge tolerance both are as exact as the file allows: the own surface needs no map
+        file_tol = max((float(t) for t in (region.tolerances or ()) if t is not None), default=0.0)
+        if got is not None and (pinned is None or got.error_bound <= max(pinned.error_bound, file_tol)):
             vs = "" if pinned is None else f" (pinned {pinned.error_bound:.4g})"
             note = (f"the face's own surface is ruled along its iso lines: the result is that surface trimmed by "
                     f"the face's edges, bound {got.error_bound:.4g}{vs}")
@@ -150,6 +152,10 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
                                   None if pinned is None else pinned.best.direction,
                                   None if pinned is None else pinned.patch.sides)
     if trimmed is None:
+        if pinned is None and rails is None:
+            boxed = fit_box(region, opts, progress, why or reason)
+            if boxed is not None:
+                return boxed
         if pinned is None:
             if why is not None:
                 raise why
@@ -163,6 +169,22 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
         (pinned, "the rulings are pinned to the face's corners")
     note = f"{how}: bound {min(tb, pb):.4g} (trimmed {tb:.4g}, pinned {pb:.4g})"
     return replace(won, notes=tuple(won.notes) + (note,))
+
+
+def fit_box(region: Region, opts: FitOptions, progress: Progress, why) -> Optional[FitResult]:
+    """The face with no four-sided map (why: the refusal, or why its rails cannot run past it) fitted over
+    its own surface's rectangle, the rulings along v and along u, trimmed by its edges: the lower bound, a
+    note saying so; None where neither can be fitted and trimmed."""
+    best = None
+    for patch in box_patches(region, region_size(region)):
+        got, _ = fit_patch(patch, opts, progress)
+        if got is not None and (best is None or got.error_bound < best.error_bound):
+            best = got
+    if best is None:
+        return None
+    note = (f"the face has no four-sided map ({why}): the rulings run between the iso lines bounding its own "
+            f"surface, trimmed by its edges, bound {best.error_bound:.4g}")
+    return replace(best, notes=tuple(best.notes) + (note,))
 
 
 def fit_pinned(region: Region, opts: FitOptions, progress: Progress = None, rails: Optional[tuple] = None,

@@ -39,6 +39,7 @@ class FacePatch:
     mask: Optional[object] = None      # an extended patch (ruled.fit.extend): the face in its (s, t); result trimmed
     extension: Optional[dict] = None   # how far the extended patch's rails run past the face
     own: bool = False                  # the face's own surface, whole (exactly ruled along an iso direction)
+    box: bool = False                  # the face's own surface, whole, as the patch (own, or any surface)
 
     @property
     def trimmed(self) -> bool:
@@ -46,7 +47,7 @@ class FacePatch:
 
     def rails(self, direction: str) -> tuple:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
-        if self.own:        # the loop edges on the surface's two rails (t = 0 and 1 of the patch)
+        if self.box:        # the loop edges on the surface's two rails (t = 0 and 1 of the patch)
             on = [(float(st[:, 1].max()) <= 1e-4, float(st[:, 1].min()) >= 1.0 - 1e-4)
                   for st in getattr(self.mask, "edges")]
             return tuple(tuple(k for k, o in enumerate(on) if o[i]) for i in (0, 1))
@@ -60,6 +61,9 @@ class FacePatch:
     def how(self) -> str:
         if self.own:
             return "the face's own surface, exactly ruled along its iso lines, trimmed by the face's edges"
+        if self.box:
+            return ("no four-sided map of the face: rulings between the iso lines bounding its own surface, "
+                    "trimmed by the face's edges")
         if self.trimmed:
             return f"rails past the face ({self.sides.how}), trimmed by the face's edges"
         return "the face is its surface's whole (u, v) rectangle" if self.identity else self.sides.how

@@ -73,22 +73,43 @@ def _extension(E, mask, uv_past: list) -> dict:
     return {"s_range": [s_lo, s_hi], "past_start": run["before"], "past_end": run["after"], "uv_past": uv_past}
 
 
+def _trimmed_open(region: Region) -> bool:
+    """The face is a trimmed region of an open surface (not its rectangle, no seam, nothing periodic)."""
+    S = region.surface
+    return not (region.is_rectangle() or any(region.closed) or any(region.seams) or S.periodic_u or S.periodic_v)
+
+
 def own_patch(region: Region, size: float) -> Optional[FacePatch]:
     """The face's own surface, whole, as the patch, when it is exactly ruled along its iso lines (one
     span of degree 1 across them: a plane, a cylinder's or a cone's face, a bilinear patch) and the face is
     a trimmed region of it: the fit recovers the surface, and the result is it trimmed by the face's own
     edges (no four-sided map of the face is needed).  Oriented so that the rulings run along v, on the
     unit square; None otherwise (or where the face runs past the surface's domain)."""
-    from ruled.fit.extend import BAND, PER_EDGE, FaceMask, masked
     S = region.surface
-    if region.is_rectangle() or any(region.closed) or any(region.seams) or S.periodic_u or S.periodic_v:
+    if not _trimmed_open(region):
         return None
     if S.degree_v == 1 and S.poles.shape[1] == 2:
-        swap = False
-    elif S.degree_u == 1 and S.poles.shape[0] == 2:
-        swap = True
-    else:
-        return None
+        return box_patch(region, size, False, True)
+    if S.degree_u == 1 and S.poles.shape[0] == 2:
+        return box_patch(region, size, True, True)
+    return None
+
+
+def box_patches(region: Region, size: float) -> list:
+    """The face's own surface, whole, as the patch, its rulings along v and along u (any surface): where
+    the face has no four-sided map, its rails are the iso lines bounding its surface, and the result is
+    trimmed by its edges.  [] where the face is not a trimmed region of an open surface."""
+    if not _trimmed_open(region):
+        return []
+    return [p for p in (box_patch(region, size, swap, False) for swap in (False, True)) if p is not None]
+
+
+def box_patch(region: Region, size: float, swap: bool, own: bool) -> Optional[FacePatch]:
+    """The face's own surface on the unit square, transposed (swap) so that the rulings run along v, with
+    the face's mask and its own curves mapped affinely (own: the surface is exactly ruled that way); None
+    where the face runs past the surface's domain by more than the mask's band."""
+    from ruled.fit.extend import BAND, PER_EDGE, FaceMask, masked
+    S = region.surface
     u0, u1, v0, v1 = S.domain
     lo, span = np.array([u0, v0]), np.array([u1 - u0, v1 - v0])
     E = Surface(S.poles, (S.knots_u - u0) / span[0], (S.knots_v - v0) / span[1], S.degree_u, S.degree_v, S.weights)
@@ -112,19 +133,40 @@ def own_patch(region: Region, size: float) -> Optional[FacePatch]:
     def curve_of(c):            # the pcurve in the patch's (s, t): its poles moved (and swapped) affinely
         P = (c.poles - lo) / span
         return Curve(P[:, ::-1] if swap else P, c.knots, c.degree, c.weights)
-    curves = None
+    curves, snap = None, 0.0
     if over <= 1e-12:
-        curves = (tuple(curve_of(c) for c in region.loop),) + tuple(tuple(curve_of(c) for c in h)
-                                                                   for h in region.holes)
+        loops = [_closed_loop([curve_of(c) for c in lp]) for lp in [region.loop] + list(region.holes)]
+        curves = tuple(lp for lp, _ in loops)
+        snap = max(d for _, d in loops)
     mask = FaceMask((np.concatenate(outer),) + tuple(np.concatenate(h) for h in holes), outer, tuple(holes), over,
                     curves)
     E = masked(E, mask)
     b = E.derivative_bounds()
     gap = EDGE_MARGIN * region.max_gap() + over * max(float(b["Su"].max()), float(b["Sv"].max()))
+    gap += snap * (float(b["Su"].max()) + float(b["Sv"].max()))
     s_lo = min(float(st[:, 0].min()) for st in outer)
     s_hi = max(float(st[:, 0].max()) for st in outer)
     return FacePatch(region, E, gap, False, None, "v", (0, 0), size, (), gap, 0.0, mask=mask,
-                     extension=_extension(E, mask, [s_lo, 1.0 - s_hi]), own=True)
+                     extension=_extension(E, mask, [s_lo, 1.0 - s_hi]), own=own, box=True)
+
+
+def _closed_loop(curves: list) -> tuple:
+    """(curves, d): a loop of clamped 2D curves whose consecutive ends meet exactly, each corner the mean of
+    its two curves' ends (a file's pcurves meet only within its edges' tolerance, which a rebuilt face's
+    tighter vertices do not cover), d the largest end moved (a clamped curve's end pole is its end point, and
+    moving a pole by d moves the curve by at most d).  Curves not clamped are left as they are."""
+    def clamped(c):
+        return np.all(c.knots[:c.degree + 1] == c.knots[0]) and \
+            np.all(c.knots[-c.degree - 1:] == c.knots[-1])
+    if not all(clamped(c) for c in curves):
+        return tuple(curves), 0.0
+    P = [c.poles.copy() for c in curves]
+    moved = 0.0
+    for k in range(len(P)):
+        m = 0.5 * (P[k - 1][-1] + P[k][0])
+        moved = max(moved, float(np.linalg.norm(P[k][0] - m)))
+        P[k - 1][-1], P[k][0] = m, m
+    return tuple(Curve(p, c.knots, c.degree, c.weights) for p, c in zip(P, curves)), moved
 
 
 def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> tuple:

@@ -70,7 +70,8 @@ def region_report(res: FitResult) -> dict:
     lists them), the rails, and the deviation of its patch (in the bound)."""
     p = res.patch
     ra, rb = p.rails(res.direction)
-    d = {"trimmed": not p.identity, "own": p.own, "how": p.how, "edges": p.region.size, "holes": len(p.region.holes),
+    d = {"trimmed": not p.identity, "own": p.own, "box": p.box, "how": p.how, "edges": p.region.size,
+         "holes": len(p.region.holes),
          "rails": [list(ra), list(rb)], "patch_deviation": p.deviation, "edge_gap": p.edge_gap,
          "hole_span": p.hole_span, "patch_spans": list(p.spans), "face_size": p.face_size}
     if p.sides is not None:

@@ -173,12 +173,43 @@ def trim_of(fit, mask) -> Optional[Trim]:
             eps = max(eps, float(np.linalg.norm(C(xx) - psi_at(cert.psi, st_f), axis=1).max()))
             curves.append(C)
         out.append(tuple(curves))
-    if folds(cert.psi, mask.cells(us, vs) & ~rail_cells(cert.psi, segments)):
+    if folds(cert.psi, mask.cells(us, vs) & ~rail_cells(cert.psi, segments)) or loops_cross(out):
         return None
     eps *= EPS_MARGIN
     b = R.derivative_bounds()
     added = eps * (float(b["Su"].max()) + float(b["Sv"].max()))
     return Trim(out[0], tuple(out[1:]), eps, added)
+
+
+def loops_cross(loops: list, points: int = 2048) -> bool:
+    """Whether the loops of 2D curves (sampled as polylines of about `points` in all) cross themselves or
+    each other: a trim whose image of the face's boundary does so bounds no face (psi's image of a smooth
+    edge can wiggle where psi does, far from ruled).  Compared in blocks of segments (memory ~ block x n)."""
+    per_curve = int(np.clip(points // max(1, sum(len(lp) for lp in loops)), 9, 65))
+    P, nxt = [], []
+    k0 = 0
+    for loop in loops:
+        pts = np.concatenate([c(np.linspace(c.domain[0], c.domain[1], per_curve))[:-1] for c in loop])
+        P.append(pts)
+        nxt.append(k0 + (np.arange(pts.shape[0]) + 1) % pts.shape[0])
+        k0 += pts.shape[0]
+    A = np.concatenate(P)
+    to = np.concatenate(nxt)
+    B = A[to]
+    n = A.shape[0]
+
+    def side(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+    step = max(1, 2_000_000 // max(n, 1))
+    J = np.arange(n)
+    for lo in range(0, n, step):
+        i = np.arange(lo, min(n, lo + step))[:, None]
+        keep = (J[None, :] > i) & (to[i] != J[None, :]) & (to[J][None, :] != i)
+        a, b, c, d = A[i], B[i], A[None, :], B[None, :]
+        hit = (side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0) & keep
+        if hit.any():
+            return True
+    return False
 
 
 IDENTITY = 1e-12     # psi within this of the identity (in R's domain): the face's own curves are the trim

@@ -144,12 +144,13 @@ def _snap_period(a: float, b: float, start: float, period: float) -> tuple:
 
 
 def nurbs_face(face: TopoDS_Face) -> TopoDS_Face:
-    """The face itself where its surface is a B-spline, else the face converted whole to NURBS by OCCT
+    """The face itself where its surface is a B-spline or a plane, else the face converted whole to NURBS by OCCT
     (surface, pcurves and edges together): a cylinder's or a sphere's B-spline form is not parametrised
     by angle between its knots, so the face's own pcurves, in angle, do not bound the same region on it
     (0.18 off on a cylinder with a hole cut, issue 35); the converted face's pcurves do."""
-    if BRepAdaptor_Surface(face).GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
-        return face
+    if BRepAdaptor_Surface(face).GetType() in (GeomAbs_SurfaceType.GeomAbs_BSplineSurface,
+                                               GeomAbs_SurfaceType.GeomAbs_Plane):
+        return face     # (a plane's B-spline form is its own parametrisation: its pcurves hold as they are)
     try:
         conv = BRepBuilderAPI_NurbsConvert(face, True)
         out = TopoDS.Face_s(conv.Shape()) if conv.IsDone() else None

@@ -59,3 +59,18 @@ def result_face(fit) -> TopoDS_Face:
 
 
 __all__ = ["trimmed_face", "result_face"]
+
+
+def built_slack(face, fit) -> float:
+    """What building a trimmed result adds to its bound: its 3D edges, made from its 2D trim curves on the
+    ruled surface, lie within their tolerance of those curves' image (OCCT's edge tolerance), and the
+    measure samples those edges.  0 for a result bounded by its own four sides (exact iso curves)."""
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopoDS import TopoDS
+
+    from ruled.occ.io import shapes_of
+    if getattr(getattr(fit, "best", fit), "trim", None) is None:
+        return 0.0
+    return max((float(BRep_Tool.Tolerance_s(TopoDS.Edge_s(e))) for e in shapes_of(face, TopAbs_EDGE)), default=0.0)
+

@@ -150,7 +150,13 @@ def _collocate(knots: np.ndarray, sites: np.ndarray, F: np.ndarray) -> np.ndarra
     """The coefficients of the spline interpolating F at the sites (a sparse LU of the banded matrix)."""
     from scipy.sparse import csc_matrix
     from scipy.sparse.linalg import splu
-    return splu(csc_matrix(bspline_basis_matrix(knots, DEGREE, sites))).solve(np.ascontiguousarray(F))
+    try:
+        lu = splu(csc_matrix(bspline_basis_matrix(knots, DEGREE, sites)))
+    except RuntimeError:        # SuperLU: "Factor is exactly singular"
+        raise BadInputError("the face's own parametrization could not be interpolated (its collocation is "
+                            "singular: an edge almost a point, or sides that meet almost tangentially); pick "
+                            "other rails («rails»)") from None
+    return lu.solve(np.ascontiguousarray(F))
 
 
 def _target(S: Surface, strip, ss: np.ndarray, tt: np.ndarray) -> np.ndarray:

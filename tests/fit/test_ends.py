@@ -130,6 +130,50 @@ def test_a_face_with_a_boundary_collapsed_to_a_point_is_ruled_from_it(tmp_path):
     assert measured <= 1e-9 * _size(face) and measured <= bound and abs(area - 1.0) <= 1e-5   # (OCCT area to 1e-6)
 
 
+def test_a_face_with_no_four_sided_map_is_ruled_between_the_iso_lines_bounding_its_surface():
+    """t4mec face 0: a doubly curved patch (degree 7 x 7) trimmed by 20 edges with three corners, whose
+    four-sided map cannot be interpolated (it was refused for that): ruled between the iso lines that bound
+    its own surface, trimmed by its edges; a valid face, its measured distance by OCCT within its bound (the
+    face is far from ruled: 32.6 on a size of 1960, both ways)."""
+    path = os.path.join(SHARED_DATA, "occt_t4mec.stp")
+    if not os.path.exists(path):
+        pytest.skip("occt_t4mec.stp is not available (needs ../shared/data beside the repository)")
+    face = get_face(path, 0)
+    res, bound, measured, area = _fitted(face, "auto")
+    assert res.patch.box and not res.patch.own and res.best.trim is not None
+    assert any("no four-sided map" in n for n in res.notes)
+    assert 0 < measured <= bound <= 1.1 * measured
+
+
+def test_a_trim_whose_edges_would_cross_on_the_result_is_refused_in_one_line():
+    """A C-shaped region on a dome (curved both ways): its Coons map folds, and over its own surface the
+    closest-point map wiggles so much that the hook's image crosses the other edges: no face could be
+    built, so the fit says why in one line (before: 'not a valid face (OCCT's check)')."""
+    from trimmed_faces import folding_face_on_a_dome
+
+    from ruled.core.errors import RuledError
+    with pytest.raises(RuledError) as exc:
+        fit_face(folding_face_on_a_dome(), FitOptions(ends="auto"))
+    assert "fold" in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_loops_cross_by_brute_force():
+    """ruled.fit.trim.loops_cross against figures drawn by hand: a square, a bow tie, a square with a hole
+    inside, and one with a hole that runs out of it."""
+    import numpy as np
+
+    from ruled.core.nurbs import Curve
+    from ruled.fit.trim import loops_cross
+
+    def poly(*pts):
+        return [Curve(np.array([a, b], float), np.array([0.0, 0, 1, 1]), 1) for a, b in zip(pts, pts[1:] + pts[:1])]
+    square = poly((0, 0), (1, 0), (1, 1), (0, 1))
+    assert not loops_cross([square])
+    assert loops_cross([poly((0, 0), (1, 1), (1, 0), (0, 0.7))])
+    assert not loops_cross([square, poly((0.2, 0.2), (0.4, 0.2), (0.4, 0.4))])
+    assert loops_cross([square, poly((0.2, 0.2), (1.4, 0.2), (1.4, 0.4))])
+
+
 def test_a_flat_sector_with_its_apex_collapsed_comes_back_exact():
     """t4mec face 5: a quarter disc of radius 500 given as a degree 1 x 8 patch whose u-min row is the apex:
     ruled from the apex (before, the collapsed row was refused and the other pair of sides gave a triangle
