@@ -294,7 +294,7 @@ def _machine(face, opts, side, method, samples, fit, measure, measure_samples, p
     sign = _side_sign(side)
     src = _face_of(face)
     res = fit.result if isinstance(fit, RuledFit) else fit
-    fm = machine_of_face(src, opts, FitOptions(samples=samples, method=method), progress,
+    fm = machine_of_face(src, opts, FitOptions(samples=samples, method=method, ends="auto"), progress,
                          measure_samples if measure else None, sign, res)
     return MachineData(fm.path, _cq(fm.face), fm.report, fm.fit, fm.surface, tuple(fm.warnings))
 

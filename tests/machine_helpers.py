@@ -127,6 +127,41 @@ def rebuilt_error(target, face, lo, hi, direction, n=40):
     return two_sided(face_points(target, n), np.concatenate(pts), _Projector(target), _Projector(swept))
 
 
+def trim_aware_cut(face, lo, hi, n=30, along=41, every=3):
+    """What the wire cuts against the face as bounded by its edges, rebuilt from the parsed moves alone:
+    (the largest distance of the face's points to the surface the straight lines sweep, plane to plane;
+    the signed distances of the lines' points that lie over the face; how many those are).  A point lies
+    over the face where its closest point on the bounded face (OCCT's BRepExtrema) is inside the face, not
+    on an edge: points past the face's end edges or beyond its rails are not part of what cuts it.  Every
+    `every`-th line and the lines half way between them (what the machine interpolates), `along` points
+    each.  Signed: positive on the outside of the face (its normal, the face's orientation counted)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape, BRepExtrema_SupportType
+    from OCP.GeomLProp import GeomLProp_SLProps
+    surf = BRep_Tool.Surface_s(face)
+    sign = -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
+    t = np.linspace(0.0, 1.0, along)
+    d = []
+    for i in range(0, len(lo) - 1, every):
+        for s in (0.0, 0.5):
+            a = lo[i] + s * (lo[i + 1] - lo[i])
+            b = hi[i] + s * (hi[i + 1] - hi[i])
+            for p in a[None, :] + t[:, None] * (b - a)[None, :]:
+                ds = BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex(), face)
+                if not ds.IsDone() or ds.SupportTypeShape2(1) != BRepExtrema_SupportType.BRepExtrema_IsInFace:
+                    continue
+                u, v = ds.ParOnFaceS2(1)
+                props = GeomLProp_SLProps(surf, u, v, 1, 1e-9)
+                side = np.dot(p - np.array(surf.Value(u, v).Coord()), np.array(props.Normal().Coord()) * sign)
+                d.append(ds.Value() * (1.0 if side >= 0 else -1.0))
+    m = len(lo)
+    swept = container_to_face(Surface(np.stack([lo, hi], axis=1), np.concatenate([[0.0], np.arange(m, dtype=float),
+                                                                                  [m - 1.0]]),
+                                      [0.0, 0.0, 1.0, 1.0], 1, 1))
+    to_swept = _Projector(swept).distances(face_points(face, n))
+    return float(to_swept.max()), np.array(d), len(d)
+
+
 def trace_deviation(cam_step, parsed_cut, rep):
     """Largest distance between each exported contour and the trace of the ruled result on its plane
     (the result read from the CAM STEP file and evaluated by OCCT at 4000 rulings), both ways."""

@@ -32,7 +32,7 @@ def run_machine(args) -> dict:
         raise RuledError("--ruled machines the face as it is; --method chooses a fit: give one of them")
     if args.ruled and args.rails is not None:
         raise RuledError("--ruled machines the face as it is; --rails chooses a fit's rails: give one of them")
-    fit_opts = FitOptions(samples=args.samples, method=args.method).checked()
+    fit_opts = FitOptions(samples=args.samples, method=args.method, ends=args.ends).checked()
     csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
     check_outputs(args.output, csv_path, args.step, args.report, args.plot, inputs=(args.input,))
     side = 1.0 if args.side == "outside" else -1.0
@@ -103,6 +103,8 @@ def cmd_machine(args) -> int:
         where = (f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and "
                  f"{','.join(map(str, rg['rails'][1])) or 'a point'}" if rg and rg["trimmed"]
                  else f"along {f['direction']}")
+        if m.get("trimmed"):
+            where += " (they cross the face's end edges: the result is trimmed by its edges)"
         print(f"face {rep['face']}: ruled fit bound {f['error_bound']:.6g}{meas}, rulings {where}")
     if m["mode"] == "xyuv":
         print(f"XYUV: {m['sync_points']} synchronized points, XY path {m['length_xy']:.6g}, UV path "

@@ -74,12 +74,13 @@ def swept_surface(path: MachinePath) -> Surface:
     return Surface(np.stack([path.lower, path.upper], axis=1), ku, [0.0, 0.0, 1.0, 1.0], 1, 1)
 
 
-def cut_points(path: MachinePath, count: int = 2700, along: int = 11, exact: bool = False) -> np.ndarray:
+def cut_points(path: MachinePath, count: int = 2700, along: int = 11, exact: bool = False, keep=None) -> np.ndarray:
     """About `count` points of the swept lines inside the part: lines evenly inside every move (the first
     at its start), each sampled at `along` points between its part ends, whose fractions of the line are
     interpolated between those of the synchronized lines (exact there).  exact=True gives the same
     points on the exact lines (path.trace at the same parameter), the ruled surface's counterparts of
-    the machine's: each machine point is within the chord tolerance of its counterpart."""
+    the machine's: each machine point is within the chord tolerance of its counterpart.  keep(s, t): only the
+    points at the ruling s and the fraction t between the part's ends for which it is true."""
     lo, hi = path.lower, path.upper
     d = hi - lo
     L2 = np.einsum("ij,ij->i", d, d)
@@ -102,5 +103,9 @@ def cut_points(path: MachinePath, count: int = 2700, along: int = 11, exact: boo
         f0 = fa[i] + ss * (fa[i + 1] - fa[i])
         f1 = fb[i] + ss * (fb[i + 1] - fb[i])
         fr = f0[:, None] + t[None, :] * (f1 - f0)[:, None]
-        parts.append((a[:, None] + fr[..., None] * (b - a)[:, None]).reshape(-1, 3))
+        pts = (a[:, None] + fr[..., None] * (b - a)[:, None]).reshape(-1, 3)
+        if keep is not None:
+            s = np.repeat(path.u[i] + ss * (path.u[i + 1] - path.u[i]), along)
+            pts = pts[keep(s, np.tile(t, ss.size))]
+        parts.append(pts)
     return np.concatenate(parts)

@@ -21,6 +21,7 @@ from ruled.machine.paths import Lines, MachineOptions, MachinePath, machine_path
 from ruled.occ.convert import container_to_face, conversion_slack, face_to_container, segment_edge
 from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
 from ruled.occ.region import fit_face
+from ruled.occ.trimmed import built_slack, result_face
 
 
 @dataclass
@@ -100,15 +101,18 @@ def machine_of_patches(faces: list, names: list, opts: MachineOptions, progress=
     return fm
 
 
-def measure_cut(target, path: MachinePath, n: int = 30) -> dict:
+def measure_cut(target, path: MachinePath, n: int = 30, keep=None) -> dict:
     """What the machine cuts against the target face, with OCCT: n x n samples of the target projected
     onto the surface the lines sweep, and about 3 n^2 points of the lines inside the part projected
     onto the target; and the same points on the exact lines (the ruled surface the path follows),
-    so that the cut is compared with the fit where it was measured."""
+    so that the cut is compared with the fit where it was measured.  keep(s, t): which points of the
+    lines (at the ruling s, the fraction t between the rails) lie over the face (a trimmed result:
+    the rest of a ruling that crosses the face runs past its end edges)."""
     to_target = _Projector(target)
-    h = two_sided(face_points(target, n), cut_points(path, 3 * n * n), to_target,
+    along = 11 if keep is None else 41
+    h = two_sided(face_points(target, n), cut_points(path, 3 * n * n, along, keep=keep), to_target,
                   _Projector(container_to_face(swept_surface(path))))
-    exact = to_target.distances(cut_points(path, 3 * n * n, exact=True))
+    exact = to_target.distances(cut_points(path, 3 * n * n, along, exact=True, keep=keep))
     return {"max": h.max, "design_to_cut": h.max_a_to_b, "cut_to_design": h.max_b_to_a, "samples": h.samples,
             "fit_on_the_same_lines": float(exact.max())}
 
@@ -123,23 +127,28 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     t0 = time.perf_counter()
     S = face_to_container(face)
     slack = conversion_slack(face, S)
-    if fit is not None and getattr(fit.best, "trim", None) is not None:
-        # a result trimmed by the face's edges is not machined yet (issue 35): its rulings run past the face
-        warnings = list(warnings or []) + ["the machine path is made from the fit pinned to the face's corners: "
-                                           "a result trimmed by the face's edges is not machined yet"]
-        fit = None
     if not given and fit is None:
         fit, slack = fit_face(face, fit_options.checked(), progress, rails, S)
     res = None if given else fit
     R = given_ruled(S) if given else res.surface
+    trim = None if res is None else res.best.trim
+    keep = None
+    if trim is not None:
+        # the rulings that cross the face, plane to plane; what they cut of it is where they lie in the trim
+        from ruled.machine.trimmed import inside_trim, ruling_span, s_range, trim_polygons
+        R = ruling_span(R, *s_range(trim))
+        polygons = trim_polygons(trim)
+
+        def keep(s, t):
+            return inside_trim(polygons, np.stack([s, t], axis=1))
     if res is not None and res.patch is not None:
-        S = res.patch.surface       # the face as bounded by its edges (its own four-sided patch)
+        S = res.patch.surface       # the face as bounded by its edges (its own four-sided or extended patch)
         warnings = list(warnings or []) + [w for w in res.patch.warnings if w not in (warnings or [])]
     out_side = outward(face) * (1.0 if side >= 0 else -1.0)
     t1 = time.perf_counter()
     path = machine_path(R, S, opts, out_side, progress)
     t2 = time.perf_counter()
-    out_face = face if given else container_to_face(R)
+    out_face = face if given else (container_to_face(R) if trim is None else result_face(res))
     if given:
         fit_rep: dict = {"method": "given (the face is a ruled result)", "direction": "v" if S.degree_v == 1 else "u",
                    "closed": bool(R.periodic_u), "error_bound": slack, "notes": []}
@@ -149,7 +158,13 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
         if res.patch is not None:
             from ruled.fit.report import region_report
             fit_rep["region"] = region_report(res)
+        if trim is not None:
+            fit_rep["error_bound"] += built_slack(out_face, res)
     rep = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
+    if trim is not None:
+        rep["machine"]["trimmed"] = {
+            "rulings": "those that cross the face, plane to plane (the result's rails run past the face; it is "
+                       "trimmed by the face's edges)", "s_range": list(R.domain[:2])}
     warns = list(warnings or []) + list(path.warnings)
     if measure_samples:
         h = hausdorff(face, out_face, measure_samples)
@@ -161,7 +176,7 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
                 rep["timings"] = {"fit": t1 - t0, "path": t2 - t1, "measure": time.perf_counter() - t2}
                 rep["warnings"] = warns
                 return FaceMachine(res, R, path, out_face, rep, out_side, warns)
-            c = measure_cut(target, path, measure_samples)
+            c = measure_cut(target, path, measure_samples, keep)
             fit_err = max(h.max, c["fit_on_the_same_lines"])
             rep["fit"].update(measured=fit_err, measured_grid=h.max)     # the grid alone can miss narrow peaks
             rep["cut"] = {"against": "the face" if opts.kerf == 0 else f"the face offset by the kerf {opts.kerf:g}",

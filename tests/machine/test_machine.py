@@ -29,9 +29,9 @@ from machine_helpers import (  # noqa: E402
     lines_3d,
     read_csv,
     rebuilt_error,
-    rect_face,
     run_cli,
     trace_deviation,
+    trim_aware_cut,
     xyuv_round_trip,
 )
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace  # noqa: E402
@@ -73,17 +73,40 @@ def test_xyuv_hyperboloid_kerf(tmp_path, hyp_file):
     assert np.all(np.hypot(lo[:, 0], lo[:, 1]) > 14.0)
 
 
-@pytest.mark.slow
-def test_xyuv_blade_round_trip(tmp_path):
+def _blade_cut(tmp_path, chord, kerf=0.0, name="out"):
+    """kj66 face 6 machined at the defaults (its trimmed result: rulings that cross its end edges), the
+    G-code replayed through gcodeparser, what the wire cuts measured trim-aware (trim_aware_cut), and the
+    fit's own error (the CAM STEP's trimmed result against the face, both bounded)."""
     path = data_file("kj66_impeller.step")
-    r = xyuv_round_trip(tmp_path, path, 6, 0.002)
-    assert r["h"].max <= r["fit"] * (1 + 1e-3) + r["chord"]
-    assert trace_deviation(r["cam"], r["cut"], r["rep"]) <= r["chord"] * (1 + 1e-6)
-    k = xyuv_round_trip(tmp_path, path, 6, 0.005, kerf=0.005, name="kerf")
-    assert k["rep"]["machine"]["offset_deviation"] < 0.5 * k["chord"]
-    assert k["h"].max <= k["fit"] * (1 + 1e-3) + k["chord"]
-    # the report measures the cut against the trimmed face offset by the kerf (not its surface's rectangle)
-    assert k["rep"]["cut"]["max"] <= k["rep"]["cut"]["bound"] and k["rep"]["cut"]["max"] <= 2 * k["fit"] + k["chord"]
+    args = ["--xyuv", "--chord-tol", str(chord)] + (["--kerf", str(kerf)] if kerf else [])
+    ngc, rep, cam = run_cli(tmp_path, path, 6, *args, name=name)
+    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
+    cut = parsed[[k == "cut" for k in kinds]]
+    face = get_face(path, 6)
+    lo, hi = lines_3d(cut, rep)
+    to_swept, d, kept = trim_aware_cut(face, lo, hi)
+    fit = hausdorff(face, faces_of(read_shape(cam))[0], 30).max
+    return rep, cut, cam, to_swept, d, kept, fit
+
+
+@pytest.mark.slow
+def test_xyuv_blade_sweeps_the_rulings_that_cross_its_end_edges(tmp_path):
+    """Issue 35: the blade's trimmed result is machined: the wire sweeps its rulings that cross the face,
+    plane to plane.  Rebuilt from the parsed G-code alone, the lines lie within fit + chord of the face where
+    they run over it, and the face within fit + chord of the surface they sweep (both trim-aware); the
+    contours follow the CAM STEP's ruled surface within the chord.  With a kerf, the lines run outside the
+    face at the kerf +- (fit + chord)."""
+    rep, cut, cam, to_swept, d, kept, fit = _blade_cut(tmp_path, 0.002)
+    assert rep["machine"]["trimmed"] and rep["fit"]["region"]["how"].endswith("trimmed by the face's edges")
+    assert fit <= rep["fit"]["error_bound"] and fit < 0.00146       # below the pinned fit's end-edge sagitta
+    assert kept > 200 and np.abs(d).max() <= fit * (1 + 1e-3) + 0.002 and to_swept <= fit * (1 + 1e-3) + 0.002
+    assert trace_deviation(cam, cut, rep) <= 0.002 * (1 + 1e-6)
+    assert rep["cut"]["max"] <= rep["cut"]["bound"]
+    rep, cut, cam, to_swept, d, kept, fit = _blade_cut(tmp_path, 0.005, kerf=0.005, name="kerf")
+    assert rep["machine"]["offset_deviation"] < 0.5 * 0.005 and kept > 200
+    assert np.all(d > 0) and np.abs(d - 0.005).max() <= fit * (1 + 1e-3) + 0.005     # outside, at the kerf
+    assert abs(to_swept - 0.005) <= fit * (1 + 1e-3) + 0.005
+    assert rep["cut"]["max"] <= rep["cut"]["bound"]
 
 
 @pytest.mark.slow
@@ -233,11 +256,11 @@ def test_readme_cadquery_example(tmp_path, monkeypatch):
     cut = parsed[[k == "cut" for k in kinds]]
     rep = _report_from_header("blade.ngc")
     lo, hi = lines_3d(cut, rep)
-    direction = "u"                     # kj66 face 6 rules along u (the CLI's report says so)
-    h = rebuilt_error(rect_face(face)[0], face, lo, hi, direction)
+    # the fit's trimmed result: what the wire cuts of the face, trim-aware (trim_aware_cut)
     cam = faces_of(read_shape("blade-cam.step"))
-    fit = hausdorff(rect_face(face)[0], cam[0], 30).max
-    assert h.max <= fit * (1 + 1e-3) + 0.002
+    fit = hausdorff(face, cam[0], 30).max
+    to_swept, d, kept = trim_aware_cut(face, lo, hi, every=6)
+    assert kept > 100 and max(to_swept, float(np.abs(d).max())) <= fit * (1 + 1e-3) + 0.002
     assert len(cam) == 1                # the ruled face (its rulings are edges beside it)
 
 
