@@ -74,11 +74,11 @@ def test_xyuv_hyperboloid_kerf(tmp_path, hyp_file):
 
 
 def _blade_cut(tmp_path, chord, kerf=0.0, name="out"):
-    """kj66 face 6 machined at the defaults (its trimmed result: rulings that cross its end edges), the
+    """kj66 face 6 machined with --ends auto (its trimmed result: rulings that cross its end edges), the
     G-code replayed through gcodeparser, what the wire cuts measured trim-aware (trim_aware_cut), and the
     fit's own error (the CAM STEP's trimmed result against the face, both bounded)."""
     path = data_file("kj66_impeller.step")
-    args = ["--xyuv", "--chord-tol", str(chord)] + (["--kerf", str(kerf)] if kerf else [])
+    args = ["--xyuv", "--ends", "auto", "--chord-tol", str(chord)] + (["--kerf", str(kerf)] if kerf else [])
     ngc, rep, cam = run_cli(tmp_path, path, 6, *args, name=name)
     parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
     cut = parsed[[k == "cut" for k in kinds]]
