@@ -209,7 +209,7 @@ class Region:
         eps = 1e-7 * max(u1 - u0, v1 - v0, 1e-300)
         for P in self.polygon(per_edge):
             a, d = P, np.roll(P, -1, axis=0) - P
-            inside ^= _crossings_odd(P, uv)
+            inside ^= crossings_odd(P, uv)
             tt = np.clip(((uv[:, None, :] - a[None]) * d[None]).sum(-1) / np.maximum((d * d).sum(-1), 1e-300), 0, 1)
             dist = np.linalg.norm(uv[:, None, :] - (a[None] + tt[..., None] * d[None]), axis=-1).min(axis=1)
             near |= dist <= eps
@@ -230,7 +230,7 @@ class Region:
             edge = cKDTree(S(poly[:, 0], poly[:, 1]))
             lo, hi = poly.min(axis=0), poly.max(axis=0)
             uu, vv = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n), indexing="ij")
-            ins = _crossings_odd(poly, np.stack([uu.ravel(), vv.ravel()], axis=1)).reshape(n, n)
+            ins = crossings_odd(poly, np.stack([uu.ravel(), vv.ravel()], axis=1)).reshape(n, n)
             cells = ins[:-1, :-1] | ins[1:, :-1] | ins[:-1, 1:] | ins[1:, 1:]
             if not cells.any():
                 continue
@@ -273,7 +273,7 @@ class Region:
 
 
 
-def _crossings_odd(P: np.ndarray, uv: np.ndarray) -> np.ndarray:
+def crossings_odd(P: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """(N,) whether a ray from each (u, v) point towards +u crosses the closed polyline P an odd number of
     times (the even-odd rule: inside one loop)."""
     a, b = P, np.roll(P, -1, axis=0)

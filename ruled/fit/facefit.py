@@ -135,7 +135,7 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     if own is not None:
         got, _ = fit_patch(own, opts, progress)
         # within the file's own edge tolerance both are as exact as the file allows: the own surface needs no map
-        file_tol = max((float(t) for t in (region.tolerances or ()) if t is not None), default=0.0)
+        file_tol = max(region.tolerances, default=0.0)
         if got is not None and (pinned is None or got.error_bound <= max(pinned.error_bound, file_tol)):
             vs = "" if pinned is None else f" (pinned {pinned.error_bound:.4g})"
             note = (f"the face's own surface is ruled along its iso lines: the result is that surface trimmed by "

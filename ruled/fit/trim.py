@@ -181,16 +181,21 @@ def trim_of(fit, mask) -> Optional[Trim]:
     return Trim(out[0], tuple(out[1:]), eps, added)
 
 
+def loop_polylines(loops, per_curve: int) -> list:
+    """Each loop of 2D curves (end to end) as a closed polyline (N, 2): per_curve samples of each curve, its
+    last (the next curve's first) left out."""
+    return [np.concatenate([c(np.linspace(c.domain[0], c.domain[1], per_curve))[:-1] for c in loop])
+            for loop in loops]
+
+
 def loops_cross(loops: list, points: int = 2048) -> bool:
     """Whether the loops of 2D curves (sampled as polylines of about `points` in all) cross themselves or
     each other: a trim whose image of the face's boundary does so bounds no face (psi's image of a smooth
     edge can wiggle where psi does, far from ruled).  Compared in blocks of segments (memory ~ block x n)."""
     per_curve = int(np.clip(points // max(1, sum(len(lp) for lp in loops)), 9, 65))
-    P, nxt = [], []
+    P, nxt = loop_polylines(loops, per_curve), []
     k0 = 0
-    for loop in loops:
-        pts = np.concatenate([c(np.linspace(c.domain[0], c.domain[1], per_curve))[:-1] for c in loop])
-        P.append(pts)
+    for pts in P:
         nxt.append(k0 + (np.arange(pts.shape[0]) + 1) % pts.shape[0])
         k0 += pts.shape[0]
     A = np.concatenate(P)
@@ -240,4 +245,4 @@ def with_trim(fit, mask):
     return replace(fit, certificate=cert, trim=tr)
 
 
-__all__ = ["Trim", "trim_of", "with_trim", "psi_at"]
+__all__ = ["Trim", "trim_of", "with_trim", "psi_at", "loop_polylines", "loops_cross"]

@@ -13,16 +13,15 @@ import numpy as np
 from ruled.core.errors import BadInputError
 from ruled.core.knots import clamp_segment
 from ruled.core.nurbs import Curve, Surface
+from ruled.core.region import crossings_odd
+from ruled.fit.trim import loop_polylines
 
 PER_CURVE = 129     # samples of each trim curve for its s-range and the inside test
 
 
 def trim_polygons(trim) -> list:
     """The trim's loops as closed polylines (N, 2) in R's (s, t): the outer loop first, then the holes."""
-    out = []
-    for loop in (trim.outer,) + tuple(trim.holes):
-        out.append(np.concatenate([c(np.linspace(c.domain[0], c.domain[1], PER_CURVE))[:-1] for c in loop]))
-    return out
+    return loop_polylines((trim.outer,) + tuple(trim.holes), PER_CURVE)
 
 
 def s_range(trim) -> tuple:
@@ -33,14 +32,9 @@ def s_range(trim) -> tuple:
 
 def inside_trim(polygons: list, st: np.ndarray) -> np.ndarray:
     """Whether the points st (N, 2) of R's domain lie in the face (the even-odd rule over its loops)."""
-    s, t = st[:, 0][:, None], st[:, 1][:, None]
     odd = np.zeros(st.shape[0], bool)
     for P in polygons:
-        a, b = P[None, :, :], np.roll(P, -1, axis=0)[None, :, :]
-        crosses = (a[..., 1] > t) != (b[..., 1] > t)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = a[..., 0] + (t - a[..., 1]) * (b[..., 0] - a[..., 0]) / (b[..., 1] - a[..., 1])
-        odd ^= (np.count_nonzero(crosses & (s < x), axis=1) % 2).astype(bool)
+        odd ^= crossings_odd(P, st)
     return odd
 
 

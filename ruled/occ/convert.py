@@ -133,16 +133,6 @@ def _snapped_bounds(face, bounds) -> tuple:
     return tuple(out)
 
 
-def _snap_period(a: float, b: float, start: float, period: float) -> tuple:
-    """Bounds within 1e-9 of the period's start (and of a whole period) snapped to them exactly."""
-    eps = 1e-9 * max(1.0, period)
-    if abs(a - start) <= eps:
-        a = start
-    if abs((b - a) - period) <= eps:
-        b = a + period
-    return a, b
-
-
 def nurbs_face(face: TopoDS_Face) -> TopoDS_Face:
     """The face itself where its surface is a B-spline or a plane, else the face converted whole to NURBS by OCCT
     (surface, pcurves and edges together): a cylinder's or a sphere's B-spline form is not parametrised
@@ -172,12 +162,7 @@ def face_to_bspline(face: TopoDS_Face) -> Geom_BSplineSurface:
     ad = BRepAdaptor_Surface(face)
     if ad.GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface:
         bs = ad.BSpline().Copy()
-    else:  # (not reached: nurbs_face converts every other surface)
-        a0, a1, b0, b1 = surf.Bounds()
-        if surf.IsUPeriodic():      # a full turn whose bounds overhang the period by round-off
-            u0, u1 = _snap_period(u0, u1, a0, surf.UPeriod())
-        if surf.IsVPeriodic():
-            v0, v1 = _snap_period(v0, v1, b0, surf.VPeriod())
+    else:  # a plane (nurbs_face converts every other surface)
         try:
             trimmed = Geom_RectangularTrimmedSurface(surf, u0, u1, v0, v1)
             bs = GeomConvert.SurfaceToBSplineSurface_s(trimmed)

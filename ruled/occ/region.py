@@ -144,6 +144,7 @@ def fit_face(face, options, progress=None, rails=None, S=None):
     container when the caller has it already."""
     from ruled.fit.facefit import fit_region
     from ruled.occ.convert import conversion_slack
+    face = nurbs_face(face)         # (once: the container, the region and the slack each read it)
     S = face_to_container(face) if S is None else S
     return fit_region(face_region(face, S), options, progress, rails), conversion_slack(face, S)
 

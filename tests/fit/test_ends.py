@@ -191,7 +191,7 @@ def test_the_face_mask_by_scanlines_is_the_even_odd_rule_node_by_node():
     node (brute force), on a five-lobed loop with a hole and an irregular grid."""
     import numpy as np
 
-    from ruled.core.region import _crossings_odd
+    from ruled.core.region import crossings_odd
     from ruled.fit.extend import inside_grid
     rng = np.random.default_rng(3)
     th = np.linspace(0, 2 * np.pi, 300, endpoint=False)
@@ -201,7 +201,7 @@ def test_the_face_mask_by_scanlines_is_the_even_odd_rule_node_by_node():
     us, vs = np.sort(rng.random(97)), np.sort(rng.random(61))
     U, V = np.meshgrid(us, vs, indexing="ij")
     Q = np.stack([U.ravel(), V.ravel()], 1)
-    ref = (_crossings_odd(outer, Q) ^ _crossings_odd(hole, Q)).reshape(U.shape)
+    ref = (crossings_odd(outer, Q) ^ crossings_odd(hole, Q)).reshape(U.shape)
     got = inside_grid((outer, hole), us, vs)
     assert ref.sum() > 500 and (~ref).sum() > 500
     assert np.array_equal(got, ref)
