@@ -476,3 +476,17 @@ def diamond_on_ruled_face(elevated: bool = False):
     bulge = [(0.78, 0.2), (0.8, 0.78), (0.25, 0.8), (0.22, 0.22)]
     loop = [curve2d([corners[k], bulge[k], corners[(k + 1) % 4]]) for k in range(4)]
     return face_from_loops(surf, [loop])
+
+
+def saddle_band_face():
+    """A band across a hyperbolic paraboloid (z = 40 u v over 100 x 100, given as degree 3 x 3 so that nothing
+    says it is ruled, let alone doubly), along its diagonal: both families of its rulings (its u- and
+    v-lines) cross from one long side of the band to the other, and none is an edge; the short sides are
+    arcs.  Its long sides are slight arcs too."""
+    poles = [[(0, 0, 0), (0, 100, 0)], [(100, 0, 0), (100, 100, 40)]]
+    surf = bspline_surface(poles, [0.0, 1.0], [2, 2], [0.0, 1.0], [2, 2], 1, 1)
+    surf.IncreaseDegree(3, 3)
+    c = [(0.28, 0.08), (0.92, 0.7), (0.72, 0.92), (0.08, 0.28)]
+    mid = [(0.62, 0.36), (0.86, 0.86), (0.36, 0.62), (0.14, 0.14)]
+    loop = [curve2d([c[k], mid[k], c[(k + 1) % 4]]) for k in range(4)]
+    return face_from_loops(surf, [loop])

@@ -79,9 +79,24 @@ def face_points(face, n: int) -> np.ndarray:
 
 
 def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
+    """Each point's distance to the bounded face: OCCT's (Part's distToShape), or where the point's
+    projection onto the face's surface lies inside the face or on its boundary (the command line's
+    classifier), that distance when smaller.  A point on the surface a hair past the pcurves, where a
+    result trimmed by them ends, is that far from the face, not as far as the face's 3D edge there
+    (which may lie off the surface within its tolerance)."""
     out = np.empty(len(points))
+    faces = [(f.Surface, classifier(f), face_bounds(f)) for f in face.Faces]     # (a face, or a compound's)
     for i, p in enumerate(points):
-        out[i] = face.distToShape(Part.Vertex(FreeCAD.Vector(*map(float, p))))[0]
+        x = FreeCAD.Vector(*map(float, p))
+        d = face.distToShape(Part.Vertex(x))[0]
+        for s, cls, box in faces:
+            try:
+                u, v = s.parameter(x)
+            except Exception:       # (no projection: Part raises its own exception types)
+                continue
+            if box[0] <= u <= box[1] and box[2] <= v <= box[3] and cls(u, v):
+                d = min(d, float((s.value(u, v) - x).Length))
+        out[i] = d
         if progress is not None and i % 64 == 0:
             progress(i / len(points))
     return out

@@ -31,6 +31,11 @@ REACH = (1.5, 1.0, 0.6, 3.0)
 FD = 1e-4          # the step of a side's end tangent (a fraction of its parameter)
 PER_EDGE = 257     # samples of each loop edge for the face's boundary in the patch
 BAND = 1e-3        # the face's loop may leave the band between the rails by this much of it (round-off, clipping)
+RASTER = (1025, 257)  # the face's raster in the patch's (s, t), for the rulings' costs over the face
+# ... grown by this fraction of the patch each way: a ruling that crosses an end edge is measured a little
+# past it, where the face's own surface goes on, so that its pairing is held by more than the few samples
+# it has over the face (a ruling near a corner could otherwise turn freely)
+GROW = 0.02
 
 
 class Rail:
@@ -191,6 +196,32 @@ class FaceMask:
     @cached_property
     def _cells(self) -> dict:
         return {}
+
+    @cached_property
+    def _raster(self) -> tuple:
+        """(us, vs, inside): the face on a fine grid of the unit square, its nodes next to the boundary's
+        samples counted in, grown by GROW."""
+        us, vs = np.linspace(0.0, 1.0, RASTER[0]), np.linspace(0.0, 1.0, RASTER[1])
+        g = inside_grid(self.polygons, us, vs)
+        X = self._points
+        iu = np.clip(np.round(X[:, 0] * (us.size - 1)).astype(np.int64), 0, us.size - 1)
+        iv = np.clip(np.round(X[:, 1] * (vs.size - 1)).astype(np.int64), 0, vs.size - 1)
+        g[iu, iv] = True
+        if GROW > 0:
+            from scipy.ndimage import binary_dilation
+            g = binary_dilation(g, np.ones((2 * int(GROW * us.size) + 1, 2 * int(GROW * vs.size) + 1), bool))
+        g.flags.writeable = False
+        return us, vs, g
+
+    def inside(self, st: np.ndarray) -> np.ndarray:
+        """(N,) whether the points st (N, 2) of the patch's (s, t) lie in the face grown by GROW (to the
+        raster's node spacing): the DP's and the refinement's costs count a ruling's points there only
+        (ruled.fit.pairing.ruling_cost); the certificate counts the cells that meet the face."""
+        us, vs, g = self._raster
+        st = np.asarray(st, float).reshape(-1, 2)
+        iu = np.clip(np.round(st[:, 0] * (us.size - 1)), 0, us.size - 1).astype(np.int64)
+        iv = np.clip(np.round(st[:, 1] * (vs.size - 1)), 0, vs.size - 1).astype(np.int64)
+        return g[iu, iv]
 
     def cells(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
         """(nu - 1, nv - 1) whether each cell of the grid us x vs meets the face (its nodes inside, or the

@@ -148,8 +148,9 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
             "(«ends=trimmed»)",))
     if any(region.seams) or (pinned is not None and pinned.best.closed):
         return pinned if pinned is not None else fit_pinned(region, opts, progress, rails)    # closed: no ends
-    trimmed, reason = fit_trimmed(region, opts, progress, rails,
-                                  None if pinned is None else pinned.best.direction,
+    # both pairs of opposite sides as rails: the pinned fit's choice is made by the curved end edges'
+    # sagitta, which the trimmed result no longer has
+    trimmed, reason = fit_trimmed(region, opts, progress, rails, None,
                                   None if pinned is None else pinned.patch.sides)
     if trimmed is None:
         if pinned is None and rails is None:

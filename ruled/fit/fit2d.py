@@ -9,15 +9,15 @@ from typing import Any, Optional
 import numpy as np
 
 from ruled.core.blas import one_thread
-from ruled.core.distance import ruling_distances
 from ruled.core.errors import DegenerateFaceError, TooBigError
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.fit import dp
 from ruled.fit.cells import Certificate
 from ruled.fit.certify import certified_bound
+from ruled.fit.facecost import face_span, over_face, ruling_cost
 from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
-from ruled.fit.pairing import MAX_DELTA_COEFS, Pairing, delta_coefs, fit_delta, refine_pairing
+from ruled.fit.pairing import MAX_DELTA_COEFS, Pairing, delta_coefs, fit_delta, refine_pairing, smooth_pairing
 from ruled.fit.reparam import Boundaries, exact_boundaries, fit_boundaries, ruled_surface
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
@@ -227,7 +227,7 @@ def _dp_pairing(S: Surface, direction: str, opts: FitOptions, progress: Progress
         i1 = min(n, i0 + rows)
         uP = np.repeat(up[i0:i1], n)
         uQ = np.tile(up, i1 - i0)
-        cost[i0:i1] = ruling_distances(So, uP, uQ, opts.points_per_ruling, 3, closed)[1].reshape(i1 - i0, n)
+        cost[i0:i1] = ruling_cost(So, uP, uQ, opts.points_per_ruling, 3, closed).reshape(i1 - i0, n)
         _stage(progress, f"cost table ({direction})", i1 / n)
     # distances at round-off level are all "exact": equal, so that ties keep the straight pairing
     cost[cost <= 1e-10 * diag] = 0.0
@@ -253,8 +253,8 @@ def _dp_pairing(S: Surface, direction: str, opts: FitOptions, progress: Progress
         sp = 0.5 * (ab[:, 0] + ab[:, 1])
         sig = sp[0] + np.arange(G) / G if closed else np.linspace(0, 1, G)
         dlt = np.interp(sig, sp, 0.5 * (ab[:, 1] - ab[:, 0]))
-        rc = ruling_distances(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)[1]
-    pairing = fit_delta(sig, dlt, closed, delta_coefs(n))
+        rc = ruling_cost(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)
+    pairing = smooth_pairing(So, sig, dlt, closed, delta_coefs(n))
     if opts.refine:
         pairing, sig, dlt, rc = _follow_exact(So, closed, ab, h, (sig, dlt, rc), pairing)
     T["refine"] = time.perf_counter() - t0
@@ -294,13 +294,14 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
     tol = max(2e-7 * diag, 0.02 * float(np.max(rc)))
-    bd = exact_boundaries(C0, C1, u0, L, pairing) or fit_boundaries(C0, C1, u0, L, pairing, tol)
+    focus = face_span(So, pairing)
+    bd = exact_boundaries(C0, C1, u0, L, pairing) or fit_boundaries(C0, C1, u0, L, pairing, tol, focus=focus)
     R = ruled_surface(bd)
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)
     t0 = time.perf_counter()
     cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
-    bd, R, cert = _coarser(So, pairing, (C0, C1, u0, L), bd, R, cert, tol, grid)
+    bd, R, cert = _coarser(So, pairing, (C0, C1, u0, L), bd, R, cert, tol, grid, focus)
     T["certify"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 1.0)
     pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)
@@ -317,7 +318,8 @@ COARSE = 0.01     # rails within this fraction of a result's bound are fine enou
 COMPACT_POLES = 40   # results with more poles than this are rebuilt coarser when far from the face
 
 
-def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: float, grid: tuple):
+def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: float, grid: tuple,
+             focus: Optional[tuple] = None):
     """A result far from the face (its bound far above the rails' fitting tolerance, which follows the
     rulings' own distances) needs no rails finer than a fraction of its bound: refitted to that, kept
     when its certified bound is no more than 2 % higher and it has fewer poles (a hopeless face fitted
@@ -326,7 +328,7 @@ def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: flo
     n = bd.A.poles.shape[0]
     if not (np.isfinite(coarse) and coarse > 10.0 * tol and n > COMPACT_POLES):
         return bd, R, cert
-    bd2 = fit_boundaries(*curves, pairing, coarse)
+    bd2 = fit_boundaries(*curves, pairing, coarse, focus=focus)
     if bd2.A.poles.shape[0] >= n:
         return bd, R, cert
     R2 = ruled_surface(bd2)
@@ -347,24 +349,27 @@ def _follow_exact(So: Surface, closed: bool, ab: np.ndarray, h: float, refined: 
     diag = So.diagonal()
     if float(np.max(rc)) > EXACT_RULINGS * diag:
         return pairing, sig, dlt, rc
-    s0 = float(sig[0])
     for _ in range(rounds):
-        br = np.unique(pairing.delta.knots)         # absolute sigma, from s0 to s0 + 1
+        br = np.unique(pairing.delta.knots)         # absolute sigma, over the pairing's span
         chk = np.unique(np.concatenate([np.linspace(br[i], br[i + 1], 9) for i in range(br.size - 1)]))
-        a, b = pairing.ab(chk - s0)
-        miss = ruling_distances(So, u0 + L * a, u0 + L * b, 15, 4, closed)[1]
-        bad = miss > 2.0 * float(np.max(rc)) + 1e-7 * diag
+        a, b = pairing.ab((chk - pairing.sigma0) / pairing.span)
+        miss = ruling_cost(So, u0 + L * a, u0 + L * b, 15, 4, closed)
+        # (on a face's extended patch, where a ruling crosses the face: near its end edges a ruling's few
+        # samples over the face leave its pairing loose, and spans halved there only bend the rails)
+        bad = (miss > 2.0 * float(np.max(rc)) + 1e-7 * diag) & over_face(So, u0 + L * a, u0 + L * b, every=True)
         if not bad.any() or br.size - 1 >= 4 * MAX_DELTA_COEFS:
             break
         span = np.unique(np.clip(np.searchsorted(br, chk[bad], side="right") - 1, 0, br.size - 2))
         mids = 0.5 * (br[span] + br[span + 1])
         new = np.concatenate([np.linspace(br[i], br[i + 1], 6)[1:-1] for i in span])
-        s2, d2, c2 = refine_pairing(So, u0, L, closed, ab, h, 0, at=new)
+        # each new ruling searched next to the refined ones' family (pairing.refine_pairing: a bracket of a
+        # whole sample may hold the other family of a doubly ruled face)
+        s2, d2, c2 = refine_pairing(So, u0, L, closed, np.stack([sig - dlt, sig + dlt], axis=1), h / 64, 0, at=new)
         order = np.argsort(np.concatenate([sig, s2]), kind="stable")
         sig, dlt, rc = (np.concatenate([sig, s2])[order], np.concatenate([dlt, d2])[order],
                         np.concatenate([rc, c2])[order])
         interior = np.concatenate([br[1:-1], mids])
-        pairing = fit_delta(sig, dlt, closed, 0, interior=interior)
+        pairing = smooth_pairing(So, sig, dlt, closed, 0, interior=interior)
     return pairing, sig, dlt, rc
 
 
@@ -385,8 +390,8 @@ def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) 
     R = ruled_surface(bd)
     cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
     x = np.linspace(0.0, 1.0, n, endpoint=not closed)
-    rc = ruling_distances(So, u0 + L * sig, u0 + L * sig, 15, 4, closed)[1]
-    pc = ruling_distances(So, u0 + L * x, u0 + L * x, FitOptions.points_per_ruling, 3, closed)[1]
+    rc = ruling_cost(So, u0 + L * sig, u0 + L * sig, 15, 4, closed)
+    pc = ruling_cost(So, u0 + L * x, u0 + L * x, FitOptions.points_per_ruling, 3, closed)
     pp = np.stack([u0 + L * x, u0 + L * x], axis=1)
     ends = So(np.concatenate([pp[:, 0], pp[:, 1]]), np.concatenate([np.full(n, v0), np.full(n, v1)]))
     timings = {"iso": time.perf_counter() - t0}

@@ -136,11 +136,14 @@ class Boundaries:
 
 
 def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, tol: float,
-                   max_poles: int = 160, n_uniform: int = 8, lift: Optional[Callable] = None) -> Boundaries:
+                   max_poles: int = 160, n_uniform: int = 8, lift: Optional[Callable] = None,
+                   focus: Optional[tuple] = None) -> Boundaries:
     """A ~ C0(u0 + L a(s)), B ~ C1(u0 + L b(s)) in one shared spline space (see module doc).
 
     lift(s, ua, ub) -> (offset_A (N, 3), offset_B (N, 3)), optional: the ends are moved by these
-    offsets (the 4D fit's elevations along the normal) before fitting."""
+    offsets (the 4D fit's elevations along the normal) before fitting.  focus (s0, s1), optional: the
+    range of s whose rulings meet a face the result is trimmed by (pairing.face_span); the tolerance
+    is kept there only (the rest is trimmed away), and fit_error is measured there."""
     closed = pairing.closed
     # polyline boundaries stay polylines (piecewise-bilinear result); otherwise at least cubic
     p = 1 if (C0.degree == 1 and C1.degree == 1) else max(3, C0.degree, C1.degree)
@@ -152,6 +155,8 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
         dmin = np.min(np.abs(uni[:, None] - br[None, :]), axis=1)
         uni = uni[dmin > 0.3 / n_uniform]
     br, kk = _merge(np.concatenate([br, uni]), np.concatenate([kk, np.ones(uni.size, int)]))
+    # the boundaries' own breaks, mapped, come on top of the poles the refinement may add
+    max_poles += int(kk.sum())
     lo0, hi0 = C0.domain
 
     def target(s):
@@ -185,6 +190,9 @@ def fit_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, 
         err = np.maximum(np.linalg.norm(R[:, :3] - CA, axis=1), np.linalg.norm(R[:, 3:] - CB, axis=1))
         R0 = M @ sol
         err_fit = np.maximum(np.linalg.norm(R0[:, :3] - TA, axis=1), np.linalg.norm(R0[:, 3:] - TB, axis=1))
+        if focus is not None:
+            err = np.where((schk >= focus[0]) & (schk <= focus[1]), err, 0.0)
+            err_fit = np.where((sfit >= focus[0]) & (sfit <= focus[1]), err_fit, 0.0)
         emax = max(err.max(), err_fit.max())
         if emax <= tol or nu >= max_poles:
             break
@@ -273,7 +281,7 @@ def exact_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing
     s = np.linspace(0.0, 1.0, 257)
     a, b = pairing.ab(s)
     d = 0.5 * (b - a)
-    if np.abs(d - d[0]).max() > 1e-12 or C0.degree != C1.degree:
+    if np.abs(d - d[0]).max() > 1e-12 or C0.degree != C1.degree or pairing.span != 1.0:
         return None
     if not pairing.closed and abs(d[0]) > 1e-12:
         return None

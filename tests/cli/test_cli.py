@@ -2,6 +2,7 @@
 import glob
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -241,13 +242,13 @@ def test_outputs_and_limits_refused_before_any_work(tmp_path, case):
 
 @pytest.mark.slow
 def test_negative_values_of_list_options_are_values(tmp_path):
-    """--planes -1.5,20 is the option's value, not an unknown option."""
+    """--planes -3.5,20 is the option's value, not an unknown option."""
     out = str(tmp_path / "w.ngc")
-    r = ruled_here("machine", data_file("kj66_impeller.step"), "--face", "6", "--xyuv", "--planes", "-1.5,20", "-o",
+    r = ruled_here("machine", data_file("kj66_impeller.step"), "--face", "6", "--xyuv", "--planes", "-3.5,20", "-o",
                    out, "--samples", "12", "--measure-samples", "4", "--quiet")
     assert r.returncode == 0, r.stderr
     rep_lines = open(out).read().splitlines()
-    assert any("height -1.5" in x for x in rep_lines[:3]) and any("height 20" in x for x in rep_lines[:3])
+    assert any("height -3.5" in x for x in rep_lines[:3]) and any("height 20" in x for x in rep_lines[:3])
 
 
 def test_a_face_closed_in_both_directions_is_refused_as_such(tmp_path):
@@ -289,8 +290,8 @@ def test_one_wording_for_a_size_that_must_be_positive(tmp_path):
 def test_a_face_past_its_time_limit_is_refused_saying_where_it_was(tmp_path):
     """Issue 34: a hull face ran past 900 s with no output, in the Coons map of its parametrization.  A face
     whose bottom is 160 edges (tests/trimmed_faces.py many_edged_face: its parametrization tries every grouping
-    of them into four sides, about 20 s): with --face-timeout 2 the command stops in one line naming the limit
-    and the stage, leaves no STEP, and is back well before the parametrization could have ended."""
+    of them into four sides; the whole fit takes about 16 s): with --face-timeout 2 the command stops in one line
+    naming the limit and the stage, leaves no STEP, and is back well before the fit could have ended."""
     import time
 
     from trimmed_faces import many_edged_face
@@ -302,8 +303,9 @@ def test_a_face_past_its_time_limit_is_refused_saying_where_it_was(tmp_path):
     r = ruled_here("fit", src, "--face", "0", "--face-timeout", "2", "--samples", "16", "-o", out)
     took = time.perf_counter() - t0
     line = _one_line_error(r)
-    assert line == ("ruled: error: face 0 ran past its time limit of 2 s (in the face's own parametrization) and "
-                    "was stopped; give it more time (--face-timeout), or fewer --samples"), line
+    # (the stage it was in depends on the machine's speed: the parametrization, or a fit after it)
+    assert re.fullmatch(r"ruled: error: face 0 ran past its time limit of 2 s \(in [a-z' ()0-9]+\) and was "
+                        r"stopped; give it more time \(--face-timeout\), or fewer --samples", line), line
     assert took < 8 and not os.path.exists(out), took
 
 
