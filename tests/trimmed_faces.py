@@ -459,34 +459,3 @@ def sloppy_face(offset: float = 5e-4):
     S = bspline_surface(np.array([[(0, 0, 0), (0, 10, 0)], [(10, 0, 0), (10, 10, 0)]], float),
                         [0, 1], [2, 2], [0, 1], [2, 2], 1, 1)
     return bow_edges(BRepBuilderAPI_MakeFace(S, 1e-7).Face(), offset)
-
-
-def diamond_on_ruled_face(elevated: bool = False):
-    """A face cut out of an exactly ruled surface (degree 3 x 1: its rulings are its v-lines) by four
-    curved edges in its (u, v), none of them a ruling: a rounded diamond, each side a quadratic arc.
-    elevated: the same surface given as degree 3 x 3 (OCCT's degree elevation), so that nothing in its
-    representation says it is ruled."""
-    A = [(0, 0, 0), (30, 10, 5), (70, -10, 10), (100, 0, 0)]
-    B = [(0, 40, 20), (35, 50, -10), (65, 30, 25), (100, 45, 10)]
-    poles = [[A[i], B[i]] for i in range(4)]
-    surf = bspline_surface(poles, [0.0, 1.0], [4, 4], [0.0, 1.0], [2, 2], 3, 1)
-    if elevated:
-        surf.IncreaseDegree(3, 3)
-    corners = [(0.5, 0.08), (0.92, 0.45), (0.55, 0.93), (0.1, 0.5)]
-    bulge = [(0.78, 0.2), (0.8, 0.78), (0.25, 0.8), (0.22, 0.22)]
-    loop = [curve2d([corners[k], bulge[k], corners[(k + 1) % 4]]) for k in range(4)]
-    return face_from_loops(surf, [loop])
-
-
-def saddle_band_face():
-    """A band across a hyperbolic paraboloid (z = 40 u v over 100 x 100, given as degree 3 x 3 so that nothing
-    says it is ruled, let alone doubly), along its diagonal: both families of its rulings (its u- and
-    v-lines) cross from one long side of the band to the other, and none is an edge; the short sides are
-    arcs.  Its long sides are slight arcs too."""
-    poles = [[(0, 0, 0), (0, 100, 0)], [(100, 0, 0), (100, 100, 40)]]
-    surf = bspline_surface(poles, [0.0, 1.0], [2, 2], [0.0, 1.0], [2, 2], 1, 1)
-    surf.IncreaseDegree(3, 3)
-    c = [(0.28, 0.08), (0.92, 0.7), (0.72, 0.92), (0.08, 0.28)]
-    mid = [(0.62, 0.36), (0.86, 0.86), (0.36, 0.62), (0.14, 0.14)]
-    loop = [curve2d([c[k], mid[k], c[(k + 1) % 4]]) for k in range(4)]
-    return face_from_loops(surf, [loop])

@@ -122,7 +122,8 @@ def cmd_machine(args) -> int:
               f"{m['envelope_deviation']:.3g}")
         if "tool_envelope" in rep:
             e = rep["tool_envelope"]
-            print(f"at the CL points: overcut {e['cl_positions']['overcut']:.6g}, undercut "
+            print(f"{'against ' + e['against'].split(' (')[0] + ', ' if 'against' in e else ''}"
+                  f"at the CL points: overcut {e['cl_positions']['overcut']:.6g}, undercut "
                   f"{e['cl_positions']['undercut']:.6g}; with the moves between: overcut "
                   f"{e['with_moves']['overcut']:.6g}, undercut {e['with_moves']['undercut']:.6g}")
     print(f"{'G-code' if m['mode'] == 'xyuv' else 'APT'}: {rep['output']}")

@@ -4,6 +4,7 @@ pinned to the face's corners."""
 
 from __future__ import annotations
 
+import time
 from dataclasses import replace
 from typing import Optional
 
@@ -184,12 +185,43 @@ def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> 
     other = res.other if res.other is None or isinstance(res.other, str) else with_trim(res.other, patch.mask)
     if not ok:
         return None, "the fit's map folds over the face, so its image is not trimmed by the face's edges"
+    top = min(ok, key=lambda c: c.error_bound)
+    finer = _finer_trim(top, patch.mask, progress)
+    if finer is not top:
+        cands = {d: finer if c is top else c for d, c in cands.items()}
+        ok = [c for c in cands.values() if not isinstance(c, str)]
     if patch.own:
         cands = {d: c if isinstance(c, str) else _as_own(c, patch.surface) for d, c in cands.items()}
         ok = [c for c in cands.values() if not isinstance(c, str)]
     top = min(ok, key=lambda c: c.error_bound)
     return replace(with_deviation(replace(res, best=top, candidates=cands, other=other), patch.deviation),
                    patch=patch), None
+
+
+# the trim's part of a bound above the certificate's own: the best candidate certified again on this grid
+# (finer across the rulings: psi's kinks at the grid's lines, which the trim curves cut across, shrink
+# with the cells' size squared)
+GRID_TRIM = (240, 320)
+
+
+def _finer_trim(c, mask, progress: Progress = None):
+    """The trimmed fit c certified on GRID_TRIM and trimmed again where the trim's part of its bound is
+    the larger (an exact fit whose rulings cross the face's edges: the certificate's part is small), when
+    that brings its bound down; else c."""
+    from ruled.fit.certify import certified_bound
+    from ruled.fit.trim import with_trim
+    if c.trim is None or c.trim.own or 2.0 * c.trim.added <= c.certificate.bound:
+        return c
+    if progress:
+        progress("certifying the trimmed result on a finer grid", 0.0)
+    t0 = time.perf_counter()
+    cert = certified_bound(c.oriented, c.pairing, c.boundaries, c.surface, *GRID_TRIM)
+    finer = with_trim(replace(c, certificate=cert, trim=None), mask)
+    if finer is None or finer.error_bound >= c.error_bound:
+        return c
+    timings = dict(c.timings)
+    timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
+    return replace(finer, timings=timings)
 
 
 def _as_own(c, E):

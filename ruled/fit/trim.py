@@ -8,9 +8,14 @@ curves C are cubic B-splines through psi's image of the boundary's samples (the 
 an edge lies on a rail of the patch), within eps of psi(boundary) point by point; the region C encloses
 differs from psi(face) only within eps of its boundary, so the trimmed result T is within
 
-    B + eps (max |R_s| + max |R_t|)
+    B + eps max sqrt(|R_s|^2 + |R_t|^2)
 
-of the face, both ways (a point of either region is within eps, in R's domain, of the other).
+of the face, both ways (a point of either region is within eps, in R's domain, of the other, and
+|R_s d_s + R_t d_t| <= |d| sqrt(|R_s|^2 + |R_t|^2)).  The max is taken where that happens only: over the
+spans of R that an eps-box round the trim curve meets, per edge with its own eps (local_speed).  The trim
+curve is smooth while psi's image is not (psi is bilinear on the certificate's grid: a kink at each grid
+line), so eps is at least those kinks' size; following them with more spans shrinks eps but not the
+distance to the face, which the true correspondence sets.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from ruled.core.nurbs import Curve
 
 SPANS = (8, 16, 32, 64, 128) # the trim curves' knot spans, tried in turn
 FIT_TOL = 1e-8                      # in R's domain (a unit square): the trim curve follows psi's image to this
+CHECK = 4                      # eps checked at this many points per interval of the edge's samples
 EPS_MARGIN = 1.5               # eps is sampled: raised by half
 RAIL_T = 1e-3                  # a cell whose corners map this near a rail of R lies along it
 ON_RAIL = 1e-4                 # an edge whose (s, t) in the patch is this near t = 0 (1) all along lies on a rail
@@ -111,23 +117,74 @@ def folds(psi: tuple, cells: np.ndarray) -> bool:
     return not (med > 0 and d.min() > -FOLD_TOL * med)
 
 
-def _fit_curve(x: np.ndarray, Y: np.ndarray, ends: tuple) -> Curve:
-    """A cubic B-spline through the points Y (N, 2) at parameters x, its end points pinned to ends, with
-    the first of SPANS that follows Y within FIT_TOL (else the last)."""
-    C = None
+def _fit_curve(x: np.ndarray, Y: np.ndarray, ends: tuple, spans: int) -> Curve:
+    """A cubic B-spline of `spans` uniform knot spans (fewer where the points are few) through the points
+    Y (N, 2) at parameters x by least squares, its end points pinned to ends."""
+    spans = min(spans, max(1, (x.size - 1) // 3))
+    knots = np.concatenate([[x[0]] * 3, np.linspace(x[0], x[-1], spans + 1), [x[-1]] * 3])
+    M = bspline_basis_matrix(knots, 3, x)
+    P = np.empty((M.shape[1], 2))
+    P[0], P[-1] = ends
+    rhs = Y - M[:, :1] * P[0] - M[:, -1:] * P[-1]
+    P[1:-1] = np.linalg.lstsq(M[:, 1:-1], rhs, rcond=None)[0]
+    return Curve(P, knots, 3)
+
+
+def _along(st: np.ndarray, k: int) -> tuple:
+    """(x, points): an edge's samples st (N, 2), k points per interval, at x in [0, 1]: the cubic spline
+    through them (the edge is a smooth curve, which its samples' polyline cuts across by its sagitta, as
+    large as the fit's own error at PER_EDGE samples; linear where the samples are too few)."""
+    x = np.linspace(0.0, 1.0, st.shape[0])
+    xx = np.linspace(0.0, 1.0, k * (st.shape[0] - 1) + 1)
+    if st.shape[0] < 4:
+        return xx, np.stack([np.interp(xx, x, st[:, 0]), np.interp(xx, x, st[:, 1])], axis=1)
+    from scipy.interpolate import CubicSpline
+    return xx, CubicSpline(x, st, axis=0)(xx)
+
+
+def local_speed(R, P: np.ndarray, pad: float) -> float:
+    """A bound of sqrt(|R_s|^2 + |R_t|^2) (so of |dR| / |d(s, t)|) over the boxes spanned by consecutive
+    points P (N, 2) of R's domain, padded by pad: the max of R's per-span derivative bounds over the spans
+    they meet, clipped to its domain (a box past an end in s meets the spans at both ends: a closed R
+    continues there)."""
+    b = R.derivative_bounds()
+    G = np.sqrt(b["Su"] ** 2 + b["Sv"] ** 2)
+    if P.shape[0] < 2:
+        P = np.repeat(P, 2, axis=0)
+    lo = np.minimum(P[:-1], P[1:]) - pad
+    hi = np.maximum(P[:-1], P[1:]) + pad
+    u0, u1 = R.domain[0], R.domain[1]
+    wraps = (lo[:, 0] < u0) | (hi[:, 0] > u1)
+
+    def span(knots, p, n, t):
+        return np.clip(np.searchsorted(knots, t, side="right") - 1, p, n - 1) - p
+    nu, nv = R.poles.shape[:2]
+    i0, i1 = span(R.knots_u, R.degree_u, nu, lo[:, 0]), span(R.knots_u, R.degree_u, nu, hi[:, 0])
+    j0, j1 = span(R.knots_v, R.degree_v, nv, lo[:, 1]), span(R.knots_v, R.degree_v, nv, hi[:, 1])
+    m = max(float(G[i0, j0].max()), float(G[i0, j1].max()), float(G[i1, j0].max()), float(G[i1, j1].max()))
+    for k in np.flatnonzero((i1 - i0 > 1) | (j1 - j0 > 1)):     # a box over more than two spans (rare)
+        m = max(m, float(G[i0[k]:i1[k] + 1, j0[k]:j1[k] + 1].max()))
+    for k in np.flatnonzero(wraps):
+        m = max(m, float(G[[0, -1], j0[k]:j1[k] + 1].max()))
+    return m
+
+
+def _edge_curve(psi: tuple, st: np.ndarray, ends: tuple, R) -> tuple:
+    """(C, eps, added) for one edge of the face, its samples st in E's domain: C through psi's image of
+    the samples, with the first of SPANS that follows it there within FIT_TOL (else the last: psi is
+    bilinear on the certificate's grid, so its image has a kink at each grid line, which a smooth curve
+    cuts across); eps, C's sampled distance from psi's image of the edge (_along between its samples),
+    raised by EPS_MARGIN; added, eps times R's speed there (local_speed)."""
+    x = np.linspace(0.0, 1.0, st.shape[0])
+    y = psi_at(psi, st)
     for spans in SPANS:
-        spans = min(spans, max(1, (x.size - 1) // 3))
-        knots = np.concatenate([[x[0]] * 3, np.linspace(x[0], x[-1], spans + 1), [x[-1]] * 3])
-        M = bspline_basis_matrix(knots, 3, x)
-        n = M.shape[1]
-        P = np.empty((n, 2))
-        P[0], P[-1] = ends
-        rhs = Y - M[:, :1] * P[0] - M[:, -1:] * P[-1]
-        P[1:-1] = np.linalg.lstsq(M[:, 1:-1], rhs, rcond=None)[0]
-        C = Curve(P, knots, 3)
-        if np.abs(C(x) - Y).max() <= FIT_TOL:
+        C = _fit_curve(x, y, ends, spans)
+        if np.abs(C(x) - y).max() <= FIT_TOL:
             break
-    return C
+    xc, stc = _along(st, CHECK)
+    P = C(xc)
+    eps = EPS_MARGIN * float(np.linalg.norm(P - psi_at(psi, stc), axis=1).max())
+    return C, eps, eps * local_speed(R, P, eps + 1.0 / xc.size)
 
 
 def trim_of(fit, mask) -> Optional[Trim]:
@@ -143,7 +200,7 @@ def trim_of(fit, mask) -> Optional[Trim]:
         if exact is not None:
             return exact
     loops = [mask.edges] + list(mask.hole_edges)
-    out, eps, segments = [], 0.0, []
+    out, eps, added, segments = [], 0.0, 0.0, []
     for edges in loops:
         # psi's image of each edge's samples; the corners, each its two edges' ends averaged
         ys = [psi_at(cert.psi, st) for st in edges]
@@ -156,28 +213,23 @@ def trim_of(fit, mask) -> Optional[Trim]:
             if r is not None:
                 corner[k] = np.array([corner[k][0], r])
         curves = []
-        for k, y in enumerate(ys):
-            x = np.linspace(0.0, 1.0, y.shape[0])
-            st = edges[k]
+        for k, st in enumerate(edges):
+            ends = (corner[k], corner[(k + 1) % n])
             if rails[k] is not None:
                 # an edge on a rail of the patch: the segment of R's rail between its ends' images, which psi's
                 # image follows within its distance in t (the same s: psi's s-values parametrize both)
-                curves.append(Curve(np.array([corner[k], corner[(k + 1) % n]]), np.array([0.0, 0, 1, 1]), 1))
-                eps = max(eps, float(np.abs(y[:, 1] - rails[k]).max()))
+                y = psi_at(cert.psi, _along(st, CHECK)[1])
+                e = EPS_MARGIN * float(np.abs(y[:, 1] - rails[k]).max())
+                curves.append(Curve(np.array(ends), np.array([0.0, 0, 1, 1]), 1))
+                eps, added = max(eps, e), max(added, e * local_speed(R, y, e + 1.0 / y.shape[0]))
                 segments.append((rails[k], float(corner[k][0]), float(corner[(k + 1) % n][0])))
                 continue
-            C = _fit_curve(x, y, (corner[k], corner[(k + 1) % n]))
-            xx = np.linspace(0.0, 1.0, 4 * y.shape[0] - 3)
-            # psi's image between the samples: psi of the edge's (s, t), linear between the samples
-            st_f = np.stack([np.interp(xx, x, st[:, 0]), np.interp(xx, x, st[:, 1])], axis=1)
-            eps = max(eps, float(np.linalg.norm(C(xx) - psi_at(cert.psi, st_f), axis=1).max()))
+            C, e, a = _edge_curve(cert.psi, st, ends, R)
+            eps, added = max(eps, e), max(added, a)
             curves.append(C)
         out.append(tuple(curves))
     if folds(cert.psi, mask.cells(us, vs) & ~rail_cells(cert.psi, segments)) or loops_cross(out):
         return None
-    eps *= EPS_MARGIN
-    b = R.derivative_bounds()
-    added = eps * (float(b["Su"].max()) + float(b["Sv"].max()))
     return Trim(out[0], tuple(out[1:]), eps, added)
 
 
@@ -230,9 +282,9 @@ def _identity_trim(psi: tuple, mask, R) -> Optional[Trim]:
         return None
     st = np.concatenate(list(mask.edges) + [e for h in mask.hole_edges for e in h])
     eps = EPS_MARGIN * float(np.abs(psi_at(psi, st) - st).max())
-    b = R.derivative_bounds()
-    return Trim(mask.curves[0], tuple(mask.curves[1:]), eps, eps * (float(b["Su"].max()) + float(b["Sv"].max())),
-                True)
+    added = max(eps * local_speed(R, e, eps + 1.0 / e.shape[0])
+                for e in list(mask.edges) + [e for h in mask.hole_edges for e in h])
+    return Trim(mask.curves[0], tuple(mask.curves[1:]), eps, added, True)
 
 
 def with_trim(fit, mask):

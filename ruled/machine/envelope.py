@@ -14,17 +14,20 @@ from ruled.machine.sync import _seeds
 
 
 def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, moves: bool = True,
-                  iters: int = 5, progress: Progress = None) -> dict:
+                  iters: int = 5, progress: Progress = None, keep=None) -> dict:
     """Over- and undercut of the tool against the design surface S, measured on the tool surfaces: at
     every CL position (and, with moves=True, half way through every move), on `slices` circles along
     the tool, the point of each circle deepest towards S (alternating projections onto S, exact
     Newton feet); its signed distance along S's normal on the side `side` (negative: inside the
-    material, an overcut; positive: material left, an undercut)."""
+    material, an overcut; positive: material left, an undercut).  keep(s, t): only the circles at the
+    ruling s and the fraction t along the tool for which it is true count (the tool over a trimmed
+    face: its rulings run past the face, and what the tool does there is not a cut of the face)."""
     from ruled.core.distance import project_points
-    lo, hi = path.lower, path.upper
+    lo, hi, us = path.lower, path.upper, np.asarray(path.u, float)
     if moves:
         lo = np.concatenate([lo, 0.5 * (lo[1:] + lo[:-1])])
         hi = np.concatenate([hi, 0.5 * (hi[1:] + hi[:-1])])
+        us = np.concatenate([us, 0.5 * (us[1:] + us[:-1])])
     n_cl = path.lower.shape[0]
     ax = hi - lo
     Lx = np.linalg.norm(ax, axis=1)
@@ -50,16 +53,20 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     sd = np.einsum("ij,ij->i", q - D.P, side * D.normals()).reshape(-1, slices)
     if progress:
         progress("tool envelope", 1.0)
+    over = np.ones(sd.shape, bool) if keep is None else \
+        np.asarray(keep(np.repeat(us, slices), np.tile(s, us.size)), bool).reshape(sd.shape)
 
     def ext(rows):
-        x = sd[rows]
-        i_over = np.unravel_index(int(np.argmin(x)), x.shape)
-        i_under = np.unravel_index(int(np.argmax(x)), x.shape)
+        x = np.where(over[rows], sd[rows], np.nan)
+        if np.isnan(x).all():
+            return {"overcut": 0.0, "undercut": 0.0, "overcut_at": None, "undercut_at": None}
+        i_over = np.unravel_index(int(np.nanargmin(x)), x.shape)
+        i_under = np.unravel_index(int(np.nanargmax(x)), x.shape)
         return {"overcut": float(max(0.0, -x[i_over])), "undercut": float(max(0.0, x[i_under])),
                 "overcut_at": q.reshape(-1, slices, 3)[rows][i_over].tolist(),
                 "undercut_at": q.reshape(-1, slices, 3)[rows][i_under].tolist()}
 
-    out = {"cl_positions": ext(slice(0, n_cl)), "samples": int(sd.size)}
+    out = {"cl_positions": ext(slice(0, n_cl)), "samples": int(over.sum())}
     if moves:
         out["with_moves"] = ext(slice(0, sd.shape[0]))
     return out

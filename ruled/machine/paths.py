@@ -457,7 +457,8 @@ def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pr
     u0, u1, t0, t1 = R.domain
     ud = np.linspace(u0, u1, _DENSE)
     low_second = float(np.mean(R(ud, np.full(ud.shape, t1))[:, 2] - R(ud, np.full(ud.shape, t0))[:, 2])) < 0
-    if opts.tip == "second" or (opts.tip == "auto" and low_second):
+    tip_t1 = opts.tip == "second" or (opts.tip == "auto" and low_second)
+    if tip_t1:
         R, sign = reversed_t(R), -sign
     lines = Lines(R, sign, opts.tool_radius, opts.taper_deg)
     _check_rulings(lines, ud)
@@ -476,7 +477,7 @@ def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pr
         raise BadInputError("the tool path is empty: the ruled result has no extent along its rulings")
     E = both(us)
     stats = {"cl_points": int(us.size), "length_tip": _length(E[:, 0]), "length_top": _length(E[:, 1]),
-             "tool_radius": r, "taper_deg": opts.taper_deg, "envelope_deviation": off_dev}
+             "tool_radius": r, "taper_deg": opts.taper_deg, "envelope_deviation": off_dev, "tip_at_t1": tip_t1}
     return MachinePath("flank", us, E[:, 0], E[:, 1], E, lines.closed, tol, off_dev, None, None, None, (),
                        r, opts.taper_deg, opts.feed, stats, tuple(warnings), both)
 

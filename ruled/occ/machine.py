@@ -182,7 +182,17 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
             rep["cut"] = {"against": "the face" if opts.kerf == 0 else f"the face offset by the kerf {opts.kerf:g}",
                           **c, "fit_error": fit_err, "bound": fit_err + path.stats["cut_bound_beyond_fit"]}
         else:
-            env = tool_envelope(S, out_side, path, progress=progress)
+            along = keep
+            if keep is not None:
+                t0, t1 = R.domain[2:]
+                if path.stats.get("tip_at_t1"):
+                    t0, t1 = t1, t0
+
+                def along(s, f):        # f: the fraction along the tool from its tip
+                    return keep(s, t0 + f * (t1 - t0))
+            env = tool_envelope(S, out_side, path, progress=progress, keep=along)
+            if keep is not None:
+                env["against"] = "the face as bounded by its edges (the tool where it lies over the face's trim)"
             env["bound_cl"] = h.max + path.offset_deviation
             env["bound_moves"] = h.max + path.offset_deviation + path.chord_tol
             rep["tool_envelope"] = env

@@ -17,6 +17,7 @@ import pytest
 pytest.importorskip("OCP")
 
 from conftest import data_file, ruled_here  # noqa: E402
+from exact_faces import closed_band_face  # noqa: E402
 from trimmed_faces import (  # noqa: E402
     bspline_surface,
     coons_reference,
@@ -147,47 +148,14 @@ def test_doubly_curved_trimmed_face_fits_as_well_as_its_region_given_untrimmed()
 def test_closed_trimmed_face_is_fitted_round():
     """A band of a closed B-spline (a cylinder of radius 5) between two wavy closed curves and the seam:
     fitted round (the seam is not a side), exactly (its rulings are the cylinder's lines)."""
-    from OCP.BRep import BRep_Builder
-    from OCP.BRepBuilderAPI import (
-        BRepBuilderAPI_MakeEdge,
-        BRepBuilderAPI_MakeFace,
-        BRepBuilderAPI_MakeVertex,
-        BRepBuilderAPI_MakeWire,
-    )
-    from OCP.BRepCheck import BRepCheck_Analyzer
-    from OCP.BRepLib import BRepLib
-    from OCP.GCE2d import GCE2d_MakeSegment
     from OCP.Geom import Geom_CylindricalSurface, Geom_RectangularTrimmedSurface
-    from OCP.GeomAbs import GeomAbs_Shape
     from OCP.GeomConvert import GeomConvert
-    from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Pnt2d
-    from OCP.TopLoc import TopLoc_Location
-    from OCP.TopoDS import TopoDS
+    from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt
 
     P = 2 * np.pi
     cyl = Geom_CylindricalSurface(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 5.0)
     bs = GeomConvert.SurfaceToBSplineSurface_s(Geom_RectangularTrimmedSurface(cyl, 0, P, 0, 10))
-
-    def flo(x):
-        return 2 + 0.5 * np.sin(3 * x)
-
-    def fhi(x):
-        return 8 + 0.5 * np.cos(2 * x)
-    lo, hi = graph2d(0, P, flo), graph2d(0, P, fhi, reverse=True)
-    Vlo = BRepBuilderAPI_MakeVertex(bs.Value(0, flo(0))).Vertex()
-    Vhi = BRepBuilderAPI_MakeVertex(bs.Value(0, fhi(0))).Vertex()
-    e_lo = BRepBuilderAPI_MakeEdge(lo, bs, Vlo, Vlo, lo.FirstParameter(), lo.LastParameter()).Edge()
-    e_hi = BRepBuilderAPI_MakeEdge(hi, bs, Vhi, Vhi, hi.FirstParameter(), hi.LastParameter()).Edge()
-    right = GCE2d_MakeSegment(gp_Pnt2d(P, flo(0)), gp_Pnt2d(P, fhi(0))).Value()
-    left = GCE2d_MakeSegment(gp_Pnt2d(0, flo(0)), gp_Pnt2d(0, fhi(0))).Value()
-    seam = BRepBuilderAPI_MakeEdge(right, bs, Vlo, Vhi).Edge()
-    BRep_Builder().UpdateEdge(seam, right, left, bs, TopLoc_Location(), 1e-7)
-    w = BRepBuilderAPI_MakeWire()
-    for e in (e_lo, seam, e_hi, TopoDS.Edge_s(seam.Reversed())):
-        w.Add(e)
-    face = BRepBuilderAPI_MakeFace(bs, w.Wire(), True).Face()
-    BRepLib.BuildCurves3d_s(face, 1e-7, GeomAbs_Shape.GeomAbs_C1, 14, 200)
-    assert BRepCheck_Analyzer(face).IsValid()
+    face = closed_band_face(bs, lambda x: 2 + 0.5 * np.sin(3 * x), lambda x: 8 + 0.5 * np.cos(2 * x))
     region = face_region(face)
     assert region.seams == (False, True, False, True) and region.closed[0]
     res, bound, h, area = _fit_and_measure(face)

@@ -148,3 +148,65 @@ def test_empty_result():
     R = Surface(P, [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 1, 1], 3, 1)
     with pytest.raises(RuledError, match="no length"):
         xyuv_path(R, MachineOptions())
+
+
+def _inside_points(face, n: int = 48):
+    """Points of the face's surface inside its edges (OCCT's classifier on an n x n grid of its bounds)."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepClass import BRepClass_FaceClassifier
+    from OCP.BRepTools import BRepTools
+    from OCP.gp import gp_Pnt2d
+    from OCP.TopAbs import TopAbs_IN
+    surf = BRep_Tool.Surface_s(face)
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+    out = []
+    for u in np.linspace(u0, u1, n):
+        for v in np.linspace(v0, v1, n):
+            if BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-9).State() == TopAbs_IN:
+                out.append(surf.Value(u, v).Coord())
+    return np.array(out)
+
+
+def _to_tool_axes(P, tip, axis, length, per_move: int = 8):
+    """Each point's distance to the tool's axis swept through the moves (tip and axis direction linear
+    between CL positions, per_move steps each), the axis a segment of the tool's length from its tip."""
+    f = np.arange(per_move) / per_move
+    T = (tip[:-1, None] + f[None, :, None] * (tip[1:] - tip[:-1])[:, None]).reshape(-1, 3)
+    A = (axis[:-1, None] + f[None, :, None] * (axis[1:] - axis[:-1])[:, None]).reshape(-1, 3)
+    T, A = np.concatenate([T, tip[-1:]]), np.concatenate([A, axis[-1:]])
+    A /= np.linalg.norm(A, axis=1)[:, None]
+    best = np.full(len(P), np.inf)
+    for i in range(0, len(T), 200):
+        d = P[:, None] - T[None, i:i + 200]
+        h = np.clip(np.einsum("pkc,kc->pk", d, A[i:i + 200]), 0.0, length)
+        best = np.minimum(best, np.linalg.norm(d - h[..., None] * A[None, i:i + 200], axis=2).min(axis=1))
+    return best
+
+
+@pytest.mark.slow
+def test_flank_on_a_trimmed_face_reports_the_cut_of_the_face(tmp_path):
+    """Flank milling kj66 face 6 from its trimmed result (rulings that cross the face's end edges, the tool
+    running past them): the over- and undercut it reports are against the face as bounded by its edges,
+    and agree with what the APT's tool, swept through its moves, does to the face's own points (OCCT's
+    surface inside its edges): the tool's surface is never deeper than the reported overcut past any face
+    point, no face point farther from it than the reported undercut plus the moves' chord, both within
+    the report's bound."""
+    from conftest import data_file
+
+    from ruled.occ.io import faces_of, read_shape
+    src = data_file("kj66_impeller.step")
+    r = 0.05
+    apt, rep, _ = run_cli(tmp_path, src, 6, "--flank", "--tool-radius", str(r), "--ends", "auto", "--samples", "30")
+    assert "trimmed" in rep["machine"]                  # the rulings that cross the face, past its end edges
+    e = rep["tool_envelope"]
+    assert e["against"].startswith("the face as bounded by its edges")
+    tip, axis = parse_apt(apt)
+    with open(apt) as fh:
+        length = float(next(ln for ln in fh if ln.startswith("CUTTER/")).split(",")[-1])
+    P = _inside_points(faces_of(read_shape(src))[6])
+    d = _to_tool_axes(P, tip, axis, length) - r        # > 0: material left at the point; < 0: the tool past it
+    over, under = float(max(0.0, -d.min())), float(max(0.0, d.max()))
+    chord = rep["machine"]["chord_tol"]
+    assert over <= e["with_moves"]["overcut"] * 1.05 + 1e-6
+    assert under <= e["with_moves"]["undercut"] + chord
+    assert over <= e["bound_moves"] and under <= e["bound_moves"]
