@@ -186,7 +186,7 @@ def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> 
     if not ok:
         return None, "the fit's map folds over the face, so its image is not trimmed by the face's edges"
     top = min(ok, key=lambda c: c.error_bound)
-    finer = _finer_trim(top, patch.mask, progress)
+    finer = _finer_trim(top, patch.mask, patch.deviation, progress)
     if finer is not top:
         cands = {d: finer if c is top else c for d, c in cands.items()}
         ok = [c for c in cands.values() if not isinstance(c, str)]
@@ -204,13 +204,13 @@ def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> 
 GRID_TRIM = (240, 320)
 
 
-def _finer_trim(c, mask, progress: Progress = None):
+def _finer_trim(c, mask, deviation: float = 0.0, progress: Progress = None):
     """The trimmed fit c certified on GRID_TRIM and trimmed again where the trim's part of its bound is
-    the larger (an exact fit whose rulings cross the face's edges: the certificate's part is small), when
-    that brings its bound down; else c."""
+    the larger (an exact fit whose rulings cross the face's edges: the certificate's part is small; the
+    patch's deviation from the face, added later, counted in), when that brings its bound down; else c."""
     from ruled.fit.certify import certified_bound
     from ruled.fit.trim import with_trim
-    if c.trim is None or c.trim.own or 2.0 * c.trim.added <= c.certificate.bound:
+    if c.trim is None or c.trim.own or 2.0 * c.trim.added <= c.certificate.bound + deviation:
         return c
     if progress:
         progress("certifying the trimmed result on a finer grid", 0.0)
