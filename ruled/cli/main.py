@@ -76,7 +76,7 @@ def main(argv=None) -> int:
             raise KeyboardInterrupt
         return _main(argv)
     except KeyboardInterrupt:
-        return _interrupted()
+        return _interrupted(argv is None)
     except BrokenPipeError:
         # the reader (e.g. `| head -1`) has what it wanted: no traceback, and no second error when
         # Python flushes stdout at exit
@@ -84,15 +84,20 @@ def main(argv=None) -> int:
         return 0
     except Exception:
         if _SIGINT:             # an interrupt inside a C extension's import surfaces as another error
-            return _interrupted()
+            return _interrupted(argv is None)
         raise
     finally:
         if ours:
             signal.signal(signal.SIGINT, before if before is not None else signal.default_int_handler)
 
 
-def _interrupted() -> int:
+def _interrupted(exiting: bool = False) -> int:
+    """Exit code 130 after one line.  exiting: the process's own command line ends here, so nothing left
+    half-built by the interrupt (numba's compiler, say, mid-initialisation) may print "Exception ignored"
+    tracebacks from its finalizers as Python shuts down."""
     _quietly(lambda: print("\nruled: interrupted", file=sys.stderr))
+    if exiting:
+        sys.unraisablehook = lambda *_: None
     return 130
 
 

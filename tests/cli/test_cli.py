@@ -336,6 +336,22 @@ def test_a_hopeless_face_says_so_at_once_and_stays_compact(tmp_path):
     assert f"the best found is {rep['hausdorff']['max']:.4g} from it by the measure" in first
 
 
+def test_an_interrupted_command_line_ends_without_finalizer_tracebacks():
+    """Interrupted while numba's compiler initialises (seen in CI at 1.6 s of start-up), a half-built object's
+    finalizer raised as Python shut down and printed "Exception ignored in ..." with a traceback after the
+    one line: the command line's own process (main() with no argv) now ends with the one line alone."""
+    code = ("import sys\n"
+            "from ruled.cli.main import _interrupted\n"
+            "class Half:\n"
+            "    def __del__(self):\n"
+            "        raise AttributeError('no attribute _as_parameter_')\n"
+            "keep = Half()\n"
+            "sys.exit(_interrupted(True))\n")
+    r = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
+                       env={**os.environ, "PYTHONPATH": ROOT})
+    assert r.returncode == 130 and r.stderr.strip() == "ruled: interrupted", r.stderr
+
+
 @pytest.mark.parametrize("delay", [0.3, 0.6, 1.0, 1.6])
 def test_ctrl_c_at_any_moment_of_start_up_ends_quietly_with_130(delay):
     """SIGINT while Python, numpy, OCCT and the file load: exit 130 and one line, never a traceback
