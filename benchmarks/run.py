@@ -1,6 +1,7 @@
 """Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
-    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data]
+    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data
+                                                |census [--ends auto|pinned]]
                                        [--n 50 100 200] [--surface ex2] [--no-numpy]
 
 2D target: n = 100 end to end (both directions tried, refined, rebuilt, certified) in <= 0.5 s.
@@ -11,7 +12,8 @@ benchmarks/cos.py; cone splines: benchmarks/cone.py; the split DP: benchmarks/sp
 outputs: benchmarks/machine.py; trimmed faces: benchmarks/trimmed.py; the user's whole job (processes'
 CPU seconds, the engine at n = 100): benchmarks/job.py; the whole-part batch (--jobs 1 against
 --jobs 2): benchmarks/batch.py; the fixed fuzz runs (300 faces in 2D, 50 in 4D): benchmarks/fuzz.py; every
-face of the data files, re-measured by OCCT alone: benchmarks/data.py.
+face of the data files, re-measured by OCCT alone: benchmarks/data.py; every B-spline face fitted, its
+refusals and results that do not cover it counted (--suite census, not in all): benchmarks/census.py.
 The NumPy-only times (no numba, as in FreeCAD's Python) are printed too, from a subprocess with
 RULED_NO_NUMBA=1.
 
@@ -45,9 +47,11 @@ TARGET_MB = 400
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--suite", choices=["all", "2d", "4d", "cos", "cone", "split", "machine", "trimmed", "job",
-                                        "batch", "fuzz", "data"],
+                                        "batch", "fuzz", "data", "census"],
                     default="all")
     ap.add_argument("--slow", action="store_true", help="with --suite job: the closed 4D fit at n = 100 too")
+    ap.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
+                    help="with --suite census: the fit's ends (pinned: the fit before issue 35)")
     ap.add_argument("--n", type=int, nargs="+", default=[50, 100, 200])
     ap.add_argument("--surface", choices=sorted(EXAMPLES), default="ex2")
     ap.add_argument("--repeat", type=int, default=3)
@@ -92,6 +96,9 @@ def main(argv=None) -> int:
     if args.suite in ("all", "data"):
         from data import bench_data
         bad += bench_data()
+    if args.suite == "census":
+        from census import bench_census
+        bench_census(args.ends)
     return 1 if bad else 0
 
 

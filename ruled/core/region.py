@@ -250,8 +250,10 @@ class Region:
         return (D.Su * d[:, :1] + D.Sv * d[:, 1:2])[0]
 
     def joint_angles(self) -> np.ndarray:
-        """(n,) the turn of the loop's image at the joint after each edge, degrees (180 at a degenerate
-        edge or where a tangent vanishes)."""
+        """(n,) the turn of the loop's image at the joint after each edge, degrees (180 where a tangent
+        vanishes, and on both sides of a degenerate edge, a point of the surface: a corner, such as a cone's
+        apex, unless the edges before and after it run on in 3D within CORNER_DEG, as the two halves of a
+        straight side through a pole of the surface do: then both joints turn by that much)."""
         n = self.size
         out = np.empty(n)
         for k in range(n):
@@ -259,17 +261,33 @@ class Region:
             if self.degenerate[k] or self.degenerate[j]:
                 out[k] = 180.0
                 continue
-            # one-sided tangents a hair inside each edge (a pcurve's end derivative may vanish)
-            a0, a1 = self.loop[k].domain
-            b0, b1 = self.loop[j].domain
-            ta = self.tangent3d(k, a1 - 1e-9 * (a1 - a0))
-            tb = self.tangent3d(j, b0 + 1e-9 * (b1 - b0))
-            na, nb = np.linalg.norm(ta), np.linalg.norm(tb)
-            if na == 0 or nb == 0:
-                out[k] = 180.0
-            else:
-                out[k] = float(np.degrees(np.arccos(np.clip(ta @ tb / (na * nb), -1.0, 1.0))))
+            out[k] = self._turn(k, j)
+        for k in range(n):
+            if not self.degenerate[k]:
+                continue
+            p, q = (k - 1) % n, (k + 1) % n
+            while self.degenerate[p] and p != k:
+                p = (p - 1) % n
+            while self.degenerate[q] and q != k:
+                q = (q + 1) % n
+            if p == k or q == k or p == q:
+                continue
+            turn = self._turn(p, q)
+            if turn <= CORNER_DEG:
+                out[(k - 1) % n] = out[k] = turn
         return out
+
+    def _turn(self, k: int, j: int) -> float:
+        """The angle (degrees) between edge k's tangent at its end and edge j's at its start, in 3D (one-sided
+        tangents a hair inside each edge: a pcurve's end derivative may vanish); 180 where one vanishes."""
+        a0, a1 = self.loop[k].domain
+        b0, b1 = self.loop[j].domain
+        ta = self.tangent3d(k, a1 - 1e-9 * (a1 - a0))
+        tb = self.tangent3d(j, b0 + 1e-9 * (b1 - b0))
+        na, nb = np.linalg.norm(ta), np.linalg.norm(tb)
+        if na == 0 or nb == 0:
+            return 180.0
+        return float(np.degrees(np.arccos(np.clip(ta @ tb / (na * nb), -1.0, 1.0))))
 
 
 

@@ -340,3 +340,22 @@ def test_kj66_face_1_trimmed_is_a_tenth_of_part_ruled_between_its_rails(kj66_fac
     part = min(measure(face, s, N) for s in part_ruled(face, [0], [2]))
     assert measured <= 0.1 * part
     assert measured <= rep["error_bound"]
+
+
+@pytest.mark.slow
+def test_a_pole_in_the_middle_of_a_straight_side_is_no_corner():
+    """Space-ship face 85, a flat strip 72 x 1 whose long side runs through a pole of its surface (a
+    degenerate edge between the side's two halves): the pole was taken for two corners, the rails were the
+    two halves of one straight side, and the result had no area (3e-14 of the face's, within its bound 5.3
+    of a strip 1 wide).  Now the side runs on through the pole: the result covers the face (its area within
+    0.5 % by OCCT) and lies within its bound of it by OCCT."""
+    from ruled.core.region import CORNER_DEG
+    from ruled.occ.region import face_region
+    face = get_face(data_file("occt_trj3_s1-al-214_space_ship.stp"), 85)
+    region = face_region(face)
+    k = region.degenerate.index(True)
+    ang = region.joint_angles()
+    assert ang[k - 1] <= CORNER_DEG and ang[k] <= CORNER_DEG
+    assert sum(a > CORNER_DEG for a in ang) == 4
+    res, bound, measured, area = _fitted(face, "auto")
+    assert abs(area - 1.0) <= 5e-3 and measured <= bound
