@@ -210,3 +210,26 @@ def test_flank_on_a_trimmed_face_reports_the_cut_of_the_face(tmp_path):
     assert over <= e["with_moves"]["overcut"] * 1.05 + 1e-6
     assert under <= e["with_moves"]["undercut"] + chord
     assert over <= e["bound_moves"] and under <= e["bound_moves"]
+
+
+def test_the_tool_envelope_counts_only_the_circles_kept():
+    """tool_envelope's keep(s, t) on a twisted bilinear patch (its own design): keeping every circle is the
+    whole measure; keeping none gives no cut and no samples; keeping the half of the tool from its tip
+    counts that half's circles only (9 of 17 per position, half way through the moves too), and its cut
+    is no deeper than the whole tool's."""
+    from ruled.machine.envelope import tool_envelope
+    from ruled.machine.paths import MachineOptions, flank_path
+    P = np.array([[[0.0, 0, 0], [0, 10, 0]], [[10, 0, 0], [10, 10, 4]]])
+    R = Surface(P, [0.0, 0, 1, 1], [0.0, 0, 1, 1], 1, 1)
+    path = flank_path(R, MachineOptions("flank", chord_tol=0.01, tool_radius=1.0).checked())
+    rows = 2 * path.lower.shape[0] - 1
+    whole = tool_envelope(R, 1.0, path)
+    assert tool_envelope(R, 1.0, path, keep=lambda s, t: np.ones(s.shape, bool)) == whole
+    none = tool_envelope(R, 1.0, path, keep=lambda s, t: np.zeros(s.shape, bool))
+    assert none["samples"] == 0 and none["with_moves"]["overcut"] == none["with_moves"]["undercut"] == 0.0
+    half = tool_envelope(R, 1.0, path, keep=lambda s, t: t <= 0.5)
+    assert whole["samples"] == 17 * rows and half["samples"] == 9 * rows
+    assert whole["with_moves"]["overcut"] > 0
+    for k in ("overcut", "undercut"):
+        assert half["with_moves"][k] <= whole["with_moves"][k]
+        assert half["cl_positions"][k] <= whole["cl_positions"][k]
