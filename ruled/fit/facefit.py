@@ -283,8 +283,21 @@ def measured_warnings(res: FitResult, bound: float, measured: Optional[float], s
                            f"region than the face, so it is not returned (please report the face); try other "
                            f"«rails»")
     span = res.patch.hole_span if res.patch is not None else 0.0
-    return tuple(w for w in (far_from_ruled(measured, size, span), loose_bound(res, bound, measured, size),
-                             edge_share(res, bound)) if w)
+    return tuple(w for w in (far_from_ruled(measured, size, span), uncovered(area_ratio),
+                             loose_bound(res, bound, measured, size), edge_share(res, bound)) if w)
+
+
+COVER = 2.0   # a result whose area is below 1 / COVER or above COVER times the face's is said not to cover it
+
+
+def uncovered(ratio: Optional[float]) -> Optional[str]:
+    """The warning for a result whose area is far from the face's (ratio: the result's over the face's): it
+    is within its bound of the face, but does not cover it (a sliver of a face narrower than the result's
+    distance from it, or rulings pinned at the corners of a face whose sides bulge far past them)."""
+    if ratio is None or not np.isfinite(ratio) or 1.0 / COVER <= ratio <= COVER:
+        return None
+    return Text(f"the result's area is {ratio:.3g} times the face's: it lies within its bound of the face but does "
+                f"not cover it; check it, or try other «rails» or «ends»")
 
 
 def next_candidates(res: FitResult, why: str) -> list:

@@ -12,6 +12,7 @@ import pytest
 
 pytest.importorskip("OCP")
 
+import json  # noqa: E402
 import os  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -359,3 +360,20 @@ def test_a_pole_in_the_middle_of_a_straight_side_is_no_corner():
     assert sum(a > CORNER_DEG for a in ang) == 4
     res, bound, measured, area = _fitted(face, "auto")
     assert abs(area - 1.0) <= 5e-3 and measured <= bound
+
+
+@pytest.mark.slow
+def test_a_result_that_does_not_cover_its_face_is_said_so(tmp_path):
+    """Space-ship face 42, a sliver 0.011 in area whose edges lie 0.03 off its surface (a piece of it about
+    0.007 wide): its result is within its bound of it (4.8, measured 0.03) but has almost no area; the
+    command line says so in a warning, from the areas OCCT measures."""
+    from conftest import ruled_here
+    rep_path = tmp_path / "r.json"
+    r = ruled_here("fit", data_file("occt_trj3_s1-al-214_space_ship.stp"), "--face", "42", "-o",
+                   tmp_path / "o.step", "--report", rep_path, "--samples", "12", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    rep = json.loads(rep_path.read_text())
+    assert rep["area"]["ratio"] < 0.5 and rep["hausdorff"]["max"] <= rep["error_bound"]
+    said = [w for w in rep["warnings"] if "does not cover it" in w]
+    assert len(said) == 1 and f"{rep['area']['ratio']:.3g} times the face's" in said[0]
+    assert "does not cover it" in r.stderr
