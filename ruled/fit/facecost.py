@@ -11,6 +11,7 @@ import numpy as np
 
 from ruled.core.distance import ruling_distances
 from ruled.core.nurbs import Surface
+from ruled.fit.extend import face_mask
 
 
 def ruling_cost(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int, iters: int, closed: bool,
@@ -21,7 +22,6 @@ def ruling_cost(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int, iters: int, 
     ruling past them is not part of it, and the surface far past them (the natural extension past the
     face's own surface) is nothing the ruling must follow.  A ruling with no sample there costs
     ``outside`` (a number, or one per ruling)."""
-    from ruled.fit.extend import face_mask
     mask = face_mask(S)
     if mask is None:
         return ruling_distances(S, uP, uQ, m, iters, closed)[1]
@@ -40,7 +40,6 @@ def ruling_cost(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int, iters: int, 
 def _inside(S: Surface, uP: np.ndarray, uQ: np.ndarray, k: int) -> np.ndarray:
     """(K, k) whether the rulings' parameter lines from (uP, v0) to (uQ, v1), at the k samples the rulings'
     distances are taken at (ruled.core.distance), lie in the face the masked patch S carries."""
-    from ruled.fit.extend import face_mask
     t = (np.arange(k) + 0.5) / k
     v0, v1 = S.domain[2:]
     st = np.stack([uP[:, None] * (1 - t) + uQ[:, None] * t, np.broadcast_to(v0 + (v1 - v0) * t, (uP.size, k))],
@@ -57,7 +56,6 @@ def over_face(S: Surface, uP: np.ndarray, uQ: np.ndarray, k: int = OVER_SAMPLES,
     (k samples, as ruling_cost takes them: one that only grazes the face between its samples counts as
     past it); every: whether all its samples are (it crosses the face from rail to rail, its pairing held
     by the face all along).  All True on a patch with no mask."""
-    from ruled.fit.extend import face_mask
     uP, uQ = np.asarray(uP, float), np.asarray(uQ, float)
     if face_mask(S) is None:
         return np.ones(uP.size, bool)
@@ -107,7 +105,6 @@ def _end_lines(sig: np.ndarray, d: np.ndarray, idx: np.ndarray) -> tuple:
 def face_span(S: Surface, pairing: Any, margin: float = 0.01, k: int = 1001) -> Optional[tuple]:
     """(s0, s1): the range of the pairing's s (a ruled.fit.pairing.Pairing) whose rulings meet the face a
     masked patch S carries, widened by margin; None on a patch with no mask (or no ruling over the face)."""
-    from ruled.fit.extend import face_mask
     if face_mask(S) is None or pairing.closed:
         return None
     s = np.linspace(0.0, 1.0, k)
