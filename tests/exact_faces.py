@@ -92,3 +92,15 @@ def saddle_band_face():
     mid = [(0.62, 0.36), (0.86, 0.86), (0.36, 0.62), (0.14, 0.14)]
     loop = [curve2d([c[k], mid[k], c[(k + 1) % 4]]) for k in range(4)]
     return face_from_loops(surf, [loop])
+
+
+def hyperbola_revolution(turn: float, a: float = 10.0, c: float = 15.0, t: float = 1.0):
+    """A hyperboloid of one sheet as OCCT makes it from a hyperbola (x = a cosh, z = c sinh, in the xz plane)
+    revolved about z by the angle turn: rational in both directions, its rulings no iso-curves of it
+    (Elber 2011's Figure 4: the surface of revolution of a conic section)."""
+    from OCP.Geom import Geom_Hyperbola, Geom_RectangularTrimmedSurface, Geom_SurfaceOfRevolution, Geom_TrimmedCurve
+    from OCP.GeomConvert import GeomConvert
+    from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir
+    h = Geom_Hyperbola(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, -1, 0), gp_Dir(1, 0, 0)), a, c)
+    rev = Geom_SurfaceOfRevolution(Geom_TrimmedCurve(h, -t, t), gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)))
+    return GeomConvert.SurfaceToBSplineSurface_s(Geom_RectangularTrimmedSurface(rev, 0, turn, -t, t))

@@ -66,3 +66,27 @@ def clamp_segment(C: Curve, a: float, b: float) -> Curve:
     P = C.poles[first: first + n]
     W = None if C.weights is None else C.weights[first: first + n]
     return Curve(P, knots, p, W)
+
+
+def elevate(C: Curve, q: int) -> Curve:
+    """C raised to degree q >= its own, exactly (to round-off): every knot's multiplicity raised by q - p
+    (the same continuity), the homogeneous coefficients solved from samples of C in each span (the
+    curve lies in that space, so the least-squares solution is it)."""
+    p = C.degree
+    if q <= p:
+        return C
+    k = C.knots
+    lo, hi = C.domain
+    ks, mult = np.unique(k[(k > lo) & (k < hi)], return_counts=True)
+    knots = np.concatenate([np.full(q + 1, lo), np.repeat(ks, mult + (q - p)), np.full(q + 1, hi)])
+    edges = np.concatenate([[lo], ks, [hi]])
+    x = np.concatenate([np.linspace(a, b, q + 3) for a, b in zip(edges[:-1], edges[1:])])
+    from ruled.core.basis import basis_derivatives, bspline_basis_matrix
+    n = C.poles.shape[0]
+    spans = find_spans(k, p, n, x)
+    B = basis_derivatives(k, p, spans, x, 0)[0]
+    H = np.einsum("nj,njd->nd", B, C._hom[spans[:, None] - p + np.arange(p + 1)[None, :]])
+    M = bspline_basis_matrix(knots, q, x)
+    sol = np.linalg.lstsq(M, H, rcond=None)[0]
+    w = sol[:, -1]
+    return Curve(sol[:, :-1] / w[:, None], knots, q, None if C.weights is None else w, C.periodic)

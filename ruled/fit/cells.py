@@ -20,6 +20,7 @@ class Certificate:
     nodes: tuple        # grid size (nu, nv)
     map_deviation: float = 0.0   # included in bound: the fitted patch's deviation from the bounded face
     rounding: float = 0.0        # included in bound: double precision's round-off in the evaluations
+    compaction: float = 0.0      # included in bound: how far the compacted rails moved the result (ruled.fit.reparam)
     psi: Optional[tuple] = None  # a masked (trimmed) certificate's map: (us, vs, s, t), R's (s, t) at the grid's nodes
 
 

@@ -15,16 +15,17 @@ from ruled.core.progress import Progress
 from ruled.fit import dp
 from ruled.fit.cells import Certificate
 from ruled.fit.certify import certified_bound
-from ruled.fit.facecost import face_span, over_face, ruling_cost
+from ruled.fit.extend import face_mask
+from ruled.fit.facecost import face_span, ruling_cost
+from ruled.fit.follow import follow_exact
 from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
-from ruled.fit.pairing import MAX_DELTA_COEFS, Pairing, delta_coefs, fit_delta, refine_pairing, smooth_pairing
+from ruled.fit.pairing import Pairing, delta_coefs, fit_delta, refine_pairing, smooth_pairing
+from ruled.fit.rails import COMPACT, compact_fit, rebuilt_boundaries
 from ruled.fit.reparam import Boundaries, exact_boundaries, fit_boundaries, ruled_surface
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
 GRID_FINE = (240, 80)
 GRID_COARSE = (80, 24)
-# rulings at most this fraction of the size from the face count as exact (the pairing then follows them)
-EXACT_RULINGS = 1e-4
 
 
 
@@ -256,7 +257,7 @@ def _dp_pairing(S: Surface, direction: str, opts: FitOptions, progress: Progress
         rc = ruling_cost(So, u0 + L * (sig - dlt), u0 + L * (sig + dlt), 15, 4, closed)
     pairing = smooth_pairing(So, sig, dlt, closed, delta_coefs(n))
     if opts.refine:
-        pairing, sig, dlt, rc = _follow_exact(So, closed, ab, h, (sig, dlt, rc), pairing)
+        pairing, sig, dlt, rc = follow_exact(So, closed, h, (sig, dlt, rc), pairing)
     T["refine"] = time.perf_counter() - t0
     return So, closed, cost, res, path, pairing, (sig, dlt, rc), T
 
@@ -294,8 +295,8 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
     tol = max(2e-7 * diag, 0.02 * float(np.max(rc)))
+    bd, pairing = rebuilt_boundaries(C0, C1, u0, L, pairing, tol, lambda pr: face_span(So, pr))
     focus = face_span(So, pairing)
-    bd = exact_boundaries(C0, C1, u0, L, pairing) or fit_boundaries(C0, C1, u0, L, pairing, tol, focus=focus)
     R = ruled_surface(bd)
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)
@@ -334,43 +335,6 @@ def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: flo
     R2 = ruled_surface(bd2)
     cert2 = certified_bound(So, pairing, bd2, R2, *grid, 1.02 * cert.bound)
     return (bd2, R2, cert2) if cert2.bound <= 1.02 * cert.bound else (bd, R, cert)
-
-
-def _follow_exact(So: Surface, closed: bool, ab: np.ndarray, h: float, refined: tuple, pairing,
-                  rounds: int = 6):
-    """Where the refined rulings are (nearly) exact, a smooth pairing that follows them: while the
-    cubic delta(sigma) misses them (its rulings' distances, checked between the refined samples too,
-    above twice the refined ones), the knot spans where it misses are halved, each new span pinned
-    by refined samples of its own.  Elsewhere the pairing as it is.  Returns (pairing, sigma, delta,
-    cost)."""
-    sig, dlt, rc = refined
-    u0, u1, v0, v1 = So.domain
-    L = u1 - u0
-    diag = So.diagonal()
-    if float(np.max(rc)) > EXACT_RULINGS * diag:
-        return pairing, sig, dlt, rc
-    for _ in range(rounds):
-        br = np.unique(pairing.delta.knots)         # absolute sigma, over the pairing's span
-        chk = np.unique(np.concatenate([np.linspace(br[i], br[i + 1], 9) for i in range(br.size - 1)]))
-        a, b = pairing.ab((chk - pairing.sigma0) / pairing.span)
-        miss = ruling_cost(So, u0 + L * a, u0 + L * b, 15, 4, closed)
-        # (on a face's extended patch, where a ruling crosses the face: near its end edges a ruling's few
-        # samples over the face leave its pairing loose, and spans halved there only bend the rails)
-        bad = (miss > 2.0 * float(np.max(rc)) + 1e-7 * diag) & over_face(So, u0 + L * a, u0 + L * b, every=True)
-        if not bad.any() or br.size - 1 >= 4 * MAX_DELTA_COEFS:
-            break
-        span = np.unique(np.clip(np.searchsorted(br, chk[bad], side="right") - 1, 0, br.size - 2))
-        mids = 0.5 * (br[span] + br[span + 1])
-        new = np.concatenate([np.linspace(br[i], br[i + 1], 6)[1:-1] for i in span])
-        # each new ruling searched next to the refined ones' family (pairing.refine_pairing: a bracket of a
-        # whole sample may hold the other family of a doubly ruled face)
-        s2, d2, c2 = refine_pairing(So, u0, L, closed, np.stack([sig - dlt, sig + dlt], axis=1), h / 64, 0, at=new)
-        order = np.argsort(np.concatenate([sig, s2]), kind="stable")
-        sig, dlt, rc = (np.concatenate([sig, s2])[order], np.concatenate([dlt, d2])[order],
-                        np.concatenate([rc, c2])[order])
-        interior = np.concatenate([br[1:-1], mids])
-        pairing = smooth_pairing(So, sig, dlt, closed, 0, interior=interior)
-    return pairing, sig, dlt, rc
 
 
 def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> Optional[DirectionFit]:
@@ -461,5 +425,7 @@ def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Pro
                 ok[d] = cands[d] = recertify(c, GRID_FINE, best.error_bound)
         best = min(ok.values(), key=lambda c: c.error_bound)
         _stage(progress, f"certify ({best.direction})", 1.0)
+    if face_mask(S) is None:        # (a face's extended patch is compacted once trimmed: ruled.fit.facetrim)
+        best = cands[best.direction] = compact_fit(best, COMPACT * best.error_bound)
     return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
 

@@ -35,8 +35,12 @@ class Pairing:
 
     def inverse(self, x: np.ndarray, which: str, dense: int = 4001) -> np.ndarray:
         """s with a(s) = x (which='a') or b(s) = x, for x in the pairing's range (unwrapped)."""
-        sd = np.linspace(0.0, 1.0, dense)
-        a, b = self.ab(sd)
+        key = f"_inverse_table_{dense}"        # the dense samples, once per pairing (it is immutable)
+        table = self.__dict__.get(key)
+        if table is None:
+            sd = np.linspace(0.0, 1.0, dense)
+            table = self.__dict__[key] = (sd,) + self.ab(sd)
+        sd, a, b = table
         f = a if which == "a" else b
         sign = -1.0 if which == "a" else 1.0
         s = np.interp(np.asarray(x, float), f, sd)
@@ -45,6 +49,39 @@ class Pairing:
             d0, d1 = self.delta.evaluate(sig, 1)
             s = np.clip(s - (sig + sign * d0[:, 0] - x) / (self.span * (1.0 + sign * d1[:, 0])), 0.0, 1.0)
         return s
+
+
+@dataclass(frozen=True)
+class RailPairing:
+    """A pairing seen through another parameter: s runs linearly along one rail (which = 'a': a(s) = x0 +
+    (x1 - x0) s), so that this rail of the result is its boundary curve itself (ruled.fit.reparam.
+    rail_boundaries) and only the other is composed with the pairing.  The same rulings as base."""
+
+    base: Pairing
+    which: str
+    x0: float
+    x1: float
+
+    @property
+    def closed(self) -> bool:
+        return self.base.closed
+
+    @property
+    def span(self) -> float:
+        return self.base.span
+
+    def _own(self, s) -> np.ndarray:
+        """base's s of the rulings at this pairing's s."""
+        return self.base.inverse(self.x0 + (self.x1 - self.x0) * np.asarray(s, float), self.which)
+
+    def ab(self, s) -> tuple[np.ndarray, np.ndarray]:
+        return self.base.ab(self._own(s))
+
+    def inverse(self, x: np.ndarray, which: str, dense: int = 4001) -> np.ndarray:
+        if which != self.which:
+            a, b = self.base.ab(self.base.inverse(x, which, dense))
+            x = a if self.which == "a" else b
+        return np.clip((np.asarray(x, float) - self.x0) / (self.x1 - self.x0), 0.0, 1.0)
 
 
 # ----------------------------------------------------------------------------- refinement

@@ -23,7 +23,7 @@ a smooth pairing with |delta'| <= 1 - eps is strictly monotone in both a and b.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -50,7 +50,7 @@ def _continuity(C: Curve, u: float) -> int:
     return 2
 
 
-def _mapped_knots(C: Curve, u0: float, L: float, pairing: Pairing, which: str, p: int):
+def _mapped_knots(C: Curve, u0: float, L: float, pairing: Any, which: str, p: int):
     """Interior knots of C mapped into s through the pairing, with the multiplicity they need in
     a degree-p space to keep C's measured continuity there."""
     lo, hi = C.domain
