@@ -104,3 +104,57 @@ def hyperbola_revolution(turn: float, a: float = 10.0, c: float = 15.0, t: float
     h = Geom_Hyperbola(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, -1, 0), gp_Dir(1, 0, 0)), a, c)
     rev = Geom_SurfaceOfRevolution(Geom_TrimmedCurve(h, -t, t), gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)))
     return GeomConvert.SurfaceToBSplineSurface_s(Geom_RectangularTrimmedSurface(rev, 0, turn, -t, t))
+
+
+def _interpolated_face(S, n: int, m: int, s0: float = 0.0, s1: float = 1.0):
+    """The face of OCCT's cubic interpolation (GeomAPI_PointsToBSplineSurface) of S(s, t) on an n x m grid of
+    [s0, s1] x [0, 1]: a B-spline that says nothing of the ruled surface it was sampled from."""
+    import numpy as np
+    from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface
+    from OCP.TColgp import TColgp_Array2OfPnt
+    P = S(np.linspace(s0, s1, n)[:, None], np.linspace(0.0, 1.0, m)[None, :])
+    arr = TColgp_Array2OfPnt(1, n, 1, m)
+    for i in range(n):
+        for j in range(m):
+            arr.SetValue(i + 1, j + 1, gp_Pnt(*map(float, P[i, j])))
+    surf = GeomAPI_PointsToBSplineSurface(arr, 3, 3, GeomAbs_Shape.GeomAbs_C2, 1e-9).Surface()
+    return BRepBuilderAPI_MakeFace(surf, 1e-7).Face()
+
+
+def skewed_conic_ruled_face():
+    """A ruled surface between an ellipse arc and a hyperbola arc (both conics), reparametrized by maps in both
+    of its parameters so that its rulings are no iso-curves, given as OCCT's interpolation of it (41 x 21)."""
+    import numpy as np
+
+    def S(s, t):
+        u = s + 0.12 * np.sin(np.pi * t) * s * (1 - s) + 0.05 * t * s * (1 - s)
+        v = t + 0.1 * s * t * (1 - t)
+        th, x = 0.2 + 2.2 * u, -1.0 + 2.0 * u
+        C0 = np.stack([40 * np.cos(th), 25 * np.sin(th), 0 * th], -1)
+        C1 = np.stack([30 * np.cosh(x) - 10, 20 * np.sinh(x) + 5, 60 + 8 * x], -1)
+        return (1 - v)[..., None] * C0 + v[..., None] * C1
+    return _interpolated_face(S, 41, 21)
+
+
+def twisted_blade_face():
+    """A twisted blade: ruled between a cambered airfoil section (chord 60, a round leading edge) and a smaller
+    one turned by 0.5 rad 120 above, the rulings pairing other points of the two sections, around the leading
+    edge from 2 % to 98 % of the loop; OCCT's interpolation of it (81 x 11)."""
+    import numpy as np
+
+    def airfoil(x):
+        th = np.pi * (1 - 2 * x)
+        xc = 0.5 * (1 + np.cos(th))
+        yt = 0.6 * (0.2969 * np.sqrt(xc) - 0.126 * xc - 0.3516 * xc ** 2 + 0.2843 * xc ** 3 - 0.1036 * xc ** 4)
+        return np.stack([xc, 0.16 * xc * (1 - xc) - np.sign(np.sin(th)) * yt], -1)
+
+    def section(x, chord, twist, z):
+        p = airfoil(x) * chord
+        c, s = np.cos(twist), np.sin(twist)
+        return np.stack([c * p[..., 0] - s * p[..., 1], s * p[..., 0] + c * p[..., 1], np.full(p.shape[:-1], z)], -1)
+
+    def S(s, t):
+        s, t = np.broadcast_arrays(s, t)
+        u1 = np.clip(s + 0.04 * np.sin(2 * np.pi * s), 0, 1)
+        return (1 - t)[..., None] * section(s, 60, 0.0, 0.0) + t[..., None] * section(u1, 40, 0.5, 120.0)
+    return _interpolated_face(S, 81, 11, 0.02, 0.98)

@@ -21,6 +21,7 @@ import numpy as np
 
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.errors import BadInputError
+from ruled.core.nearest import to_curve, to_polyline
 from ruled.core.nurbs import Curve, Surface
 
 CORNER_DEG = 15.0          # a joint where the loop's image turns more than this is a corner
@@ -178,8 +179,17 @@ class Region:
         P = self.surface(uv[:, 0], uv[:, 1])
         ts = np.linspace(*c3.domain, 4001)
         X = c3(ts)
-        near = _to_polyline(P, X, cKDTree(X)) - P
-        back = float(np.linalg.norm(_to_polyline(X, P, cKDTree(P)) - X, axis=1).max())
+        near = to_polyline(P, X, cKDTree(X)) - P
+        back = float(np.linalg.norm(to_polyline(X, P, cKDTree(P)) - X, axis=1).max())
+        gap = max(float(np.linalg.norm(near, axis=1).max()), back)
+        tol = self.tolerances[k] if self.tolerances else 0.0
+        if gap > tol:
+            # the gap to the curves themselves, not to their polylines, whose sagitta (at a leading edge's
+            # tight turn) can be far more than the gap; but no less than the edge's own tolerance, within
+            # which the file says where the face ends
+            far = max(float(to_curve(P, c3, ts, X, cKDTree(X)).max()),
+                      float(to_curve(X, lambda x: self.surface(*self.uv(k, x).T), t, P, cKDTree(P)).max()))
+            gap = max(min(gap, far), tol)
         same = c3(np.clip(t, *c3.domain)) - P          # the same parameter on both curves
         if np.linalg.norm(same, axis=1).max() <= 1.5 * max(float(np.linalg.norm(near, axis=1).max()), 1e-300):
             # the parameters agree: the 3D curve itself, tabulated densely (the patch's sampling asks
@@ -190,7 +200,7 @@ class Region:
             spans = 64
             knots = np.concatenate([[t[0]] * 3, np.linspace(t[0], t[-1], spans + 1), [t[-1]] * 3])
             G = Curve(np.linalg.lstsq(bspline_basis_matrix(knots, 3, t), near, rcond=None)[0], knots, 3)
-        cache[k] = (G, max(float(np.linalg.norm(near, axis=1).max()), back))
+        cache[k] = (G, gap)
         return cache[k]
 
     def polygon(self, per_edge: int = 200) -> list:
@@ -326,20 +336,6 @@ class _Tabled:
     def __call__(self, t) -> np.ndarray:
         t = np.asarray(t, float).ravel()
         return np.stack([np.interp(t, self.t, self.y[:, c]) for c in range(self.y.shape[1])], axis=1)
-
-
-def _to_polyline(P: np.ndarray, X: np.ndarray, tree) -> np.ndarray:
-    """(N, 3) the nearest points to P on the polyline X: the segments beside its three nearest vertices
-    (a closed polyline's two ends are both near its closing point)."""
-    best = X[tree.query(P)[1]].copy()
-    for i in tree.query(P, k=min(3, len(X)))[1].T:
-        for j in (np.maximum(i - 1, 0), np.minimum(i + 1, len(X) - 1)):
-            a, d = X[i], X[j] - X[i]
-            w = np.clip(((P - a) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0.0, 1.0)
-            Q = a + w[:, None] * d
-            closer = np.linalg.norm(Q - P, axis=1) < np.linalg.norm(best - P, axis=1)
-            best[closer] = Q[closer]
-    return best
 
 
 # a piece of a side: (loop edge index, start parameter, end parameter)

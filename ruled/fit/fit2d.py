@@ -20,7 +20,7 @@ from ruled.fit.facecost import face_span, ruling_cost
 from ruled.fit.follow import follow_exact
 from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
 from ruled.fit.pairing import Pairing, delta_coefs, fit_delta, refine_pairing, smooth_pairing
-from ruled.fit.rails import COMPACT, compact_fit, rebuilt_boundaries
+from ruled.fit.rails import COMPACT, compact_fit, net_bound, rebuilt_boundaries
 from ruled.fit.reparam import Boundaries, exact_boundaries, fit_boundaries, ruled_surface
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
@@ -303,6 +303,9 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     t0 = time.perf_counter()
     cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
     bd, R, cert = _coarser(So, pairing, (C0, C1, u0, L), bd, R, cert, tol, grid, focus)
+    net = net_bound(So, pairing, bd) if face_mask(So) is None else None
+    if net is not None and net + cert.rounding < cert.bound:     # (a result along the face's own v-lines)
+        cert = replace(cert, bound=net + cert.rounding, node_max=net, remainder=0.0)
     T["certify"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 1.0)
     pp = np.stack([u0 + L * ab[:, 0], u0 + L * ab[:, 1]], axis=1)

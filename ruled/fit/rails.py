@@ -12,7 +12,7 @@ import numpy as np
 
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.knots import clamp_segment, elevate, insert_knot, knot_multiplicity
-from ruled.core.nurbs import Curve
+from ruled.core.nurbs import Curve, Surface
 from ruled.fit.pairing import Pairing, RailPairing
 from ruled.fit.reparam import (
     MIN_SPAN,
@@ -272,3 +272,55 @@ def compact_fit(fit: Any, budget: float, mask=None) -> Any:
         if out is None:
             return fit
     return out if out.error_bound <= fit.error_bound + budget else fit
+
+
+def net_bound(S: Any, pairing: Any, bd: Boundaries) -> Optional[float]:
+    """For a result ruled along S's own v-lines (the pairing the identity, the rails S's boundary curves
+    re-knotted: ruled.fit.reparam.exact_boundaries), both polynomial: an upper bound of
+    sup |S(u, v) - R(psi(u, v))| for a map psi of S's domain onto R's (see below), hence of their distance,
+    from S's poles and R's rails' poles alone.  None where this does not apply (rational or periodic
+    surfaces, another pairing)."""
+    A, B = bd.A, bd.B
+    if S.weights is not None or A.rational or B.rational or S.periodic_u or S.periodic_v:
+        return None
+    u0, u1, v0, v1 = S.domain
+    ku = (S.knots_u - u0) / (u1 - u0)
+    if (A.degree != S.degree_u or A.knots.shape != ku.shape or np.abs(A.knots - ku).max() > 1e-12
+            or not np.array_equal(A.knots, B.knots)):
+        return None
+    s = np.linspace(0.0, 1.0, 33)
+    a, b = pairing.ab(s)
+    if max(np.abs(a - s).max(), np.abs(b - s).max()) > 1e-12:
+        return None
+    # S's poles P_ij = A_i + G_ij D_i + N_ij (D = B - A, G_ij in [0, 1], N_ij the rest), so that
+    # S(u, v) = A(s) + sum_i N_i(u) g_i(v) D_i + sum_ij N_i M_j N_ij with g_i(v) = sum_j M_j(v) G_ij in [0, 1].
+    # psi = (s(u), gbar(u, v)), gbar = sum_i N_i(u) g_i(v): continuous, in R's domain, sides to sides; and
+    # S - R o psi = sum_i N_i (g_i - gbar)(D_i - D(s)) + sum_ij N_i M_j N_ij (the sum_i N_i (g_i - gbar) D(s)
+    # part is zero), each bounded over a knot span of u by its p + 1 poles' spreads: a face parametrized
+    # along its rulings otherwise than affinely in v (an interpolated one) is certified as close as it is
+    # the same surfaces with every knot span split in NET_PIECES: their nets lie closer to them
+    Sn = Surface(S.poles, ku, (S.knots_v - v0) / (v1 - v0), S.degree_u, S.degree_v)
+    Sn = Sn.subdivided(NET_PIECES, NET_PIECES)
+    Rn = ruled_surface(bd).subdivided(NET_PIECES, 1)
+    if not np.array_equal(Sn.knots_u, Rn.knots_u):
+        return None
+    return _net_distance(Sn, Rn.poles[:, 0], Rn.poles[:, 1])
+
+
+# knot spans are split in this many pieces for net_bound
+NET_PIECES = 4
+
+
+def _net_distance(S: Any, A: np.ndarray, B: np.ndarray) -> float:
+    """net_bound's figure for S's poles and the rails' poles A, B (one knot vector along u)."""
+    D = B - A
+    G = np.clip(np.einsum("ijk,ik->ij", S.poles - A[:, None, :], D)
+                / np.maximum((D * D).sum(axis=1), 1e-300)[:, None], 0.0, 1.0)
+    rest = float(np.linalg.norm(S.poles - A[:, None, :] - G[:, :, None] * D[:, None, :], axis=2).max())
+    p = S.degree_u
+    win = np.lib.stride_tricks.sliding_window_view
+    Gw = win(G, p + 1, axis=0)                      # (spans, nv, p + 1)
+    spread_g = (Gw.max(axis=2) - Gw.min(axis=2)).max(axis=1)
+    Dw = win(D, p + 1, axis=0)                      # (spans, 3, p + 1)
+    spread_d = np.linalg.norm(Dw[:, :, :, None] - Dw[:, :, None, :], axis=1).max(axis=(1, 2))
+    return rest + float((spread_g * spread_d).max())

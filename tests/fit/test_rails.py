@@ -83,3 +83,41 @@ def test_a_closed_revolved_hyperbola_comes_back_exact_and_rational(hyperboloid_o
     assert r.result.best.closed and r.surface.weights is not None
     assert r.surface.poles.shape[0] <= 16
     assert r.error_bound >= r.hausdorff.max
+
+
+def _size_of(face) -> float:
+    from test_ends import _size
+    return _size(face)
+
+
+def test_an_interpolated_ruled_face_whose_rulings_are_no_iso_curves_comes_back_within_1e_5():
+    """A ruled surface between an ellipse arc and a hyperbola arc, its parameters mapped so that its rulings
+    are no iso-curves, given as OCCT's interpolation: within 1e-5 of its size (OCCT both ways), the bound
+    within 10 times the measure."""
+    pytest.importorskip("OCP")
+    from exact_faces import skewed_conic_ruled_face
+
+    import ruled.cq as rc
+    face = skewed_conic_ruled_face()
+    r = rc.fit_face(face)
+    size = _size_of(face)
+    assert r.hausdorff.max <= 1e-5 * size, r.hausdorff.max / size
+    assert r.hausdorff.max <= r.error_bound <= 10 * r.hausdorff.max, (r.error_bound, r.hausdorff.max)
+
+
+def test_a_twisted_blade_with_a_leading_edge_comes_back_exact_and_certified_near_it():
+    """An interpolated twisted blade whose rulings are its v-lines, round its leading edge: the result is the
+    blade to 1e-9 of its size, and certified within 1e-8 of it from the two surfaces' poles (rails and face
+    alike: ruled.fit.rails.net_bound; the certificate's grid gave 0.2, 1.5e-3 of its size, at the tight
+    turn) and the face's edges taken to their curves, not their polylines (whose sagitta round the leading
+    edge was 0.0065)."""
+    pytest.importorskip("OCP")
+    from exact_faces import twisted_blade_face
+
+    import ruled.cq as rc
+    face = twisted_blade_face()
+    r = rc.fit_face(face)
+    size = _size_of(face)
+    assert r.hausdorff.max <= 1e-9 * size
+    assert r.hausdorff.max <= r.error_bound <= 1e-8 * size, (r.error_bound, r.hausdorff.max)
+    assert not r.warnings
