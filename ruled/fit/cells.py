@@ -20,7 +20,8 @@ class Certificate:
     nodes: tuple        # grid size (nu, nv)
     map_deviation: float = 0.0   # included in bound: the fitted patch's deviation from the bounded face
     rounding: float = 0.0        # included in bound: double precision's round-off in the evaluations
-    compaction: float = 0.0      # included in bound: how far the compacted rails moved the result (ruled.fit.reparam)
+    compaction: float = 0.0      # included in bound: how far the compacted rails moved the result (ruled.fit.rails)
+    compacted_from: int = 0      # the result's poles per rail before its compaction (0: not compacted)
     psi: Optional[tuple] = None  # a masked (trimmed) certificate's map: (us, vs, s, t), R's (s, t) at the grid's nodes
 
 

@@ -37,10 +37,12 @@ from ruled.core.progress import Progress
 from ruled.core.sampling import elevated_samples, unit_normals
 from ruled.fit import dp4d
 from ruled.fit.certify import certified_bound, sampled_distance
+from ruled.fit.extend import face_mask
 from ruled.fit.fit2d import GRID_FINE, DirectionFit, FitResult, _stage, fit_surface_2d, memory_budget
 from ruled.fit.metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
 from ruled.fit.options import FitOptions, Method, Metric
 from ruled.fit.pairing import _GOLD, delta_coefs, fit_delta
+from ruled.fit.rails import COMPACT, compact_fit
 from ruled.fit.reparam import fit_boundaries, ruled_surface
 
 DEFAULT_LEVELS = 10          # m: 21 elevation levels
@@ -404,6 +406,8 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
         notes.append(why + ": the 2D result is returned")
         return FitResult(b2, {**base.candidates, b2.direction: b2}, opts, total, tuple(notes), fit4)
     notes.append(f"elevation lowered the measured distance from {m2:.6g} (2D) to {m4:.6g} (4D)")
+    if face_mask(So) is None:       # (a face's extended patch is compacted once trimmed: ruled.fit.facetrim)
+        fit4 = compact_fit(fit4, COMPACT * fit4.error_bound)
     return FitResult(fit4, {**base.candidates, fit4.direction: fit4}, opts, total, tuple(notes), b2)
 
 

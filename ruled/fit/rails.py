@@ -264,7 +264,8 @@ def compact_fit(fit: Any, budget: float, mask=None) -> Any:
     cert = fit.certificate
     if fit.trim is not None:
         cert = replace(cert, bound=cert.bound - fit.trim.added, map_deviation=cert.map_deviation - fit.trim.added)
-    cert = replace(cert, bound=cert.bound + dist, compaction=cert.compaction + dist)
+    cert = replace(cert, bound=cert.bound + dist, compaction=cert.compaction + dist,
+                   compacted_from=cert.compacted_from or int(fit.boundaries.A.poles.shape[0]))
     out = replace(fit, surface=ruled_surface(bd), boundaries=bd, certificate=cert, trim=None)
     if fit.trim is not None:
         from ruled.fit.trim import with_trim

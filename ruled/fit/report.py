@@ -40,7 +40,10 @@ def report_dict(res: FitResult, *, input_path: str, face: int, method: str = "2d
         },
         "certificate": {"bound": b.certificate.bound, "conversion_slack": conversion_slack,
                         "node_max": b.certificate.node_max, "remainder": b.certificate.remainder,
-                        "grid": list(b.certificate.nodes)},
+                        "grid": list(b.certificate.nodes),
+                        # the rails compacted (ruled.fit.rails.compact_fit): how far that moved the bound, and
+                        # the poles per rail before it
+                        "compaction": b.certificate.compaction, "compacted_from": b.certificate.compacted_from},
         "candidates": {d: (c if isinstance(c, str) else {"error_bound": c.error_bound, "closed": c.closed})
                        for d, c in res.candidates.items()},
         "timings": {**{f"{d}.{k}": v for d, c in res.candidates.items() if not isinstance(c, str)
