@@ -25,7 +25,6 @@ from ruled.fit.facepatch import (
     with_iso,
 )
 from ruled.fit.options import Direction, FitOptions
-from ruled.fit.rails import COMPACT, compact_fit
 from ruled.fit.surface import fit_surface
 from ruled.split.strips import side_surface
 
@@ -195,10 +194,6 @@ def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> 
         cands = {d: c if isinstance(c, str) else _as_own(c, patch.surface) for d, c in cands.items()}
         ok = [c for c in cands.values() if not isinstance(c, str)]
     top = min(ok, key=lambda c: c.error_bound)
-    small = compact_fit(top, COMPACT * (top.error_bound + patch.deviation), patch.mask)
-    if small is not top:
-        cands = {d: small if c is top else c for d, c in cands.items()}
-        top = small
     return replace(with_deviation(replace(res, best=top, candidates=cands, other=other), patch.deviation),
                    patch=patch), None
 

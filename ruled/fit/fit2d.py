@@ -17,7 +17,7 @@ from ruled.fit.cells import Certificate
 from ruled.fit.certify import certified_bound
 from ruled.fit.extend import face_mask
 from ruled.fit.facecost import face_span, ruling_cost
-from ruled.fit.follow import follow_exact
+from ruled.fit.follow import EXACT_RULINGS, follow_exact
 from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
 from ruled.fit.pairing import Pairing, delta_coefs, fit_delta, refine_pairing, smooth_pairing
 from ruled.fit.rails import COMPACT, compact_fit, net_bound, rebuilt_boundaries
@@ -295,7 +295,8 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     C0 = So.iso_curve("u", v0)
     C1 = So.iso_curve("u", v1)
     tol = max(2e-7 * diag, 0.02 * float(np.max(rc)))
-    bd, pairing = rebuilt_boundaries(C0, C1, u0, L, pairing, tol, lambda pr: face_span(So, pr))
+    bd, pairing = rebuilt_boundaries(C0, C1, u0, L, pairing, tol, lambda pr: face_span(So, pr),
+                                     float(np.max(rc)) <= EXACT_RULINGS * diag)
     focus = face_span(So, pairing)
     R = ruled_surface(bd)
     T["rebuild"] = time.perf_counter() - t0
@@ -428,7 +429,7 @@ def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Pro
                 ok[d] = cands[d] = recertify(c, GRID_FINE, best.error_bound)
         best = min(ok.values(), key=lambda c: c.error_bound)
         _stage(progress, f"certify ({best.direction})", 1.0)
-    if face_mask(S) is None:        # (a face's extended patch is compacted once trimmed: ruled.fit.facetrim)
+    if face_mask(S) is None:        # (not a face's extended patch: its trim and flank paths follow the map)
         best = cands[best.direction] = compact_fit(best, COMPACT * best.error_bound)
     return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
 

@@ -406,7 +406,7 @@ def fit_surface_4d(S: Surface, opts: FitOptions, progress: Progress = None) -> F
         notes.append(why + ": the 2D result is returned")
         return FitResult(b2, {**base.candidates, b2.direction: b2}, opts, total, tuple(notes), fit4)
     notes.append(f"elevation lowered the measured distance from {m2:.6g} (2D) to {m4:.6g} (4D)")
-    if face_mask(So) is None:       # (a face's extended patch is compacted once trimmed: ruled.fit.facetrim)
+    if face_mask(So) is None:       # (not a face's extended patch: see fit2d.fit_surface_2d)
         fit4 = compact_fit(fit4, COMPACT * fit4.error_bound)
     return FitResult(fit4, {**base.candidates, fit4.direction: fit4}, opts, total, tuple(notes), b2)
 

@@ -172,17 +172,19 @@ def rail_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing,
 
 
 def rebuilt_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing, tol: float,
-                       focus_of: Optional[Callable] = None):
+                       focus_of: Optional[Callable] = None, exact: bool = False):
     """The result's rails for a pairing: (Boundaries, the pairing in the result's s).  Exact where the
-    pairing is a shift; else both composed (fit_boundaries), or, where a boundary is rational, one rail
-    exact and the other composed (rail_boundaries, either way round) when closer (compact_fit makes the
-    result smaller afterwards)."""
+    pairing is a shift; else both composed (fit_boundaries), or, where a boundary is rational and the
+    rulings exact (exact: a conic's surface of revolution, say), one rail exact and the other composed
+    (rail_boundaries, either way round) when closer (compact_fit makes the result smaller afterwards).
+    (Not on a face far from ruled: a rational rail taken as it is, extreme weights and all, can certify
+    far looser than composed ones.)"""
     bd = exact_boundaries(C0, C1, u0, L, pairing)
     if bd is not None:
         return bd, pairing
     focus = focus_of(pairing) if focus_of is not None else None
     cands = [(fit_boundaries(C0, C1, u0, L, pairing, tol, focus=focus), pairing)]
-    if not (C0.rational or C1.rational):
+    if not (exact and (C0.rational or C1.rational)):
         return cands[0]     # (a polynomial rail taken as it is carries its patch's knots: no smaller, often looser)
     for which in ("a", "b"):
         got = rail_boundaries(C0, C1, u0, L, pairing, tol, which, focus_of=focus_of)
@@ -250,29 +252,22 @@ def compact_boundaries(bd: Boundaries, budget: float, n_start: int = 4) -> Optio
 COMPACT = 0.01
 
 
-def compact_fit(fit: Any, budget: float, mask=None) -> Any:
-    """The fit (a ruled.fit.fit2d.DirectionFit) in the fewest poles that keep its certified bound within
-    budget of the bound it has (compact_boundaries): the bound grows by the certified distance between
-    the two results (recorded as the certificate's compaction), a trimmed fit trimmed again (by the
-    face's mask).  The fit itself where nothing smaller is within budget."""
-    if fit.boundaries is None or (fit.trim is not None and (mask is None or fit.trim.own)):
+def compact_fit(fit: Any, budget: float) -> Any:
+    """The fit (an untrimmed ruled.fit.fit2d.DirectionFit) in the fewest poles that keep its certified bound
+    within budget of the bound it has (compact_boundaries): the bound grows by the certified distance
+    between the two results (recorded as the certificate's compaction, with the poles per rail before it).
+    The fit itself where nothing smaller is within budget.  (A trimmed fit keeps its rails: its trim and a
+    flank path follow its certificate's map.)"""
+    if fit.boundaries is None or fit.trim is not None:
         return fit
     got = compact_boundaries(fit.boundaries, budget)
     if got is None:
         return fit
     bd, dist = got
     cert = fit.certificate
-    if fit.trim is not None:
-        cert = replace(cert, bound=cert.bound - fit.trim.added, map_deviation=cert.map_deviation - fit.trim.added)
     cert = replace(cert, bound=cert.bound + dist, compaction=cert.compaction + dist,
                    compacted_from=cert.compacted_from or int(fit.boundaries.A.poles.shape[0]))
-    out = replace(fit, surface=ruled_surface(bd), boundaries=bd, certificate=cert, trim=None)
-    if fit.trim is not None:
-        from ruled.fit.trim import with_trim
-        out = with_trim(out, mask)
-        if out is None:
-            return fit
-    return out if out.error_bound <= fit.error_bound + budget else fit
+    return replace(fit, surface=ruled_surface(bd), boundaries=bd, certificate=cert)
 
 
 def net_bound(S: Any, pairing: Any, bd: Boundaries) -> Optional[float]:

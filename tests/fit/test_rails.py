@@ -121,3 +121,19 @@ def test_a_twisted_blade_with_a_leading_edge_comes_back_exact_and_certified_near
     assert r.hausdorff.max <= 1e-9 * size
     assert r.hausdorff.max <= r.error_bound <= 1e-8 * size, (r.error_bound, r.hausdorff.max)
     assert not r.warnings
+
+
+def test_kj66_face_1_pinned_is_compacted_within_one_percent_of_its_bound():
+    """kj66 face 1 fitted with its end rulings at its corners: its rails came back in 235 poles (the
+    pairing's knots composed with the patch's); compacted, in at most 70, the bound moved by at most 1 %
+    (what the report gives), and OCCT's measure of the compacted result within it."""
+    pytest.importorskip("OCP")
+    from conftest import data_file
+
+    import ruled.cq as rc
+    from ruled.occ.io import get_face
+    r = rc.fit_face(get_face(data_file("kj66_impeller.step"), 1), ends="pinned")
+    cert = r.result.best.certificate
+    assert cert.compacted_from > 200 and r.surface.poles.shape[0] <= 70, (cert.compacted_from, r.surface.poles.shape)
+    assert 0.0 < cert.compaction <= 0.01 * (cert.bound - cert.compaction)
+    assert r.hausdorff.max <= r.error_bound
