@@ -158,3 +158,15 @@ def twisted_blade_face():
         u1 = np.clip(s + 0.04 * np.sin(2 * np.pi * s), 0, 1)
         return (1 - t)[..., None] * section(s, 60, 0.0, 0.0) + t[..., None] * section(u1, 40, 0.5, 120.0)
     return _interpolated_face(S, 81, 11, 0.02, 0.98)
+
+
+def sheared_elliptic_hyperboloid():
+    """Elber 2011's Figure 6 recreated: a closed hyperbolic surface that is no surface of revolution (the
+    revolved hyperbola of hyperbola_revolution squeezed to 0.6 along y and sheared in z by 0.3 x: an affine
+    image, its poles mapped, still doubly ruled and rational), whose rulings are no iso-curves."""
+    bs = hyperbola_revolution(2 * 3.141592653589793)
+    for i in range(1, bs.NbUPoles() + 1):
+        for j in range(1, bs.NbVPoles() + 1):
+            p = bs.Pole(i, j)
+            bs.SetPole(i, j, gp_Pnt(p.X(), 0.6 * p.Y(), p.Z() + 0.3 * p.X()))
+    return bs

@@ -182,16 +182,19 @@ class Region:
         near = to_polyline(P, X, cKDTree(X)) - P
         back = float(np.linalg.norm(to_polyline(X, P, cKDTree(P)) - X, axis=1).max())
         gap = max(float(np.linalg.norm(near, axis=1).max()), back)
+        same = c3(np.clip(t, *c3.domain)) - P          # the same parameter on both curves
+        agree = np.linalg.norm(same, axis=1).max() <= 1.5 * max(float(np.linalg.norm(near, axis=1).max()), 1e-300)
         tol = self.tolerances[k] if self.tolerances else 0.0
         if gap > tol:
             # the gap to the curves themselves, not to their polylines, whose sagitta (at a leading edge's
-            # tight turn) can be far more than the gap; but no less than the edge's own tolerance, within
-            # which the file says where the face ends
-            far = max(float(to_curve(P, c3, ts, X, cKDTree(X)).max()),
-                      float(to_curve(X, lambda x: self.surface(*self.uv(k, x).T), t, P, cKDTree(P)).max()))
+            # tight turn) can be far more than the gap: where the parameters agree, the points of one
+            # parameter (a one-to-one pairing of the curves), else the nearest points searched on each; but
+            # no less than the edge's own tolerance, within which the file says where the face ends
+            far = (float(np.linalg.norm(same, axis=1).max()) if agree else
+                   max(float(to_curve(P, c3, ts, X, cKDTree(X)).max()),
+                       float(to_curve(X, lambda x: self.surface(*self.uv(k, x).T), t, P, cKDTree(P)).max())))
             gap = max(min(gap, far), tol)
-        same = c3(np.clip(t, *c3.domain)) - P          # the same parameter on both curves
-        if np.linalg.norm(same, axis=1).max() <= 1.5 * max(float(np.linalg.norm(near, axis=1).max()), 1e-300):
+        if agree:
             # the parameters agree: the 3D curve itself, tabulated densely (the patch's sampling asks
             # for it many times; linear interpolation of so small and smooth a difference errs by
             # h^2/8 of its second derivative, h a 8192th of the edge)

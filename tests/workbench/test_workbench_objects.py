@@ -149,8 +149,11 @@ def test_fit_to_tolerance(made):
     from ruled.split.partition import SplitOptions, partition
     ref = partition(elber_ex2(), 0.05, SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
     assert p["strips"] == len(ref.strips) >= 2 and p["used"] == ref.used
-    # plus how far the face's edges lie off its surface (OCCT's 3D curves, within 1e-7; 1.7e-7 with the margin)
-    assert max(ref.bounds) <= p["bound"] <= max(ref.bounds) + 1e-6 and p["bound"] <= 0.05, (p["bound"], ref.bounds)
+    # plus how far the face's edges lie off its surface (OCCT's 3D curves at their pcurves' parameters: to
+    # round-off since issue 36, which measures them at one parameter, not to their polylines), the two
+    # computations (FreeCAD's NumPy, the venv's kernels) the same to round-off
+    assert max(ref.bounds) * (1 - 1e-9) <= p["bound"] <= max(ref.bounds) + 1e-6 and p["bound"] <= 0.05, \
+        (p["bound"], ref.bounds)
     assert len(p["bounds"]) == p["strips"] and p["faces"] == p["strips"] and p["curves"] == p["strips"] - 1
     assert p["curve_on_face"] <= 1e-6 and p["dev"] == 64 * p["strips"] and p["rulings"] > 0
     assert 0 < p["h"] <= p["bound"] * (1 + 1e-6)
