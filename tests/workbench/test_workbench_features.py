@@ -101,8 +101,9 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     from ruled import FitOptions, fit_surface
     from ruled.examples import elber_ex2
     ref = fit_surface(elber_ex2(), FitOptions(samples=16))
-    # plus how far the face's edges lie off its surface (OCCT's 3D curves, within 1e-7; 1.7e-7 with the margin)
-    assert ref.error_bound <= first["bound"] <= ref.error_bound + 1e-6, (first["bound"], ref.error_bound)
+    # plus how far the face's edges lie off its surface (OCCT's 3D curves at their pcurves' parameters: to
+    # round-off since issue 36), the two computations the same to round-off
+    assert ref.error_bound * (1 - 1e-9) <= first["bound"] <= ref.error_bound + 1e-6, (first["bound"], ref.error_bound)
     assert first["rulings"] == len(ref.best.rulings)
     assert r["samples24"]["valid"] and r["samples24"]["rulings"] != first["rulings"]
     assert r["moved"]["valid"] and abs(r["moved"]["bound"] - r["samples24"]["bound"]) > 1e-4
@@ -190,8 +191,10 @@ def test_ruled_split_object_in_freecadcmd(tmp_path):
     res = split_face(elber_ex2(), SplitOptions(samples=10, interior=4, fit=FitOptions(samples=12)))
     best = res.best()
     assert r["chosen"] == best.name
-    # plus how far the face's edges lie off its surface (OCCT's 3D curves, within 1e-7; 1.7e-7 with the margin)
-    assert best.bound <= r["bound"] <= best.bound + 1e-6 and r["bound"] < r["whole"], (r["bound"], best.bound)
+    # plus how far the face's edges lie off its surface (OCCT's 3D curves at their pcurves' parameters: to
+    # round-off since issue 36), the two computations the same to round-off
+    assert best.bound * (1 - 1e-9) <= r["bound"] <= best.bound + 1e-6 and r["bound"] < r["whole"], \
+        (r["bound"], best.bound)
     assert len(r["candidates"]) == len(res.candidates)
     assert r["bad"][0] is False and "exactly one face" in r["bad"][1]
     # an engine refusal names the remedy in FreeCAD's terms: the object's own properties, no flags
