@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ruled.core.basis import find_spans
+from ruled.core.basis import basis_derivatives, bspline_basis_matrix, find_spans
 from ruled.core.nurbs import Curve
 
 
@@ -81,7 +81,6 @@ def elevate(C: Curve, q: int) -> Curve:
     knots = np.concatenate([np.full(q + 1, lo), np.repeat(ks, mult + (q - p)), np.full(q + 1, hi)])
     edges = np.concatenate([[lo], ks, [hi]])
     x = np.concatenate([np.linspace(a, b, q + 3) for a, b in zip(edges[:-1], edges[1:])])
-    from ruled.core.basis import basis_derivatives, bspline_basis_matrix
     n = C.poles.shape[0]
     spans = find_spans(k, p, n, x)
     B = basis_derivatives(k, p, spans, x, 0)[0]

@@ -1,28 +1,45 @@
-"""Nearest points of sampled curves: to a polyline of samples, and to the curve itself (no chord's sagitta)."""
+"""Nearest points of sampled curves: to a polyline of samples, and to the curve itself (no chord's sagitta);
+the vectorized golden-section search both this and the pairing's refinement use."""
 
 from __future__ import annotations
 
+from typing import Callable, Optional
+
 import numpy as np
+
+GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
+
+
+def golden(f: Callable, lo: np.ndarray, hi: np.ndarray, rounds: int,
+            progress: Optional[Callable] = None) -> tuple[np.ndarray, np.ndarray]:
+    """(x, f(x)): golden-section searches of the vectorized f, one per bracket [lo, hi]."""
+    x1 = hi - GOLD * (hi - lo)
+    x2 = lo + GOLD * (hi - lo)
+    f1, f2 = f(x1), f(x2)
+    for r in range(rounds):
+        left = f1 <= f2  # minimum in [lo, x2]
+        hi = np.where(left, x2, hi)
+        lo = np.where(left, lo, x1)
+        nx1 = hi - GOLD * (hi - lo)
+        nx2 = lo + GOLD * (hi - lo)
+        # reuse one evaluation per side
+        newx = np.where(left, nx1, nx2)
+        fn = f(newx)
+        x2, f2, x1, f1 = (np.where(left, x1, nx2), np.where(left, f1, fn),
+                          np.where(left, nx1, x2), np.where(left, fn, f2))
+        if progress is not None:
+            progress(r + 1, rounds)
+    return np.where(f1 <= f2, x1, x2), np.minimum(f1, f2)
 
 
 def to_curve(P: np.ndarray, f, ts: np.ndarray, X: np.ndarray, tree, rounds: int = 30) -> np.ndarray:
     """(N,) the distances from P to the curve f, sampled at the parameters ts as X: golden sections of
     |f(t) - P| over the parameter spans beside P's three nearest samples (points of the curve itself, so
     no chord's sagitta in them)."""
-    g = 0.5 * (np.sqrt(5.0) - 1.0)
     best = np.full(len(P), np.inf)
     for i in np.atleast_2d(tree.query(P, k=min(3, len(X)))[1].T):
         lo, hi = ts[np.maximum(i - 1, 0)], ts[np.minimum(i + 1, len(ts) - 1)]
-        x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-        f1, f2 = (np.linalg.norm(f(x) - P, axis=1) for x in (x1, x2))
-        for _ in range(rounds):
-            left = f1 <= f2
-            lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
-            xn = np.where(left, hi - g * (hi - lo), lo + g * (hi - lo))
-            fn = np.linalg.norm(f(xn) - P, axis=1)
-            x1, f1, x2, f2 = (np.where(left, xn, x2), np.where(left, fn, f2),
-                              np.where(left, x1, xn), np.where(left, f1, fn))
-        best = np.minimum(best, np.minimum(f1, f2))
+        best = np.minimum(best, golden(lambda x: np.linalg.norm(f(x) - P, axis=1), lo, hi, rounds)[1])
     return best
 
 

@@ -32,6 +32,7 @@ import numpy as np
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.distance import ruling_distances, wrap_u
 from ruled.core.errors import InfeasibleError, TooBigError
+from ruled.core.nearest import GOLD
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.core.sampling import elevated_samples, unit_normals
@@ -41,7 +42,7 @@ from ruled.fit.extend import face_mask
 from ruled.fit.fit2d import GRID_FINE, DirectionFit, FitResult, _stage, fit_surface_2d, memory_budget
 from ruled.fit.metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
 from ruled.fit.options import FitOptions, Method, Metric
-from ruled.fit.pairing import _GOLD, delta_coefs, fit_delta
+from ruled.fit.pairing import delta_coefs, fit_delta
 from ruled.fit.rails import COMPACT, compact_fit
 from ruled.fit.reparam import fit_boundaries, ruled_surface
 
@@ -234,14 +235,14 @@ def refine_rulings(So: Surface, sig: np.ndarray, dlt: np.ndarray, eA: np.ndarray
         return refine_lifts(line_model(So, sig - d, sig + d, closed), ea, eb, tau, 30)
 
     ea0, eb0, f0 = score(dlt, eA, eB)
-    x1, x2 = hi - _GOLD * (hi - lo), lo + _GOLD * (hi - lo)
+    x1, x2 = hi - GOLD * (hi - lo), lo + GOLD * (hi - lo)
     a1, b1, f1 = score(x1, ea0, eb0)
     a2, b2, f2 = score(x2, ea0, eb0)
     for _ in range(rounds):
         left = f1 <= f2
         hi = np.where(left, x2, hi)
         lo = np.where(left, lo, x1)
-        nx = np.where(left, hi - _GOLD * (hi - lo), lo + _GOLD * (hi - lo))
+        nx = np.where(left, hi - GOLD * (hi - lo), lo + GOLD * (hi - lo))
         na, nb, fn = score(nx, np.where(left, a1, a2), np.where(left, b1, b2))
         x2n = np.where(left, x1, nx)
         x1n = np.where(left, nx, x2)

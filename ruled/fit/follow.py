@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ruled.core.nearest import GOLD, golden
 from ruled.core.nurbs import Surface
 from ruled.fit.facecost import over_face, ruling_cost
-from ruled.fit.pairing import _GOLD, MAX_DELTA_COEFS, _golden, refine_pairing, smooth_pairing
+from ruled.fit.pairing import MAX_DELTA_COEFS, refine_pairing, smooth_pairing
 from ruled.fit.reparam import _mapped_knots, _merge
 
 # rulings at most this fraction of the size from the face count as exact (the pairing then follows them)
@@ -32,7 +33,7 @@ def follow_exact(So: Surface, closed: bool, h: float, refined: tuple, pairing,
         # a rational face (a conic's surface of revolution): its rulings to round-off, for its rails to be
         # exact (on a polynomial one the search's own precision has served, and a search again wanders
         # along the flat valleys of a fan of rulings at a corner, bending the pairing)
-        dlt, rc = _polished(So, closed, sig, dlt, rc, 4.0 * h * _GOLD ** 18)
+        dlt, rc = _polished(So, closed, sig, dlt, rc, 4.0 * h * GOLD ** 18)
 
     def misses(pr, rc):
         """(knots, check sigmas, whether the pairing's ruling there misses, the largest miss) over the face."""
@@ -110,7 +111,7 @@ def _polished(So: Surface, closed: bool, sig: np.ndarray, dlt: np.ndarray, rc: n
     1e-6 of its size, and every rail composed through them inherits it), kept where closer."""
     u0, u1 = So.domain[:2]
     L = u1 - u0
-    x, f = _golden(lambda d: ruling_cost(So, u0 + L * (sig - d), u0 + L * (sig + d), 11, 6, closed),
+    x, f = golden(lambda d: ruling_cost(So, u0 + L * (sig - d), u0 + L * (sig + d), 11, 6, closed),
                    dlt - width, dlt + width, rounds)
     # only a real gain: exact ones (iso-lines) stay, and so do those in a flat valley (a fan of rulings at a
     # corner, where a search wanders along it and bends the pairing for nothing)

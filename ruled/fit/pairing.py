@@ -10,10 +10,9 @@ from typing import Callable, Optional
 import numpy as np
 
 from ruled.core.basis import bspline_basis_matrix
+from ruled.core.nearest import golden
 from ruled.core.nurbs import Curve, Surface
 from ruled.fit.facecost import _past_face, face_ends, face_weights, over_face, ruling_cost
-
-_GOLD = 0.5 * (np.sqrt(5.0) - 1.0)
 
 
 @dataclass(frozen=True)
@@ -122,7 +121,7 @@ def refine_pairing(S: Surface, u0: float, L: float, closed: bool, path_ab: np.nd
         return ruling_cost(S, u0 + L * (sg - d), u0 + L * (sg + d), m, iters, closed, out)
 
     c_dp = cost(sig, d_dp)
-    xb, fb = _golden(lambda d: cost(sig, d), lo, hi, rounds, progress)
+    xb, fb = golden(lambda d: cost(sig, d), lo, hi, rounds, progress)
     if at is None and sig.size > 2:
         xb, fb = _one_branch(cost, sig, lo, hi, xb, fb, rounds)
     # keep the DP pairing unless the search really improves it (flat costs, e.g. on a plane)
@@ -132,28 +131,6 @@ def refine_pairing(S: Surface, u0: float, L: float, closed: bool, path_ab: np.nd
     if at is None and not closed:
         d = _past_face(S, sig, d)
     return sig, d, c
-
-
-def _golden(f: Callable, lo: np.ndarray, hi: np.ndarray, rounds: int,
-            progress: Optional[Callable] = None) -> tuple[np.ndarray, np.ndarray]:
-    """(x, f(x)): golden-section searches of the vectorized f, one per bracket [lo, hi]."""
-    x1 = hi - _GOLD * (hi - lo)
-    x2 = lo + _GOLD * (hi - lo)
-    f1, f2 = f(x1), f(x2)
-    for r in range(rounds):
-        left = f1 <= f2  # minimum in [lo, x2]
-        hi = np.where(left, x2, hi)
-        lo = np.where(left, lo, x1)
-        nx1 = hi - _GOLD * (hi - lo)
-        nx2 = lo + _GOLD * (hi - lo)
-        # reuse one evaluation per side
-        newx = np.where(left, nx1, nx2)
-        fn = f(newx)
-        x2, f2, x1, f1 = (np.where(left, x1, nx2), np.where(left, f1, fn),
-                          np.where(left, nx1, x2), np.where(left, fn, f2))
-        if progress is not None:
-            progress(r + 1, rounds)
-    return np.where(f1 <= f2, x1, x2), np.minimum(f1, f2)
 
 
 # the refinement's bracket is scanned at this many points for further valleys of the cost, of which
@@ -189,7 +166,7 @@ def _one_branch(cost: Callable, sig: np.ndarray, lo: np.ndarray, hi: np.ndarray,
     jj = order[k, j]
     a = xs[k, np.maximum(jj - 1, 0)]
     b = xs[k, np.minimum(jj + 1, SCAN - 1)]
-    xv, fv = _golden(lambda d: cost(sig[k], d), a, b, rounds)
+    xv, fv = golden(lambda d: cost(sig[k], d), a, b, rounds)
     D = np.full((G, BRANCHES), np.nan)
     F = np.full((G, BRANCHES), np.inf)
     D[:, 0], F[:, 0] = xb, fb
@@ -250,7 +227,7 @@ def _continued(cost: Callable, sig: np.ndarray, lo: np.ndarray, hi: np.ndarray, 
             x0, x1 = np.array([max(p1 + slope - w, lo[i])]), np.array([min(p1 + slope + w, hi[i])])
             if x1[0] <= x0[0]:
                 x0, x1 = np.array([lo[i]]), np.array([hi[i]])
-            xv, fv = _golden(lambda x: cost(np.array([sig[i]]), x), x0, x1, rounds)
+            xv, fv = golden(lambda x: cost(np.array([sig[i]]), x), x0, x1, rounds)
             d[i], f[i] = xv[0], fv[0]
     mid = cost(0.5 * (sig[:-1] + sig[1:]), 0.5 * (d[:-1] + d[1:]))
     return d, f, max(float(f.max()), float(mid.max()))

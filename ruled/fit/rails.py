@@ -277,7 +277,9 @@ def net_bound(S: Any, pairing: Any, bd: Boundaries) -> Optional[float]:
     from S's poles and R's rails' poles alone.  None where this does not apply (rational or periodic
     surfaces, another pairing)."""
     A, B = bd.A, bd.B
-    if S.weights is not None or A.rational or B.rational or S.periodic_u or S.periodic_v:
+    q, kv = S.degree_v, S.knots_v
+    clamped = np.all(kv[:q + 1] == kv[0]) and np.all(kv[-q - 1:] == kv[-1])     # (its rows 0 and -1 its rails)
+    if S.weights is not None or A.rational or B.rational or S.periodic_u or S.periodic_v or not clamped:
         return None
     u0, u1, v0, v1 = S.domain
     ku = (S.knots_u - u0) / (u1 - u0)
@@ -293,8 +295,8 @@ def net_bound(S: Any, pairing: Any, bd: Boundaries) -> Optional[float]:
     # psi = (s(u), gbar(u, v)), gbar = sum_i N_i(u) g_i(v): continuous, in R's domain, sides to sides; and
     # S - R o psi = sum_i N_i (g_i - gbar)(D_i - D(s)) + sum_ij N_i M_j N_ij (the sum_i N_i (g_i - gbar) D(s)
     # part is zero), each bounded over a knot span of u by its p + 1 poles' spreads: a face parametrized
-    # along its rulings otherwise than affinely in v (an interpolated one) is certified as close as it is
-    # the same surfaces with every knot span split in NET_PIECES: their nets lie closer to them
+    # along its rulings otherwise than affinely in v (an interpolated one) is certified as close as it is.
+    # The same surfaces with every knot span split in NET_PIECES: their nets lie closer to them.
     Sn = Surface(S.poles, ku, (S.knots_v - v0) / (v1 - v0), S.degree_u, S.degree_v)
     Sn = Sn.subdivided(NET_PIECES, NET_PIECES)
     Rn = ruled_surface(bd).subdivided(NET_PIECES, 1)
@@ -312,6 +314,7 @@ def _net_distance(S: Any, A: np.ndarray, B: np.ndarray) -> float:
     D = B - A
     G = np.clip(np.einsum("ijk,ik->ij", S.poles - A[:, None, :], D)
                 / np.maximum((D * D).sum(axis=1), 1e-300)[:, None], 0.0, 1.0)
+    G[:, 0], G[:, -1] = 0.0, 1.0        # gbar exactly 0 and 1 on the rails (psi takes sides to sides)
     rest = float(np.linalg.norm(S.poles - A[:, None, :] - G[:, :, None] * D[:, None, :], axis=2).max())
     p = S.degree_u
     win = np.lib.stride_tricks.sliding_window_view
