@@ -125,6 +125,26 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)
 
 
+def fit_wall(faces, samples: int = 40, objective: str = "sum", method: str = "2d", measure: bool = True,
+             measure_samples: int = 40, progress: Progress = None):
+    """A part's wall as one closed ruled surface (ruled.occ.wall): faces is a part (a solid; its wall is found:
+    the ring of faces between two planar caps) or the wall's faces (a list, of one part, in any order).
+    samples: per face.  Returns ruled.occ.wall.WallFit: .face (the closed ruled face), .error_bound
+    (certified), .hausdorff (measured against the wall's faces, both ways), .report()."""
+    from dataclasses import replace
+
+    from ruled.occ.wall import fit_wall as _fit_wall
+    from ruled.occ.wall import wall_of
+    if isinstance(faces, (list, tuple)):
+        topo = [_topods(f) for f in faces]
+        wall = wall_of(None, list(range(len(topo))), topo)
+    else:
+        wall = wall_of(getattr(faces, "wrapped", faces))
+    opts = FitOptions(samples=samples * len(wall.faces), objective=objective, method=method).checked()
+    fit = _fit_wall(wall, opts, progress, measure, measure_samples)
+    return replace(fit, face=_cq(fit.face))
+
+
 @dataclass(frozen=True)
 class ReplacedFace:
     """A part with one face replaced by its ruled fit, sewn to the face's neighbours."""

@@ -6,9 +6,9 @@ from __future__ import annotations
 from ruled.core.errors import BadInputError
 
 
-def parse_faces(spec: str) -> object:
-    """'all', 'bspline', 'ruled-candidates', or indices 'K,L-M' (a sorted list)."""
-    if spec in ("all", "bspline", "ruled-candidates"):
+def parse_faces(spec: str, option: str = "--faces", words: tuple = ("all", "bspline", "ruled-candidates")) -> object:
+    """One of words (default 'all', 'bspline', 'ruled-candidates'), or indices 'K,L-M' (a sorted list)."""
+    if spec in words:
         return spec
     out: set = set()
     try:
@@ -19,5 +19,5 @@ def parse_faces(spec: str) -> object:
                 raise ValueError
             out.update(range(lo, hi + 1))
     except ValueError:
-        raise BadInputError(f"--faces {spec!r}: use all, bspline, ruled-candidates or indices like 0,3-7") from None
+        raise BadInputError(f"{option} {spec!r}: use {', '.join(words)} or indices like 0,3-7") from None
     return sorted(out)

@@ -37,6 +37,17 @@ def cmd_faces(args) -> int:
             if sides is not None:
                 print("    sides: " + "  ".join(f"{k}: [{','.join(map(str, sides.edges(k))) or 'point'}]"
                                                for k in range(4)) + f"  ({sides.how})")
+    if args.walls:
+        from ruled.occ.io import faces_of, read_shape
+        from ruled.occ.ring import find_walls, ring_of
+        shape = read_shape(args.input)
+        walls = find_walls(shape)
+        if not walls:
+            print("walls: none (no ring of faces between two planar caps); give a wall's faces with --wall K,L-M")
+        for k, w in enumerate(walls):
+            r = ring_of(faces_of(shape), w)
+            print(f"wall {k}: faces {','.join(map(str, r.faces))}  (bottom contour {len(r.loops[0])} edges, "
+                  f"top contour {len(r.loops[1])} edges)")
     return 0
 
 
@@ -195,6 +206,8 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
 
 def cmd_fit(args) -> int:
     check_measure_samples(args.measure_samples)
+    if args.wall is not None:
+        return cmd_fit_wall(args)
     if args.tol is not None:
         if args.replace and (args.ends == "pinned" or args.split_faces or args.method != "2d"):
             raise RuledError("--replace puts one ruled face back into the part, and --tol with --ends pinned, "
@@ -225,6 +238,42 @@ def cmd_fit(args) -> int:
                   memory_cap_mb=args.memory_cap, rails=args.rails, face_timeout=args.face_timeout,
                   ends=args.ends, replace=args.replace)
     _summary(rep, args.output, args.report, args.plot)
+    return 0
+
+
+def cmd_fit_wall(args) -> int:
+    """ruled fit INPUT --wall auto|K,L-M: the wall as one closed ruled surface (STEP, report)."""
+    from ruled.fit.options import FitOptions
+    from ruled.fit.report import write_report
+    from ruled.occ.io import read_shape, write_step
+    from ruled.occ.wall import fit_wall, wall_of
+    for flag, given in (("--tol", args.tol is not None), ("--replace", args.replace), ("--rails", args.rails),
+                        ("--split-faces", args.split_faces), ("--plot", args.plot)):
+        if given:
+            raise RuledError(f"{flag} is for one face; a wall (--wall) is fitted whole: drop {flag}")
+    samples = args.samples
+    opts = FitOptions(samples=40, objective=args.objective, max_error=args.max_error, refine=not args.no_refine,
+                      method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
+                      memory_cap=None if args.memory_cap is None else args.memory_cap * 2.0 ** 20).checked()
+    check_outputs(args.output, args.report, None, inputs=(args.input,))
+    t0 = time.perf_counter()
+    wall = wall_of(read_shape(args.input), args.wall)
+    # --samples is per face: the ring's samples grow with its faces
+    from dataclasses import replace
+    opts = replace(opts, samples=samples * len(wall.faces)).checked()
+    wf = with_bar(args.quiet, 0, lambda bar: fit_wall(wall, opts, bar, measure_samples=args.measure_samples))
+    write_step(wf.face, args.output)
+    rep = {**wf.report(), "input": args.input, "samples": opts.samples, "seconds": time.perf_counter() - t0,
+           "version": __version__}
+    if args.report:
+        write_report(rep, args.report)
+    h = rep["hausdorff"]
+    print(f"wall: faces {','.join(map(str, rep['faces']))} as one closed ruled surface, "
+          f"{rep['result']['poles'][0]}x{rep['result']['poles'][1]} poles degree "
+          f"{rep['result']['degree'][0]}x{rep['result']['degree'][1]}")
+    print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g} "
+          f"(against the wall's faces, both ways)")
+    print_files_only((("STEP", args.output), ("report", args.report)))
     return 0
 
 

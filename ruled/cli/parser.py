@@ -25,9 +25,16 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("input")
     f.add_argument("--edges", action="store_true",
                    help="also list each face's outer-wire edges (the indices --rails takes) and its four sides")
-    g = sub.add_parser("fit", help="fit the best ruled surface to one face")
+    f.add_argument("--walls", action="store_true",
+                   help="also list the part's walls: rings of faces between two closed contours (the faces "
+                        "--wall takes)")
+    g = sub.add_parser("fit", help="fit the best ruled surface to one face, or one closed ruled surface to a wall")
     g.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
-    g.add_argument("--face", type=int, required=True, help="face index (0-based, as 'ruled faces' lists)")
+    what = g.add_mutually_exclusive_group(required=True)
+    what.add_argument("--face", type=int, help="face index (0-based, as 'ruled faces' lists)")
+    what.add_argument("--wall", metavar="auto|K,L-M",
+                      help="a wall: the ring of faces between two closed contours, found (auto) or given by face "
+                           "indices ('ruled faces INPUT --walls'), fitted as one closed ruled surface")
     g.add_argument("--method", choices=["2d", "4d"], default="2d",
                    help="2d: rulings between boundary samples (Elber); 4d: their ends also lifted along the "
                         "surface normal (Wang & Elber), never worse than 2d")

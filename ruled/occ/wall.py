@@ -1,0 +1,372 @@
+"""A part's wall: a ring of faces joined edge to edge into a band between two closed contours (the bottom
+and the top), as one closed B-spline surface for the engine's periodic fit (Elber 2011 §3.3).
+
+A face of the ring is taken as a four-sided patch, its bottom and top contour edges as two opposite
+sides and its two joints with its neighbours as the other two: the face's own surface where those are
+iso-curves of it (a cone between two arcs, a loft's face), or the ruled patch between its bottom and
+top edges where the face is planar and its joints straight (a tapered extrusion's flank).  Either is
+the face exactly.  The patches, made compatible along the rulings' direction (common degree and
+knots: exact), are joined with full-multiplicity knots at the joints, so that the contours' corners
+stay corners, into one surface closed round the ring; the DP's rulings then cross the faces' joints
+freely.  A wall whose faces cannot be joined exactly is refused in one line naming the faces.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Optional
+
+import numpy as np
+from OCP.BRep import BRep_Tool
+from OCP.BRepAdaptor import BRepAdaptor_Curve
+from OCP.Geom import Geom_BSplineSurface, Geom_TrimmedCurve
+from OCP.GeomAbs import GeomAbs_CurveType
+from OCP.GeomConvert import GeomConvert, GeomConvert_CompCurveToBSplineCurve
+from OCP.GeomFill import GeomFill
+
+from ruled.core.errors import BadInputError
+from ruled.core.nurbs import Surface
+from ruled.occ.convert import face_to_bspline, occ_array
+from ruled.occ.io import faces_of
+from ruled.occ.ring import (
+    Ring,
+    _edge_points,
+    _ends,
+    _face_edges,
+    _length,
+    _planar_normal,
+    _pt,
+    _sliver,
+    find_walls,
+    ring_of,
+)
+
+
+# ------------------------------------------------------------------------------------- the joined surface
+def _chain_curve(edges: tuple, start: np.ndarray, tol: float):
+    """The edges (chained end to end) as one Geom_BSplineCurve running from the point start."""
+    left, cur, comp = list(edges), start, None
+    while left:
+        for e in left:
+            a, b = _ends(e)
+            if np.linalg.norm(a - cur) <= tol or np.linalg.norm(b - cur) <= tol:
+                break
+        else:
+            raise BadInputError("a face's contour edges do not chain from its joint; repair the part")
+        left.remove(e)
+        ad = BRepAdaptor_Curve(e)
+        c3 = BRep_Tool.Curve_s(e, 0.0, 0.0)
+        bs = GeomConvert.CurveToBSplineCurve_s(Geom_TrimmedCurve(c3, ad.FirstParameter(), ad.LastParameter()))
+        if np.linalg.norm(a - cur) > np.linalg.norm(b - cur):
+            bs.Reverse()
+            cur = a
+        else:
+            cur = b
+        if comp is None:
+            comp = GeomConvert_CompCurveToBSplineCurve(bs)
+        elif not comp.Add(bs, tol, True):
+            raise BadInputError("a face's contour edges do not join into one curve; repair the part")
+    return comp.BSplineCurve()
+
+
+def _is_line(edge, tol: float) -> bool:
+    """The edge is straight: a line, or a curve within tol of its chord."""
+    if BRepAdaptor_Curve(edge).GetType() == GeomAbs_CurveType.GeomAbs_Line:
+        return True
+    P = _edge_points(edge, 65)
+    d = P[-1] - P[0]
+    L = float(np.linalg.norm(d))
+    if L <= tol:
+        return False
+    off = np.cross(P - P[0], d / L)
+    return float(np.max(np.linalg.norm(off, axis=1))) <= tol
+
+
+@dataclass
+class _Patch:
+    surface: Geom_BSplineSurface       # u along the ring, v from the bottom to the top contour
+    length: float                      # its contours' mean length (its share of the ring's parameter)
+
+
+def _side_distance(bs, side: int, cloud: np.ndarray) -> float:
+    """The largest distance from the points cloud to the samples of side (0: v-min, 1: u-max, 2: v-max,
+    3: u-min) of bs: small when cloud lies along that side."""
+    u0, u1, v0, v1 = bs.Bounds()
+    t = np.linspace(0.0, 1.0, 129)
+    uv = {0: (u0 + (u1 - u0) * t, np.full(t.size, v0)), 1: (np.full(t.size, u1), v0 + (v1 - v0) * t),
+          2: (u0 + (u1 - u0) * t, np.full(t.size, v1)), 3: (np.full(t.size, u0), v0 + (v1 - v0) * t)}[side]
+    P = np.array([_pt(bs.Value(float(a), float(b))) for a, b in zip(*uv)])
+    # to the polyline through the samples
+    A, D = P[:-1], np.diff(P, axis=0)
+    x = cloud[:, None, :] - A[None]
+    w = np.clip((x * D[None]).sum(-1) / np.maximum((D * D).sum(-1), 1e-300)[None], 0.0, 1.0)
+    d = np.linalg.norm(x - w[..., None] * D[None], axis=2)
+    return float(np.max(np.min(d, axis=1)))
+
+
+def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: float) -> _Patch:
+    """The face as a four-sided patch: u along the ring (from its joint ``before`` to ``after``), v from
+    its bottom contour edges to its top ones."""
+    tol = 1e-6 * size
+    blen = sum(_length(e) for e in bottom)
+    tlen = sum(_length(e) for e in top)
+    if _planar_normal(face) is not None:
+        sides = [e for e in (before, after) if e is not None]
+        if not bottom or not top or not all(_is_line(e, tol) for e in sides):
+            raise BadInputError(f"face {index} of the wall is planar but not bounded by its contour edges and two "
+                                f"straight joints; walls of such faces are not supported yet")
+        p0 = _ends(before)
+        bpts = np.concatenate([_edge_points(e) for e in bottom])
+        start_b = p0[0] if np.min(np.linalg.norm(bpts - p0[0], axis=1)) <= np.min(
+            np.linalg.norm(bpts - p0[1], axis=1)) else p0[1]
+        start_t = p0[1] if start_b is p0[0] else p0[0]
+        cb = _chain_curve(bottom, start_b, tol)
+        ct = _chain_curve(top, start_t, tol)
+        bs = GeomConvert.SurfaceToBSplineSurface_s(GeomFill.Surface_s(cb, ct))
+    else:
+        bs = face_to_bspline(face)
+        bcloud = np.concatenate([_edge_points(e) for e in bottom]) if bottom else None
+        tcloud = np.concatenate([_edge_points(e) for e in top]) if top else None
+        score = [[_side_distance(bs, s, c) if c is not None else np.inf for s in range(4)] for c in (bcloud, tcloud)]
+        if bcloud is None:          # the face meets the bottom contour at a point: the side opposite the top
+            sb = (int(np.argmin(score[1])) + 2) % 4
+        else:
+            sb = int(np.argmin(score[0]))
+        st = (sb + 2) % 4
+        worst = max(score[0][sb] if bcloud is not None else 0.0, score[1][st] if tcloud is not None else 0.0)
+        if worst > 1e-3 * size:
+            raise BadInputError(f"face {index} of the wall: its contour edges are not opposite sides of its surface "
+                                f"(a trimmed face; {worst:.3g} off); walls of such faces are not supported yet")
+        bs = bs.Copy()
+        if sb in (1, 3):
+            bs.ExchangeUV()
+            sb = 0 if sb == 3 else 2
+        if sb == 2:
+            bs.VReverse()
+    # u from the joint with the previous face
+    if before is not None:
+        jp = np.concatenate([_edge_points(before, 9)])
+        if _side_distance(bs, 3, jp) > _side_distance(bs, 1, jp):
+            bs.UReverse()
+    elif after is not None:
+        jp = _edge_points(after, 9)
+        if _side_distance(bs, 1, jp) > _side_distance(bs, 3, jp):
+            bs.UReverse()
+    return _Patch(bs, max(0.5 * (blen + tlen), 1e-12 * size))
+
+
+def _knots(bs, d: int) -> tuple:
+    if d == 0:
+        return ([bs.UKnot(i) for i in range(1, bs.NbUKnots() + 1)],
+                [bs.UMultiplicity(i) for i in range(1, bs.NbUKnots() + 1)])
+    return ([bs.VKnot(i) for i in range(1, bs.NbVKnots() + 1)],
+            [bs.VMultiplicity(i) for i in range(1, bs.NbVKnots() + 1)])
+
+
+def _remap(bs, d: int, a: float, b: float) -> None:
+    k, _ = _knots(bs, d)
+    k = np.asarray(k)
+    new = a + (b - a) * (k - k[0]) / (k[-1] - k[0])
+    new[0], new[-1] = a, b
+    (bs.SetUKnots if d == 0 else bs.SetVKnots)(occ_array(new))
+
+
+def _arrays(bs) -> tuple:
+    nu, nv = bs.NbUPoles(), bs.NbVPoles()
+    P = np.array([[_pt(bs.Pole(i + 1, j + 1)) for j in range(nv)] for i in range(nu)])
+    W = np.array([[bs.Weight(i + 1, j + 1) for j in range(nv)] for i in range(nu)])
+    return P, W
+
+
+@dataclass
+class Wall:
+    """A wall: its ring, its faces (TopoDS, ring order) and the joined closed surface (u round the ring, the
+    faces' shares in ``breaks``; v from the bottom contour to the top)."""
+
+    ring: Ring
+    faces: tuple
+    surface: Surface
+    breaks: np.ndarray
+    slack: float = 0.0        # the faces' distance from the joined surface, at most (see _slack)
+
+    @property
+    def size(self) -> float:
+        return self.ring.size
+
+
+def joined_surface(ring: Ring, faces: tuple) -> tuple:
+    """(Surface, breaks): the ring's faces as one B-spline surface closed round the ring (see the module)."""
+    n = len(faces)
+    keep = [k for k in range(n) if not _sliver(faces[k], ring.size)]
+    patches = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], ring.joints[k - 1] if n > 1 else None,
+                      ring.joints[k] if n > 1 else None, ring.size) for k in keep]
+    names = [ring.faces[k] for k in keep]
+    K = len(patches)
+    lengths = np.array([p.length for p in patches])
+    breaks = np.concatenate([[0.0], np.cumsum(lengths) / lengths.sum()])
+    du = max(p.surface.UDegree() for p in patches)
+    dv = max(p.surface.VDegree() for p in patches)
+    vk: dict = {}
+    for k, p in enumerate(patches):
+        bs = p.surface
+        bs.IncreaseDegree(du, dv)
+        if bs.IsUPeriodic():
+            bs.SetUNotPeriodic()
+        if bs.IsVPeriodic():
+            bs.SetVNotPeriodic()
+        _remap(bs, 0, breaks[k], breaks[k + 1])
+        _remap(bs, 1, 0.0, 1.0)
+        for x, m in zip(*_knots(bs, 1)):
+            key = round(x, 12)
+            vk[key] = max(vk.get(key, 0), m)
+    inner = {x: m for x, m in vk.items() if 0.0 < x < 1.0}
+    for p in patches:
+        have = dict(zip((round(x, 12) for x in _knots(p.surface, 1)[0]), _knots(p.surface, 1)[1]))
+        for x, m in sorted(inner.items()):
+            if have.get(x, 0) < m:
+                p.surface.InsertVKnot(x, m, 1e-12, False)
+    arrays = [_arrays(p.surface) for p in patches]
+    nv = {a[0].shape[1] for a in arrays}
+    if len(nv) != 1:
+        raise BadInputError("the wall's faces could not be made compatible along the rulings (please report the part)")
+    P, W = arrays[0]
+    knots = [breaks[0]] * (du + 1)
+    tol = 1e-6 * ring.size
+    for k in range(K):
+        Pk, Wk = arrays[k]
+        ku, mu = _knots(patches[k].surface, 0)
+        if k > 0:
+            r = W[-1] / Wk[0]
+            off = float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1)))
+            if off > tol or np.ptp(r) > 1e-9 * float(np.max(r)):
+                raise BadInputError(f"faces {names[k - 1]} and {names[k]} of the wall parametrize the edge "
+                                    f"they share differently ({off:.3g} apart); walls of such faces are not "
+                                    f"supported yet")
+            Wk = Wk * float(np.mean(r))
+            P = np.concatenate([P, Pk[1:]])
+            W = np.concatenate([W, Wk[1:]])
+            knots += [breaks[k]] * du
+        for x, m in zip(ku[1:-1], mu[1:-1]):
+            knots += [x] * m
+    knots += [breaks[-1]] * (du + 1)
+    vkn, vm = _knots(patches[0].surface, 1)
+    kv = np.repeat(vkn, vm)
+    closing = float(np.max(np.linalg.norm(P[0] - P[-1], axis=1)))
+    if closing > tol:
+        raise BadInputError(f"the wall's faces {names[-1]} and {names[0]} do not meet along one edge "
+                            f"parametrized alike ({closing:.3g} apart); walls of such faces are not supported yet")
+    P[-1] = P[0]
+    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
+    S = Surface(P, np.asarray(knots), kv, du, dv, W if rational else None)
+    return S, breaks
+
+
+def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
+    """The wall of the part ``shape``: the faces ``indices`` (a list, or 'K,L-M'), or 'auto' (the part's only
+    wall, or its first as find_walls lists them).  faces: the faces themselves instead of a part (indices
+    then index them)."""
+    from ruled.batch.faces import parse_faces
+    if faces is None:
+        faces = faces_of(shape)
+    if isinstance(indices, str):
+        indices = parse_faces(indices, "«wall»", ("auto",))
+    if indices == "auto":
+        walls = find_walls(shape)
+        if not walls:
+            raise BadInputError("the part has no wall (a ring of faces between two planar caps); give its faces "
+                                "with --wall K,L-M")
+        indices = walls[0]
+    ring = ring_of(faces, indices)
+    tfaces = tuple(faces[i] for i in ring.faces)
+    S, breaks = joined_surface(ring, tfaces)
+    return Wall(ring, tfaces, S, breaks, _slack(ring, tfaces))
+
+
+def _slack(ring: Ring, faces: tuple) -> float:
+    """How far the wall's faces, as bounded by their edges, can be from the joined surface: their edges'
+    tolerances (an edge's 3D curve lies that close to its faces' surfaces), and a sliver's largest distance
+    from the faces kept, sampled densely (a sliver is a crease thinner than its samples' spacing, so this
+    term is measured, not certified)."""
+    from ruled.occ.faceset import FaceSet
+    from ruled.occ.measure import face_samples
+    tol = max((BRep_Tool.Tolerance_s(e) for f in faces for e in _face_edges(f)), default=0.0)
+    slivers = [f for f in faces if _sliver(f, ring.size)]
+    if not slivers:
+        return float(tol)
+    kept = FaceSet([f for f in faces if not _sliver(f, ring.size)])
+    worst = 0.0
+    for f in slivers:
+        worst = max(worst, float(kept.distances(face_samples(f, 80)[0]).max()))
+    return float(max(tol, worst))
+
+
+
+
+# ------------------------------------------------------------------------------------------------ the fit
+@dataclass
+class WallFit:
+    """A wall's closed ruled result: the fit (ruled.fit.fit2d.FitResult), the result face, its certified
+    bound from the joined surface (which is the wall's faces exactly) and the measure against the wall's
+    faces as bounded by their edges, both ways (ruled.core.hostform.Hausdorff)."""
+
+    wall: Wall
+    result: Any
+    face: Any
+    error_bound: float
+    hausdorff: Any
+    area_ratio: Optional[float] = None     # the result's area over the wall faces'
+    warnings: tuple = ()
+
+    def report(self) -> dict:
+        r = self.result.best.surface
+        h = self.hausdorff
+        return {"faces": list(self.wall.ring.faces), "closed": bool(self.result.best.closed),
+                "method": self.result.best.method, "error_bound": self.error_bound,
+                "hausdorff": None if h is None else {"max": h.max, "mean": h.mean, "wall_to_result": h.max_a_to_b,
+                                                     "result_to_wall": h.max_b_to_a, "samples": h.samples,
+                                                     "resolution": h.resolution},
+                "size": self.wall.size, "result": {"poles": list(r.poles.shape[:2]),
+                                                   "degree": [r.degree_u, r.degree_v],
+                                                   "rational": r.weights is not None},
+                "contours": {"bottom_edges": len(self.wall.ring.loops[0]), "top_edges": len(self.wall.ring.loops[1])},
+                "breaks": [float(x) for x in self.wall.breaks], "area_ratio": self.area_ratio,
+                "slack": self.wall.slack, "warnings": [str(w) for w in self.warnings]}
+
+
+def measure_wall(faces, out_face, n: int = 40):
+    """The two-sided measure between the wall's faces (their union, each bounded by its edges) and a face."""
+    from dataclasses import replace as _replace
+
+    from ruled.occ.faceset import FaceSet
+    from ruled.occ.measure import _Projector, face_samples, two_sided
+    to_wall, to_out = FaceSet(list(faces)), _Projector(out_face)
+    got = [face_samples(f, n, resolution=True) for f in faces]
+    pa = np.concatenate([p for p, _ in got])
+    pb, rb = face_samples(out_face, n, to_out.inside, resolution=True)
+    return _replace(two_sided(pa, pb, to_wall, to_out), resolution=max([rb] + [r for _, r in got]))
+
+
+def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
+    """The wall's one closed ruled surface: the engine's periodic fit of the joined surface along its rulings
+    (from the bottom contour to the top), built as one face and measured against the wall's faces."""
+    from dataclasses import replace as _replace
+
+    from ruled.fit.options import Direction
+    from ruled.fit.surface import fit_surface
+    from ruled.occ.trimmed import built_slack, result_face
+    opts = _replace(options.checked(), direction=Direction.V)
+    res = fit_surface(wall.surface, opts, progress)
+    if not res.best.closed:
+        raise BadInputError("the wall's joined surface did not close round the ring (please report the part)")
+    from ruled.fit.facefit import measured_warnings
+    from ruled.occ.io import face_area
+    out = result_face(res)
+    bound = res.error_bound + built_slack(out, res) + wall.slack
+    if not measure:
+        return WallFit(wall, res, out, bound, None)
+    h = measure_wall(wall.faces, out, measure_samples)
+    ratio = face_area(out, 1e-6) / sum(face_area(f, 1e-6) for f in wall.faces)
+    return WallFit(wall, res, out, bound, h, ratio, measured_warnings(res, bound, h.max, wall.size, ratio))
+
+
+__all__ = ["Ring", "Wall", "WallFit", "ring_of", "find_walls", "joined_surface", "wall_of", "fit_wall", "measure_wall"]

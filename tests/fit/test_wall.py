@@ -1,0 +1,231 @@
+"""A part's wall as one closed ruled surface (issue 37): the ring of faces between two contours found, joined
+into one closed surface, fitted by the periodic DP, and measured against the wall's faces as bounded by
+their edges, both ways.
+
+Measured independently of ruled.occ.wall's own measure: OCCT's mesh of every face (points on the bounded
+faces) and BRepExtrema's exact distances from them to the other side."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("cadquery")
+
+from tests.wall_parts import EXACT, NOT_RULED, box_with_a_hole, tapered_extrusion  # noqa: E402
+
+
+def _mesh_points(face, defl: float) -> np.ndarray:
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+    face = TopoDS.Face_s(face)
+    BRepMesh_IncrementalMesh(face, defl, False, 0.2, False)
+    loc = TopLoc_Location()
+    tri = BRep_Tool.Triangulation_s(face, loc)
+    if tri is None:                      # (a sliver OCCT does not mesh)
+        return np.zeros((0, 3))
+    T = loc.Transformation()
+    pts = [tri.Node(i).Transformed(T) for i in range(1, tri.NbNodes() + 1)]
+    return np.array([[p.X(), p.Y(), p.Z()] for p in pts])
+
+
+def _distances(points: np.ndarray, shape) -> np.ndarray:
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+    from OCP.gp import gp_Pnt
+    out = []
+    for p in points:
+        d = BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex(), shape)
+        out.append(d.Value())
+    return np.array(out)
+
+
+def oracle(wall_faces, result_face, size: float, k: int = 300) -> float:
+    """The two-way distance between the wall's faces and the result (a face, or a list of faces): up to k of
+    each side's mesh nodes (an even pick), exact distances to the other side (BRepExtrema)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
+
+    from ruled.occ.io import compound
+    faces = [BRepBuilderAPI_Copy(f).Shape() for f in wall_faces]
+    given = result_face if isinstance(result_face, list) else [result_face]
+    results = [BRepBuilderAPI_Copy(f).Shape() for f in given]
+    res = compound(results)
+    pa = np.concatenate([_mesh_points(f, 2e-3 * size) for f in faces])
+    pb = np.concatenate([_mesh_points(f, 2e-3 * size) for f in results])
+
+    def pick(P):
+        return P[np.linspace(0, len(P) - 1, min(k, len(P))).astype(int)]
+    return float(max(_distances(pick(pa), res).max(), _distances(pick(pb), compound(faces)).max()))
+
+
+@pytest.fixture(scope="module")
+def exact_fits():
+    from ruled.fit.options import FitOptions
+    from ruled.occ.wall import fit_wall, wall_of
+    out = {}
+    for name, build in EXACT.items():
+        part = build()
+        wall = wall_of(part.wrapped)
+        out[name] = (part, wall, fit_wall(wall, FitOptions(samples=40 * len(wall.faces))))
+    return out
+
+
+def test_auto_finds_the_ring_between_the_caps(exact_fits):
+    """--wall auto on each part is the ring the test built: every face but the two planar caps."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_SurfaceType
+
+    from ruled.occ.io import faces_of
+    for name, (part, wall, _) in exact_fits.items():
+        faces = faces_of(part.wrapped)
+        caps = {i for i, f in enumerate(faces) if BRepAdaptor_Surface(f).GetType() == GeomAbs_SurfaceType.GeomAbs_Plane
+                and abs(abs(BRepAdaptor_Surface(f).Plane().Axis().Direction().Z()) - 1) < 1e-9}
+        assert len(caps) == 2, name
+        assert sorted(wall.ring.faces) == sorted(set(range(len(faces))) - caps), name
+
+
+@pytest.mark.parametrize("name", list(EXACT))
+def test_an_exactly_ruled_wall_comes_back_exact_as_one_closed_surface(exact_fits, name):
+    part, wall, fit = exact_fits[name]
+    assert fit.result.best.closed
+    size = wall.size
+    measured = oracle(wall.faces, fit.face, size)
+    assert measured <= 1e-6 * size, (name, measured / size)
+    assert fit.hausdorff.max <= fit.error_bound and measured <= fit.error_bound + 1e-9 * size, name
+    assert fit.error_bound <= 1e-6 * size, (name, fit.error_bound / size)
+    # the result covers the wall: its area is the wall's
+    assert abs(fit.area_ratio - 1.0) <= 1e-4, (name, fit.area_ratio)
+
+
+def test_rulings_cross_the_faces_joints_on_the_square_to_circle_loft(exact_fits):
+    """The square's corners are C0 lines of the result where the loft's faces meet: the result's rails keep
+    the corners (the bottom contour's four corners lie on the result's bottom rail)."""
+    _, wall, fit = exact_fits["square to circle"]
+    R = fit.result.best.surface
+    s = np.linspace(*R.domain[:2], 4001)
+    bottom = R(s, np.full(s.size, R.domain[2]))
+    if abs(bottom[:, 2].mean()) > 1e-6:          # (the rail at z = 0 is the square)
+        bottom = R(s, np.full(s.size, R.domain[3]))
+    corners = np.array([[x, y, 0.0] for x in (-10, 10) for y in (-10, 10)])
+    d = np.linalg.norm(bottom[None, :, :] - corners[:, None, :], axis=2).min(axis=1)
+    assert d.max() <= 2 * np.linalg.norm(np.diff(bottom, axis=0), axis=1).max()
+
+
+def _foamcut_faces(wall) -> list:
+    """FreeCAD FoamCut's pairing of the same contours: per face, its bottom and top edges joined at equal
+    parameter steps, first end to first end (the ruled surface between the two curves, GeomFill)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.GeomConvert import GeomConvert
+    from OCP.GeomFill import GeomFill
+
+    from ruled.occ.wall import _chain_curve, _ends
+    out = []
+    for bottom, top in zip(wall.ring.bottom, wall.ring.top):
+        a0, a1 = _ends(bottom[0])
+        b0, b1 = _ends(top[0])
+        start = b0 if np.linalg.norm(a0 - b0) + np.linalg.norm(a1 - b1) <= \
+            np.linalg.norm(a0 - b1) + np.linalg.norm(a1 - b0) else b1
+        cb = _chain_curve(bottom, a0, 1e-6 * wall.size)
+        ct = _chain_curve(top, start, 1e-6 * wall.size)
+        out.append(BRepBuilderAPI_MakeFace(GeomConvert.SurfaceToBSplineSurface_s(GeomFill.Surface_s(cb, ct)),
+                                           1e-7).Face())
+    return out
+
+
+def _per_face_worst(wall) -> float:
+    """The largest of the faces' own best ruled fits as a face-by-face cut makes them: rulings between the same
+    contours (each face's bottom and top edges its rails), the end rulings at its corners (pinned)."""
+    from ruled.cq import fit_face
+    from ruled.occ.region import outer_edges
+    worst = 0.0
+    for face, bottom, top in zip(wall.faces, wall.ring.bottom, wall.ring.top):
+        edges = outer_edges(face)
+        rails = tuple(next(i for i, e in enumerate(edges) if e.IsSame(x[0])) for x in (bottom, top))
+        worst = max(worst, fit_face(face, rails=rails, ends="pinned").hausdorff.max)
+    return worst
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="issue 37 not met yet: the closed wall measures 2.96 / 0.75 where FoamCut's "
+                   "pairing measures 2.82 / 0.51 (three sections / twisted extrusion)")
+@pytest.mark.parametrize("name", list(NOT_RULED))
+def test_a_wall_that_is_not_ruled_is_no_worse_than_its_faces_fitted_alone_nor_foamcuts(name):
+    """The closed result is below FoamCut's pairing of the same contours, both measured both ways, and within its
+    bound.  The per-face fits of the same faces (cut face by face, each pinned at its corners) are printed
+    beside it (the issue asks for the wall to be no worse than them too)."""
+    from ruled.fit.options import FitOptions
+    from ruled.occ.wall import fit_wall, wall_of
+    part = NOT_RULED[name]()
+    wall = wall_of(part.wrapped)
+    fit = fit_wall(wall, FitOptions(samples=40 * len(wall.faces)))
+    measured = oracle(wall.faces, fit.face, wall.size)
+    assert measured <= fit.error_bound
+    per_face = _per_face_worst(wall)
+    foamcut = oracle(wall.faces, _foamcut_faces(wall), wall.size)
+    print(f"{name}: wall {measured:.4g} (bound {fit.error_bound:.4g}), per face {per_face:.4g}, FoamCut {foamcut:.4g}")
+    assert measured < foamcut
+
+
+def test_bad_rings_are_refused_in_one_line(tmp_path):
+    from ruled.occ.io import write_step
+    from tests.conftest import ruled_here
+    part = tmp_path / "tapered.step"
+    write_step(tapered_extrusion().wrapped, str(part))
+    holed = tmp_path / "holed.step"
+    write_step(box_with_a_hole().wrapped, str(holed))
+    out = str(tmp_path / "out.step")
+    cases = [
+        (("fit", part, "--wall", "1,4", "-o", out),
+         "ruled: error: faces 1,4 of the wall do not each meet two others of it edge to edge; a wall is a ring of "
+         "faces between two contours"),
+        (("fit", holed, "--wall", "0,1,4,6", "-o", out),
+         "ruled: error: faces 0,1,4,6 are not a wall: their free edges make 4 free contours (a band has two: a hole "
+         "in the ring, or faces that are not one band?); pick the ring of faces between the bottom and the top "
+         "contour (see 'ruled faces INPUT --walls')"),
+        (("fit", part, "--wall", "1,2,99", "-o", out),
+         "ruled: error: the wall's faces 99 are not faces of the part (it has 7: 0-6); see 'ruled faces INPUT "
+         "--walls'"),
+        (("fit", part, "--wall", "x", "-o", out), "ruled: error: --wall 'x': use auto or indices like 0,3-7"),
+        (("fit", part, "--wall", "auto", "--tol", "0.1", "-o", out),
+         "ruled: error: --tol is for one face; a wall (--wall) is fitted whole: drop --tol"),
+    ]
+    for args, line in cases:
+        r = ruled_here(*args)
+        assert r.returncode == 2, args
+        assert r.stderr.strip() == line, r.stderr
+
+
+def test_ruled_fit_wall_writes_one_closed_face_and_its_report(tmp_path):
+    import json
+
+    from ruled.occ.io import read_faces, write_step
+    from tests.conftest import ruled_here
+    part = tmp_path / "tapered.step"
+    write_step(tapered_extrusion().wrapped, str(part))
+    listing = ruled_here("faces", part, "--walls")
+    assert "wall 0: faces 1,2,3,4,5  (bottom contour 5 edges, top contour 5 edges)" in listing.stdout
+    out, rep = tmp_path / "wall.step", tmp_path / "wall.json"
+    r = ruled_here("fit", part, "--wall", "auto", "--samples", "20", "--quiet", "-o", out, "--report", rep)
+    assert r.returncode == 0, r.stderr
+    report = json.loads(rep.read_text())
+    faces = read_faces(str(out))
+    assert len(faces) == 1 and report["closed"] and report["faces"] == [1, 2, 3, 4, 5]
+    assert report["hausdorff"]["max"] <= report["error_bound"] <= 1e-6 * report["size"]
+
+
+def test_cadquery_fit_wall_takes_a_part_or_its_faces_in_any_order():
+    import cadquery as cq
+
+    import ruled.cq as rcq
+    from tests.wall_parts import square_to_circle
+    part = square_to_circle()
+    a = rcq.fit_wall(part, samples=20)
+    faces = [f for f in part.Faces() if f.geomType() != "PLANE"][::-1]
+    b = rcq.fit_wall(faces, samples=20)
+    assert isinstance(a.face, cq.Face) and isinstance(b.face, cq.Face)
+    assert len(a.wall.faces) == len(b.wall.faces) == 5
+    size = a.wall.size
+    for fit in (a, b):
+        assert oracle(fit.wall.faces, fit.face.wrapped, size, 100) <= 1e-6 * size
