@@ -1,6 +1,6 @@
 """Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
-    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data
+    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data|wall
                                                 |census [--ends auto|pinned]]
                                        [--n 50 100 200] [--surface ex2] [--no-numpy]
 
@@ -13,7 +13,8 @@ outputs: benchmarks/machine.py; trimmed faces: benchmarks/trimmed.py; the user's
 CPU seconds, the engine at n = 100): benchmarks/job.py; the whole-part batch (--jobs 1 against
 --jobs 2): benchmarks/batch.py; the fixed fuzz runs (300 faces in 2D, 50 in 4D): benchmarks/fuzz.py; every
 face of the data files, re-measured by OCCT alone: benchmarks/data.py; every B-spline face fitted, its
-refusals and results that do not cover it counted (--suite census, not in all): benchmarks/census.py.
+refusals and results that do not cover it counted (--suite census, not in all): benchmarks/census.py; a part's
+wall fitted closed: benchmarks/wall.py.
 The NumPy-only times (no numba, as in FreeCAD's Python) are printed too, from a subprocess with
 RULED_NO_NUMBA=1.
 
@@ -47,7 +48,7 @@ TARGET_MB = 400
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--suite", choices=["all", "2d", "4d", "cos", "cone", "split", "machine", "trimmed", "job",
-                                        "batch", "fuzz", "data", "census"],
+                                        "batch", "fuzz", "data", "census", "wall"],
                     default="all")
     ap.add_argument("--slow", action="store_true", help="with --suite job: the closed 4D fit at n = 100 too")
     ap.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
@@ -89,6 +90,9 @@ def main(argv=None) -> int:
     if args.suite in ("all", "batch"):
         from batch import bench_batch
         bench_batch()
+    if args.suite in ("all", "wall"):
+        from wall import bench_wall
+        bench_wall()
     bad = 0
     if args.suite in ("all", "fuzz"):
         from fuzz import bench_fuzz

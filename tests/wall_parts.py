@@ -64,3 +64,16 @@ def box_with_a_hole():
 
 EXACT = {"tapered extrusion": tapered_extrusion, "square to circle": square_to_circle, "two airfoils": airfoil_loft}
 NOT_RULED = {"three airfoil sections": three_section_loft, "twisted extrusion": twisted_extrusion}
+
+
+def hexagon_to_circle():
+    """A ruled loft from a hexagon to a circle: a wall of six faces, fitted closed (the circle has no corner)."""
+    import cadquery as cq
+    return cq.Workplane("XY").polygon(6, 40).workplane(offset=30).circle(15).loft(ruled=True).val()
+
+
+def hexagon_to_circles():
+    """A smooth loft from a hexagon through two circles: a wall of six faces that is not ruled, fitted closed."""
+    import cadquery as cq
+    return (cq.Workplane("XY").polygon(6, 40).workplane(offset=15).circle(18).workplane(offset=15).circle(13)
+            .loft(ruled=False).val())

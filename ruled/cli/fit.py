@@ -268,9 +268,11 @@ def cmd_fit_wall(args) -> int:
     if args.report:
         write_report(rep, args.report)
     h = rep["hausdorff"]
+    cut = (f", fitted in {rep['pieces']} pieces between the corners both contours share (C0 rulings there)"
+           if rep["pieces"] > 1 or rep["corners"] else ", one periodic fit (its rulings cross the faces' joints)")
     print(f"wall: faces {','.join(map(str, rep['faces']))} as one closed ruled surface, "
           f"{rep['result']['poles'][0]}x{rep['result']['poles'][1]} poles degree "
-          f"{rep['result']['degree'][0]}x{rep['result']['degree'][1]}")
+          f"{rep['result']['degree'][0]}x{rep['result']['degree'][1]}{cut}")
     print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g} "
           f"(against the wall's faces, both ways)")
     print_files_only((("STEP", args.output), ("report", args.report)))

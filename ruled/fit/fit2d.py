@@ -163,7 +163,14 @@ def check_direction(S: Surface) -> tuple[bool, Optional[str]]:
     if np.max(np.linalg.norm(C0 - C1, axis=1)) <= tol:
         return False, "the v-min and v-max boundaries coincide (the face is closed across the rulings)"
     closed = bool(np.max(np.linalg.norm(S(np.full(vs.size, u0), vs) - S(np.full(vs.size, u1), vs), axis=1)) <= tol)
-    return closed, None
+    return closed and not S.__dict__.get("pinned_seam", False), None
+
+
+def pinned_at_seam(S: Surface) -> Surface:
+    """S, closed along u, to be fitted as an open surface: its end rulings pinned at its seam (a wall whose
+    two contours both have a corner there: the corner line is a ruling of the result, ruled.occ.wall)."""
+    S.__dict__["pinned_seam"] = True
+    return S
 
 
 def available_memory() -> int:

@@ -187,6 +187,7 @@ class Wall:
     faces: tuple
     surface: Surface
     breaks: np.ndarray
+    corners: list             # the joints (indices into breaks) where both contours have a corner
     slack: float = 0.0        # the faces' distance from the joined surface, at most (see _slack)
 
     @property
@@ -194,8 +195,13 @@ class Wall:
         return self.ring.size
 
 
+CORNER_DEG = 1.0     # contours turning by more than this at a joint have a corner there
+
+
 def joined_surface(ring: Ring, faces: tuple) -> tuple:
-    """(Surface, breaks): the ring's faces as one B-spline surface closed round the ring (see the module)."""
+    """(Surface, breaks, corners): the ring's faces as one B-spline surface closed round the ring (see the
+    module); breaks: the faces' joints in its u; corners: the joints (indices into breaks, 0 the seam) where
+    both contours turn by more than CORNER_DEG."""
     n = len(faces)
     keep = [k for k in range(n) if not _sliver(faces[k], ring.size)]
     patches = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], ring.joints[k - 1] if n > 1 else None,
@@ -258,7 +264,47 @@ def joined_surface(ring: Ring, faces: tuple) -> tuple:
     P[-1] = P[0]
     rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
     S = Surface(P, np.asarray(knots), kv, du, dv, W if rational else None)
-    return S, breaks
+    corners = [k for k in range(K) if all(_turn(arrays[k - 1][0][:, row], arrays[k][0][:, row]) > CORNER_DEG
+                                          for row in (0, -1))]
+    return S, breaks, corners
+
+
+def _turn(before: np.ndarray, after: np.ndarray) -> float:
+    """The angle (degrees) a curve turns at the joint of two clamped control polygons (the last pole of before
+    is the first of after): between their end legs; 0 where a leg has no length (a contour collapsed to a
+    point there)."""
+    a = before[-1] - next((p for p in before[-2::-1] if np.linalg.norm(before[-1] - p) > 0), before[-1])
+    b = next((p for p in after[1:] if np.linalg.norm(p - after[0]) > 0), after[0]) - after[0]
+    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    if na == 0.0 or nb == 0.0:
+        return 0.0
+    return float(np.degrees(np.arccos(np.clip(a @ b / (na * nb), -1.0, 1.0))))
+
+
+def _piece(S: Surface, a: float, b: float) -> Surface:
+    """S (clamped along u, with full-multiplicity knots at a and b, or a > b: through its seam u = 1 = 0)
+    between u = a and u = b, its u running on from a (past 1 where it wraps)."""
+    p = S.degree_u
+    k = S.knots_u
+    if a < b:
+        lo, hi = int(np.searchsorted(k, a, "left")), int(np.searchsorted(k, b, "right"))
+        j0 = 0 if a == k[0] else lo - 1                       # the columns at a and b: the curve's poles there
+        j1 = S.poles.shape[0] - 1 if b == k[-1] else hi - p - 1
+        knots = np.concatenate([[a] * (p + 1), k[(k > a) & (k < b)], [b] * (p + 1)])
+        return Surface(S.poles[j0:j1 + 1], knots, S.knots_v, p, S.degree_v,
+                       None if S.weights is None else S.weights[j0:j1 + 1])
+    if b <= k[0]:
+        return _piece(S, a, k[-1])
+    if a >= k[-1]:
+        return _piece(S, k[0], b)
+    first, second = _piece(S, a, k[-1]), _piece(S, k[0], b)
+    w1 = first.weights if first.weights is not None else np.ones(first.poles.shape[:2])
+    w2 = second.weights if second.weights is not None else np.ones(second.poles.shape[:2])
+    r = float(np.mean(w1[-1] / w2[0]))
+    knots = np.concatenate([first.knots_u[:-1], 1.0 + second.knots_u[p + 1:]])
+    W = np.concatenate([w1, r * w2[1:]])
+    return Surface(np.concatenate([first.poles, second.poles[1:]]), knots, S.knots_v, p, S.degree_v,
+                   W if S.weights is not None else None)
 
 
 def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
@@ -278,8 +324,8 @@ def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
         indices = walls[0]
     ring = ring_of(faces, indices)
     tfaces = tuple(faces[i] for i in ring.faces)
-    S, breaks = joined_surface(ring, tfaces)
-    return Wall(ring, tfaces, S, breaks, _slack(ring, tfaces))
+    S, breaks, corners = joined_surface(ring, tfaces)
+    return Wall(ring, tfaces, S, breaks, corners, _slack(ring, tfaces))
 
 
 def _slack(ring: Ring, faces: tuple) -> float:
@@ -316,12 +362,14 @@ class WallFit:
     hausdorff: Any
     area_ratio: Optional[float] = None     # the result's area over the wall faces'
     warnings: tuple = ()
+    surface: Optional[Surface] = None      # the closed ruled result (plain arrays)
 
     def report(self) -> dict:
-        r = self.result.best.surface
+        r = self.surface
         h = self.hausdorff
-        return {"faces": list(self.wall.ring.faces), "closed": bool(self.result.best.closed),
-                "method": self.result.best.method, "error_bound": self.error_bound,
+        return {"faces": list(self.wall.ring.faces), "closed": True, "pieces": len(self.result),
+                "corners": [float(self.wall.breaks[k]) for k in self.wall.corners],
+                "method": self.result[0].best.method, "error_bound": self.error_bound,
                 "hausdorff": None if h is None else {"max": h.max, "mean": h.mean, "wall_to_result": h.max_a_to_b,
                                                      "result_to_wall": h.max_b_to_a, "samples": h.samples,
                                                      "resolution": h.resolution},
@@ -346,27 +394,89 @@ def measure_wall(faces, out_face, n: int = 40):
     return _replace(two_sided(pa, pb, to_wall, to_out), resolution=max([rb] + [r for _, r in got]))
 
 
+def _stacked(surfaces: list, ranges: list, size: float) -> tuple:
+    """(Surface, gap): ruled surfaces (v of degree 1), each reparametrized onto its u range, joined end to end
+    with full-multiplicity knots (C0) into one, their u degrees raised to the largest (exactly) and each
+    rail's weights scaled to agree at the joints (a rail's weights scaled keep the ruled surface as a point
+    set: each ruling is still the segment between its rails' points); gap: the largest distance between
+    joined end rulings (round-off where each ends on the same corner line)."""
+    from ruled.core.knots import elevate
+    from ruled.core.nurbs import Curve
+    p = max(R.degree_u for R in surfaces)
+    P = W = None
+    knots: list = []
+    gap = 0.0
+    for R, (a, b) in zip(surfaces, ranges):
+        w = R.weights if R.weights is not None else np.ones(R.poles.shape[:2])
+        u0, u1 = R.domain[:2]
+        rows = [elevate(Curve(R.poles[:, j], a + (b - a) * (R.knots_u - u0) / (u1 - u0), R.degree_u, w[:, j]), p)
+                for j in range(R.poles.shape[1])]
+        Pk = np.stack([c.poles for c in rows], axis=1)
+        Wk = np.stack([c.weights if c.weights is not None else np.ones(len(c.poles)) for c in rows], axis=1)
+        kk = rows[0].knots
+        if P is None:
+            P, W, knots = Pk, Wk, list(kk)
+            continue
+        gap = max(gap, float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1))))
+        Wk = Wk * (W[-1] / Wk[0])[None, :]
+        P = np.concatenate([P, Pk[1:]])
+        W = np.concatenate([W, Wk[1:]])
+        knots = knots[:-1] + list(kk[p + 1:])
+    gap = max(gap, float(np.max(np.linalg.norm(P[-1] - P[0], axis=1))))
+    P[-1] = P[0]
+    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
+    return Surface(P, np.asarray(knots), surfaces[0].knots_v, p, surfaces[0].degree_v, W if rational else None), gap
+
+
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
-    """The wall's one closed ruled surface: the engine's periodic fit of the joined surface along its rulings
-    (from the bottom contour to the top), built as one face and measured against the wall's faces."""
+    """The wall's one closed ruled surface: the engine's fit of the joined surface along its rulings (from the
+    bottom contour to the top), built as one face and measured against the wall's faces.  With no corner
+    both contours share, one periodic fit; else the ring cut at those corners into pieces, each fitted with
+    its end rulings on the corner lines (pinned), joined into one closed surface whose corner lines are C0
+    rulings (options.samples spread over the pieces by their share of the ring)."""
     from dataclasses import replace as _replace
 
+    from ruled.fit.facefit import measured_warnings
+    from ruled.fit.facepatch import with_iso
+    from ruled.fit.fit2d import pinned_at_seam
     from ruled.fit.options import Direction
     from ruled.fit.surface import fit_surface
+    from ruled.occ.convert import container_to_face
+    from ruled.occ.io import face_area
     from ruled.occ.trimmed import built_slack, result_face
     opts = _replace(options.checked(), direction=Direction.V)
-    res = fit_surface(wall.surface, opts, progress)
-    if not res.best.closed:
-        raise BadInputError("the wall's joined surface did not close round the ring (please report the part)")
-    from ruled.fit.facefit import measured_warnings
-    from ruled.occ.io import face_area
-    out = result_face(res)
-    bound = res.error_bound + built_slack(out, res) + wall.slack
+    cuts = [float(wall.breaks[k]) for k in wall.corners]
+    if not cuts:
+        res = with_iso(fit_surface(wall.surface, opts, progress), progress)
+        if not res.best.closed:
+            raise BadInputError("the wall's joined surface did not close round the ring (please report the part)")
+        results = [res]
+        out = result_face(res)
+        surface = res.best.surface
+        bound = res.error_bound + built_slack(out, res)
+    else:
+        ranges = [(c, cuts[(i + 1) % len(cuts)]) for i, c in enumerate(cuts)]
+        spans = [(b - a) % 1.0 or 1.0 for a, b in ranges]
+        results = []
+        for i, ((a, b), share) in enumerate(zip(ranges, spans)):
+            piece = pinned_at_seam(_piece(wall.surface, a, b))
+            n = max(8, int(round(opts.samples * share)))
+            say = None if progress is None else (lambda st, f, i=i: progress(f"piece {i + 1}/{len(ranges)}: {st}", f))
+            results.append(with_iso(fit_surface(piece, _replace(opts, samples=n).checked(), say), say))
+        unwrapped = [(a, a + share) for (a, _), share in zip(ranges, spans)]
+        surface, gap = _stacked([r.best.surface for r in results], unwrapped, wall.size)
+        if gap > 1e-6 * wall.size:
+            raise BadInputError(f"the wall's pieces do not meet on its corner lines ({gap:.3g} apart; please report "
+                                f"the part)")
+        out = container_to_face(surface)
+        bound = max(r.error_bound for r in results) + gap
+    bound += wall.slack
     if not measure:
-        return WallFit(wall, res, out, bound, None)
+        return WallFit(wall, results, out, bound, None, surface=surface)
     h = measure_wall(wall.faces, out, measure_samples)
     ratio = face_area(out, 1e-6) / sum(face_area(f, 1e-6) for f in wall.faces)
-    return WallFit(wall, res, out, bound, h, ratio, measured_warnings(res, bound, h.max, wall.size, ratio))
+    return WallFit(wall, results, out, bound, h, ratio, measured_warnings(results[0], bound, h.max, wall.size, ratio),
+                   surface=surface)
 
 
 __all__ = ["Ring", "Wall", "WallFit", "ring_of", "find_walls", "joined_surface", "wall_of", "fit_wall", "measure_wall"]

@@ -148,7 +148,8 @@ def test_bad_inputs_give_one_line_and_exit_2(tmp_path):
 
 
 def test_argument_errors_exit_2():
-    assert "--face" in _one_line_error(ruled("fit", "x.step"))
+    assert "--output" in _one_line_error(ruled("fit", "x.step"))
+    assert "one of the arguments --face --wall is required" in _one_line_error(ruled("fit", "x.step", "-o", "o.step"))
     assert "invalid int value" in _one_line_error(ruled("fit", "x.step", "--face", "1", "--samples", "abc",
                                                         "-o", "o.step"))
     assert "invalid choice" in _one_line_error(ruled("fit", "x.step", "--face", "1", "--method", "9d",

@@ -89,7 +89,6 @@ def test_auto_finds_the_ring_between_the_caps(exact_fits):
 @pytest.mark.parametrize("name", list(EXACT))
 def test_an_exactly_ruled_wall_comes_back_exact_as_one_closed_surface(exact_fits, name):
     part, wall, fit = exact_fits[name]
-    assert fit.result.best.closed
     size = wall.size
     measured = oracle(wall.faces, fit.face, size)
     assert measured <= 1e-6 * size, (name, measured / size)
@@ -99,11 +98,12 @@ def test_an_exactly_ruled_wall_comes_back_exact_as_one_closed_surface(exact_fits
     assert abs(fit.area_ratio - 1.0) <= 1e-4, (name, fit.area_ratio)
 
 
-def test_rulings_cross_the_faces_joints_on_the_square_to_circle_loft(exact_fits):
-    """The square's corners are C0 lines of the result where the loft's faces meet: the result's rails keep
-    the corners (the bottom contour's four corners lie on the result's bottom rail)."""
+def test_the_square_to_circle_loft_is_one_periodic_fit_keeping_the_squares_corners(exact_fits):
+    """The circle has no corner, so the ring is one periodic fit whose rulings may cross the faces' joints; the
+    square's corners lie on the result's bottom rail."""
     _, wall, fit = exact_fits["square to circle"]
-    R = fit.result.best.surface
+    assert wall.corners == [] and len(fit.result) == 1 and fit.result[0].best.closed
+    R = fit.surface
     s = np.linspace(*R.domain[:2], 4001)
     bottom = R(s, np.full(s.size, R.domain[2]))
     if abs(bottom[:, 2].mean()) > 1e-6:          # (the rail at z = 0 is the square)
@@ -147,25 +147,54 @@ def _per_face_worst(wall) -> float:
     return worst
 
 
-@pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 37 not met yet: the closed wall measures 2.96 / 0.75 where FoamCut's "
-                   "pairing measures 2.82 / 0.51 (three sections / twisted extrusion)")
-@pytest.mark.parametrize("name", list(NOT_RULED))
-def test_a_wall_that_is_not_ruled_is_no_worse_than_its_faces_fitted_alone_nor_foamcuts(name):
-    """The closed result is below FoamCut's pairing of the same contours, both measured both ways, and within its
-    bound.  The per-face fits of the same faces (cut face by face, each pinned at its corners) are printed
-    beside it (the issue asks for the wall to be no worse than them too)."""
+@pytest.fixture(scope="module")
+def not_ruled_fits():
     from ruled.fit.options import FitOptions
     from ruled.occ.wall import fit_wall, wall_of
-    part = NOT_RULED[name]()
-    wall = wall_of(part.wrapped)
-    fit = fit_wall(wall, FitOptions(samples=40 * len(wall.faces)))
-    measured = oracle(wall.faces, fit.face, wall.size)
+    out = {}
+    for name, build in NOT_RULED.items():
+        wall = wall_of(build().wrapped)
+        fit = fit_wall(wall, FitOptions(samples=40 * len(wall.faces)))
+        out[name] = (wall, fit, oracle(wall.faces, fit.face, wall.size, 1500))
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(NOT_RULED))
+def test_a_wall_that_is_not_ruled_is_no_worse_than_its_faces_cut_one_by_one(not_ruled_fits, name):
+    """The closed result is at most the largest error of the per-face fits of the same faces (cut face by face,
+    each pinned at its corners), both measured both ways; and within its bound."""
+    wall, fit, measured = not_ruled_fits[name]
     assert measured <= fit.error_bound
     per_face = _per_face_worst(wall)
-    foamcut = oracle(wall.faces, _foamcut_faces(wall), wall.size)
-    print(f"{name}: wall {measured:.4g} (bound {fit.error_bound:.4g}), per face {per_face:.4g}, FoamCut {foamcut:.4g}")
+    print(f"{name}: wall {measured:.4g} (bound {fit.error_bound:.4g}), per face {per_face:.4g}")
+    assert measured <= per_face * 1.001 + 1e-9 * wall.size
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
+    n == "three airfoil sections", strict=True,
+    reason="issue 37 not met here: the wall's best is FoamCut's own pairing (3.077 both; the iso-parametric "
+           "surface wins the piece that decides it), not below it")) for n in NOT_RULED])
+def test_a_wall_that_is_not_ruled_is_below_foamcuts_pairing(not_ruled_fits, name):
+    wall, fit, measured = not_ruled_fits[name]
+    foamcut = oracle(wall.faces, _foamcut_faces(wall), wall.size, 1500)
+    print(f"{name}: wall {measured:.4g}, FoamCut {foamcut:.4g}")
     assert measured < foamcut
+
+
+def test_corner_lines_both_contours_share_are_rulings_of_the_result(exact_fits):
+    """The airfoils' sharp trailing edge (a corner of both contours) is a C0 line of the result: the result's
+    column of poles there is the trailing edge's line, its ends the two sections' trailing-edge points."""
+    _, wall, fit = exact_fits["two airfoils"]
+    assert len(fit.result) == len(wall.corners) >= 1          # the ring cut at its corners, one fit per piece
+    R = fit.surface
+    te = np.array([[100.0, 0.0, 0.0], [70.0, 0.0, 150.0]])
+    cols = R.poles
+    d = np.linalg.norm(cols[:, 0, :] - te[0], axis=1) + np.linalg.norm(cols[:, 1, :] - te[1], axis=1)
+    assert d.min() <= 1e-9 * wall.size
+    k = int(np.argmin(d))
+    assert k in (0, cols.shape[0] - 1) or np.sum(np.isclose(R.knots_u, R.knots_u[k + 1])) >= R.degree_u
 
 
 def test_bad_rings_are_refused_in_one_line(tmp_path):
