@@ -347,6 +347,24 @@ def xyuv_patches(faces, chord_tol: Optional[float] = None, planes=None, axis="au
     return MachineData(fm.path, _cq(fm.face), fm.report, fm.fit, fm.surface, tuple(fm.warnings))
 
 
+def xyuv_wall(faces, chord_tol: Optional[float] = None, planes=None, axis="auto", kerf: float = 0.0,
+              lead: Optional[float] = None, feed: float = 100.0, side: str = "outside", start=None,
+              method: str = "2d", samples: int = 40, fit=None, measure: bool = True, measure_samples: int = 30,
+              progress=None) -> MachineData:
+    """One closed XYUV loop round a part's wall (fit_wall: a part, or its wall's faces): a single lead-in and
+    lead-out at start (X, Y on the bottom contour; default the middle of its longest straight stretch), the
+    kerf round the whole loop on side 'outside' (a punch) or 'inside' (a die), the machine's axis the
+    contours' normal.  fit: a WallFit of the same wall reuses it.  The report's "cut" is what the wire sweeps
+    against the wall's faces, each distance less the kerf."""
+    from ruled.machine.paths import MachineOptions
+    from ruled.occ.wallmachine import machine_of_wall
+    wf = fit if fit is not None else fit_wall(faces, samples, method=method, measure=measure,
+                                              measure_samples=measure_samples, progress=progress)
+    opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
+    fm = machine_of_wall(wf, opts, _side_sign(side), start, measure_samples if measure else None, progress)
+    return MachineData(fm.path, _cq(fm.face), fm.report, None, fm.surface, tuple(fm.warnings))
+
+
 def flank_face(face, tool_radius: float, taper: float = 0.0, chord_tol: Optional[float] = None, feed: float = 100.0,
                side: str = "outside", tip: str = "auto", method: str = "2d", samples: int = 40, fit=None,
                measure: bool = True, measure_samples: int = 30, progress=None) -> MachineData:

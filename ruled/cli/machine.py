@@ -36,7 +36,11 @@ def run_machine(args) -> dict:
     csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
     check_outputs(args.output, csv_path, args.step, args.report, args.plot, inputs=(args.input,))
     side = 1.0 if args.side == "outside" else -1.0
-    if isinstance(args.face, int):
+    if args.start is not None and args.wall is None:
+        raise RuledError("--start places a wall's loop (--wall); a face's path starts at its own end")
+    if args.wall is not None:
+        fm, what, chosen = _machine_wall(args, opts, side)
+    elif isinstance(args.face, int):
         face = get_face(args.input, args.face)
         fm = with_bar(args.quiet, args.face, lambda bar: machine_of_face(
             face, opts, fit_opts, bar, args.measure_samples, side, given=args.ruled, rails=args.rails))
@@ -54,6 +58,28 @@ def run_machine(args) -> dict:
     if args.report:
         write_report(rep, args.report)
     return rep
+
+
+def _machine_wall(args, opts, side):
+    """'ruled machine --wall auto|K,L-M': the wall fitted as one closed ruled surface, one closed path."""
+    from dataclasses import replace
+
+    from ruled.fit.options import FitOptions
+    from ruled.occ.io import read_shape
+    from ruled.occ.wall import fit_wall, wall_of
+    from ruled.occ.wallmachine import machine_of_wall
+    for flag, given in (("--ruled", args.ruled), ("--rails", args.rails is not None)):
+        if given:
+            raise RuledError(f"{flag} is for one face; a wall (--wall) is fitted whole: drop {flag}")
+    wall = wall_of(read_shape(args.input), args.wall)
+    fit_opts = replace(FitOptions(samples=args.samples, method=args.method), samples=args.samples * len(wall.faces))
+
+    def work(bar):
+        fit = fit_wall(wall, fit_opts.checked(), bar, measure_samples=args.measure_samples)
+        return machine_of_wall(fit, opts, side, args.start, args.measure_samples, bar)
+    fm = with_bar(args.quiet, "the wall", work)
+    what = f"the wall (faces {_face_text(list(wall.ring.faces))})"
+    return fm, what, list(wall.ring.faces)
 
 
 def _machine_patches(args, opts, side):
@@ -90,7 +116,12 @@ def cmd_machine(args) -> int:
     rep = run_machine(args)
     m, f = rep["machine"], rep["fit"]
     meas = f" (measured {f['measured']:.6g})" if "measured" in f else ""
-    if "patches" in rep:
+    if "wall" in rep:
+        w = rep["wall"]
+        print(f"wall: faces {_face_text(w['faces'])} as one closed ruled surface ({w['pieces']} "
+              f"piece{'s' if w['pieces'] > 1 else ''}), fit bound {f['error_bound']:.6g}{meas}; the loop starts at "
+              f"({w['start'][0]:.6g}, {w['start'][1]:.6g}, {w['start'][2]:.6g})")
+    elif "patches" in rep:
         print(f"faces {_face_text(rep['face'])}: {len(rep['patches'])} ruled patches machined as one"
               if len(rep["patches"]) > 1 else f"face {rep['face'][0]}: a ruled result, rulings along {f['direction']}")
         for p in rep["patches"]:
@@ -113,9 +144,11 @@ def cmd_machine(args) -> int:
               f"{tuple(round(x, 6) for x in m['axis'])}")
         if "cut" in rep:
             c = rep["cut"]
+            fillet = c.get("inside_corner_fillet") or 0.0
             print(f"what the wire cuts, against {c['against']}: {c['max']:.6g} (bound {c['bound']:.6g}: the fit's "
                   f"{c['fit_error']:.6g} + {m['cut_bound_beyond_fit']:.6g}, the chord tolerance"
-                  f"{'' if m['cut_bound_beyond_fit'] == m['chord_tol'] else ' and the kerf offset deviation'})")
+                  f"{'' if m['cut_bound_beyond_fit'] == m['chord_tol'] else ' and the kerf offset deviation'}"
+                  f"{f' + {fillet:.6g}, the round the wire leaves in inside corners' if fillet else ''})")
     else:
         print(f"flank: {m['cl_points']} CL points, tool radius {m['tool_radius']:.6g}"
               f"{', taper %.3g deg' % m['taper_deg'] if m['taper_deg'] else ''}, tool-envelope deviation "

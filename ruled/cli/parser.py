@@ -188,9 +188,16 @@ def _machine_parser(sub) -> None:
     m = sub.add_parser("machine", help="machine data for the ruled fit of a face: synchronized XYUV contours "
                        "(4-axis wire EDM, hot wire) or flank-milling tool axes")
     m.add_argument("input", help="STEP (.step/.stp) or BREP (.brep) file")
-    m.add_argument("--face", type=_face_or_patches, required=True,
-                   help="face index (0-based, as 'ruled faces' lists); with --ruled also all or K,L-M: ruled "
-                        "patches that follow one another (the patches 'ruled cone' writes), machined as one")
+    which = m.add_mutually_exclusive_group(required=True)
+    which.add_argument("--face", type=_face_or_patches,
+                       help="face index (0-based, as 'ruled faces' lists); with --ruled also all or K,L-M: ruled "
+                            "patches that follow one another (the patches 'ruled cone' writes), machined as one")
+    which.add_argument("--wall", metavar="auto|K,L-M",
+                       help="a part's wall (the ring of faces between two contours, 'ruled faces INPUT --walls'): "
+                            "one closed ruled surface, one closed path with a single lead-in and lead-out")
+    m.add_argument("--start", type=_point2, default=None, metavar="X,Y",
+                   help="--wall: where the loop starts and ends, a point of the bottom contour (default: the middle "
+                        "of its longest straight stretch)")
     kind = m.add_mutually_exclusive_group(required=True)
     kind.add_argument("--xyuv", action="store_true", help="XYUV G-code (lower guide XY, upper guide UV) and CSV")
     kind.add_argument("--flank", action="store_true", help="flank-milling CL data: APT GOTO/x,y,z,i,j,k and CSV")
@@ -259,6 +266,15 @@ class _Renamed(argparse.Action):
 def _renamed(parser, old: str, new: str, command: str, **kw) -> None:
     """old (hidden from --help) as a deprecated spelling of new."""
     parser.add_argument(old, dest="step", action=_Renamed, new=new, command=command, help=argparse.SUPPRESS, **kw)
+
+
+def _point2(text: str) -> tuple:
+    """--start X,Y."""
+    try:
+        x, y = (float(t) for t in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--start {text!r}: give a point X,Y of the bottom contour") from None
+    return x, y
 
 
 def _face_or_patches(text: str):
