@@ -85,12 +85,13 @@ def file_digest(path: str) -> str:
     return h.hexdigest()
 
 
-def job_key(digest: str, face: int, options: dict) -> str:
+def job_key(digest: str, face, options: dict) -> str:
     return hashlib.sha256(json.dumps([digest, face, options], sort_keys=True).encode()).hexdigest()[:24]
 
 
-def face_paths(folder: str, face: int) -> dict:
-    base = os.path.join(folder, f"face_{face}")
+def face_paths(folder: str, face) -> dict:
+    """A face's outputs (face_<k>.*), or a wall's (face "wall <k>": wall_<k>.*)."""
+    base = os.path.join(folder, f"face_{face}" if isinstance(face, int) else str(face).replace(" ", "_"))
     return {"step": base + ".step", "json": base + ".json", "png": base + ".png"}
 
 
@@ -98,27 +99,18 @@ _FACES: dict = {}    # a worker's faces of the files it has read: (path, digest)
 
 
 def run_face(job: dict) -> dict:
-    """The face task: fit one face as ``ruled fit`` does, write its STEP, report and plot; return its
-    summary row.  A refusal (RuledError) is a row with its reason, not an exception."""
-    from ruled.cli.fit import run_fit
+    """The face task: fit one face as ``ruled fit`` does (or one wall as ``ruled fit --wall``: a job with
+    "wall"), write its STEP, report and plot; return its summary row.  A refusal (RuledError) is a row
+    with its reason, not an exception."""
     from ruled.fit.report import write_report
-    from ruled.occ.io import read_faces
     t0 = time.perf_counter()
     row = _row(job, "ok")
     paths = face_paths(job["folder"], job["face"])
     try:
-        faces = _FACES.get((job["input"], job["digest"]))
-        if faces is None:
-            faces = _FACES[(job["input"], job["digest"])] = read_faces(job["input"])
-        o = job["options"]
-        if not o.get("plots", True):         # no thumbnail of an earlier run beside this run's figures
+        if not job["options"].get("plots", True):    # no thumbnail of an earlier run beside this run's figures
             with contextlib.suppress(OSError):
                 os.unlink(paths["png"])
-        rep = run_fit(job["input"], job["face"], paths["step"], samples=o["samples"], objective=o["objective"],
-                      max_error=o["max_error"], direction=o["direction"], method=o["method"],
-                      measure_samples=o["measure_samples"], memory_cap_mb=job["memory_cap_mb"],
-                      report=None, plot=paths["png"] if o.get("plots", True) else None, quiet=True,
-                      face=faces[job["face"]], say=False, text=lambda m: batch_text(m, job["face"]))
+        rep = (_wall_job if job.get("wall") is not None else _face_job)(job, paths)
         row.update(error_bound=rep["error_bound"], hausdorff=rep["hausdorff"]["max"],
                    warnings="; ".join(rep.get("warnings", [])))
     except RuledError as exc:
@@ -127,6 +119,28 @@ def run_face(job: dict) -> dict:
     row["seconds"] = time.perf_counter() - t0
     write_report({**rep, "batch": {"key": job["key"], "row": row}}, paths["json"])
     return row
+
+
+def _face_job(job: dict, paths: dict) -> dict:
+    from ruled.cli.fit import run_fit
+    from ruled.occ.io import read_faces
+    faces = _FACES.get((job["input"], job["digest"]))
+    if faces is None:
+        faces = _FACES[(job["input"], job["digest"])] = read_faces(job["input"])
+    o = job["options"]
+    return run_fit(job["input"], job["face"], paths["step"], samples=o["samples"], objective=o["objective"],
+                   max_error=o["max_error"], direction=o["direction"], method=o["method"],
+                   measure_samples=o["measure_samples"], memory_cap_mb=job["memory_cap_mb"],
+                   report=None, plot=paths["png"] if o.get("plots", True) else None, quiet=True,
+                   face=faces[job["face"]], say=False, text=lambda m: batch_text(m, job["face"]))
+
+
+def _wall_job(job: dict, paths: dict) -> dict:
+    from ruled.cli.fit import run_wall
+    o = job["options"]
+    return run_wall(job["input"], job["wall"], paths["step"], samples=o["samples"], objective=o["objective"],
+                    max_error=o["max_error"], method=o["method"], measure_samples=o["measure_samples"],
+                    memory_cap_mb=job["memory_cap_mb"], quiet=True)
 
 
 def _row(job: dict, status: str, reason: str = "", seconds=None) -> dict:
@@ -318,7 +332,7 @@ def write_summary(rows: list, outdir: str) -> dict:
 def sort_rows(rows: list) -> list:
     """The fitted faces from the largest error bound down, then the refused, then the failed."""
     order = {"ok": 0, "refused": 1, "failed": 2}
-    return sorted(rows, key=lambda r: (order[r["status"]], -(r["error_bound"] or 0.0), r["file"], r["face"]))
+    return sorted(rows, key=lambda r: (order[r["status"]], -(r["error_bound"] or 0.0), r["file"], str(r["face"])))
 
 
 def html_page(rows: list, outdir: str, counts: dict) -> str:
@@ -398,6 +412,16 @@ def plan(inputs: list, outdir: str, spec, fraction: float, options: dict, memory
     out_jobs = []
     for path, stem in zip(ins, stems):
         digest = file_digest(path)
+        if options.get("walls"):
+            from ruled.occ.io import read_shape
+            from ruled.occ.ring import find_walls
+            for k, faces in enumerate(find_walls(read_shape(path))):
+                name = f"wall {k}"
+                out_jobs.append({"input": path, "file": os.path.basename(path), "face": name, "wall": faces,
+                                 "type": f"wall of {len(faces)} faces", "trimmed_pct": None,
+                                 "folder": os.path.join(out, stem), "digest": digest, "options": options,
+                                 "key": job_key(digest, name, options), "memory_cap_mb": cap / max(1, jobs)})
+            continue
         for k, kind, trimmed in select(path, spec, fraction):
             out_jobs.append({"input": path, "file": os.path.basename(path), "face": k, "type": kind,
                              "trimmed_pct": trimmed, "folder": os.path.join(out, stem), "digest": digest,

@@ -12,7 +12,7 @@ from ruled.cli.common import check_measure_samples
 def options_dict(args) -> dict:
     return {"samples": args.samples, "objective": args.objective, "max_error": args.max_error,
             "direction": args.direction, "method": args.method, "measure_samples": args.measure_samples,
-            "plots": not args.no_plots}
+            "plots": not args.no_plots, **({"walls": True} if args.walls else {})}
 
 
 def main_batch(args) -> int:
@@ -30,10 +30,12 @@ def main_batch(args) -> int:
         bar.done()
     rows = out["rows"]
     n = {s: sum(r["status"] == s for r in rows) for s in ("ok", "refused", "failed")}
-    print(f"{len(rows)} of {out['total']} faces: {n['ok']} fitted, {n['refused']} refused, {n['failed']} failed")
+    what = "walls" if args.walls else "faces"
+    print(f"{len(rows)} of {out['total']} {what}: {n['ok']} fitted, {n['refused']} refused, {n['failed']} failed")
     worst = [r for r in rows if r["status"] == "ok"][:3]
     for r in worst:
-        print(f"  {r['file']} face {r['face']}: error bound {r['error_bound']:.6g}, measured {r['hausdorff']:.6g}")
+        name = r["face"] if args.walls else f"face {r['face']}"
+        print(f"  {r['file']} {name}: error bound {r['error_bound']:.6g}, measured {r['hausdorff']:.6g}")
     for k in ("csv", "json", "html"):
         print(f"summary: {os.path.abspath(out['paths'][k])}")
     if out["interrupted"]:

@@ -37,7 +37,7 @@ def _flags(command: str) -> dict:
     return _FLAGS[command]
 
 
-def batch_text(message, face: int) -> str:
+def batch_text(message, face) -> str:
     """An engine message in a batch's summary: the options 'ruled batch' takes by their flags; one it does
     not take (--rails, say) as the 'ruled fit' command of that face, which does."""
     own, fit = _flags("batch"), _flags("fit")
@@ -95,7 +95,7 @@ def check_outputs(*paths, inputs=()) -> None:
             raise RuledError(f"cannot write {path}: folder {d} is not writable")
 
 
-def with_bar(quiet: bool, face_index: int, work):
+def with_bar(quiet: bool, face_index, work):
     """work(progress) under a progress bar (on a terminal); its warnings printed, one line each."""
     from ruled.core.progress import Bar
     bar = Bar(enabled=not quiet and sys.stderr.isatty())

@@ -241,35 +241,49 @@ def cmd_fit(args) -> int:
     return 0
 
 
-def cmd_fit_wall(args) -> int:
-    """ruled fit INPUT --wall auto|K,L-M: the wall as one closed ruled surface (STEP, report)."""
+def run_wall(input_path: str, wall_spec, output: str, *, samples=40, objective="sum", max_error=None,
+             refine=True, method="2d", elevations=None, step=None, metric="lsad", memory_cap_mb=None,
+             report=None, measure_samples=40, quiet=False, shape=None) -> dict:
+    """A wall's whole job (read, join, fit, measure, write): the report dict.  wall_spec: 'auto', 'K,L-M' or
+    a list of face indices; samples: per face; shape: the part, read already."""
+    from dataclasses import replace
+
     from ruled.fit.options import FitOptions
     from ruled.fit.report import write_report
     from ruled.occ.io import read_shape, write_step
     from ruled.occ.wall import fit_wall, wall_of
+    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, refine=refine, method=method,
+                      elevations=elevations, step=step, metric=metric,
+                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
+    check_outputs(output, report, None, inputs=(input_path,))
+    check_measure_samples(measure_samples)
+    t0 = time.perf_counter()
+    wall = wall_of(read_shape(input_path) if shape is None else shape, wall_spec)
+    # samples per face: the ring's grow with its faces
+    opts = replace(opts, samples=samples * len(wall.faces)).checked()
+    wf = with_bar(quiet, "the wall", lambda bar: fit_wall(wall, opts, bar, measure_samples=measure_samples))
+    write_step(wf.face, output)
+    rep = {**wf.report(), "input": input_path, "samples": opts.samples, "seconds": time.perf_counter() - t0,
+           "version": __version__}
+    if report:
+        write_report(rep, report)
+    return rep
+
+
+def cmd_fit_wall(args) -> int:
+    """ruled fit INPUT --wall auto|K,L-M: the wall as one closed ruled surface (STEP, report)."""
     for flag, given in (("--tol", args.tol is not None), ("--replace", args.replace), ("--rails", args.rails),
                         ("--split-faces", args.split_faces), ("--plot", args.plot)):
         if given:
             raise RuledError(f"{flag} is for one face; a wall (--wall) is fitted whole: drop {flag}")
-    samples = args.samples
-    opts = FitOptions(samples=40, objective=args.objective, max_error=args.max_error, refine=not args.no_refine,
-                      method=args.method, elevations=args.elevations, step=args.step, metric=args.metric,
-                      memory_cap=None if args.memory_cap is None else args.memory_cap * 2.0 ** 20).checked()
-    check_outputs(args.output, args.report, None, inputs=(args.input,))
-    t0 = time.perf_counter()
-    wall = wall_of(read_shape(args.input), args.wall)
-    # --samples is per face: the ring's samples grow with its faces
-    from dataclasses import replace
-    opts = replace(opts, samples=samples * len(wall.faces)).checked()
-    wf = with_bar(args.quiet, 0, lambda bar: fit_wall(wall, opts, bar, measure_samples=args.measure_samples))
-    write_step(wf.face, args.output)
-    rep = {**wf.report(), "input": args.input, "samples": opts.samples, "seconds": time.perf_counter() - t0,
-           "version": __version__}
-    if args.report:
-        write_report(rep, args.report)
+    rep = run_wall(args.input, args.wall, args.output, samples=args.samples, objective=args.objective,
+                   max_error=args.max_error, refine=not args.no_refine, method=args.method,
+                   elevations=args.elevations, step=args.step, metric=args.metric, memory_cap_mb=args.memory_cap,
+                   report=args.report, measure_samples=args.measure_samples, quiet=args.quiet)
     h = rep["hausdorff"]
     cut = (f", fitted in {rep['pieces']} pieces between the corners both contours share (C0 rulings there)"
-           if rep["pieces"] > 1 or rep["corners"] else ", one periodic fit (its rulings cross the faces' joints)")
+           if rep["pieces"] > 1 else ", fitted from the one corner both contours share round to it (a C0 ruling "
+           "there)" if rep["corners"] else ", one periodic fit (its rulings cross the faces' joints)")
     print(f"wall: faces {','.join(map(str, rep['faces']))} as one closed ruled surface, "
           f"{rep['result']['poles'][0]}x{rep['result']['poles'][1]} poles degree "
           f"{rep['result']['degree'][0]}x{rep['result']['degree'][1]}{cut}")

@@ -157,6 +157,9 @@ def _batch_parser(sub) -> None:
     b = sub.add_parser("batch", help="fit every selected face of many files (a process pool or a Dask cluster), "
                        "with a summary (CSV, JSON, HTML)")
     b.add_argument("inputs", nargs="+", metavar="INPUT", help="STEP (.step/.stp) or BREP (.brep) files")
+    b.add_argument("--walls", action="store_true",
+                   help="fit every wall of each part instead (the rings of faces between two planar caps, each as "
+                        "one closed ruled surface, as 'ruled fit --wall'); --samples is then per face of a wall")
     b.add_argument("--faces", default="all",
                    help="all, bspline (the B-spline faces), ruled-candidates (faces whose iso-parametric ruled "
                         "surface is already within --candidate-fraction of their size) or indices K,L-M "

@@ -37,6 +37,7 @@ import numpy as np
 from ruled.core.errors import BadInputError, positive, whole
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
+from ruled.machine.corners import round_corners
 from ruled.machine.sync import _seeds, sync_params
 
 _LINE_SAMPLES = 9          # samples along a ruling for its offset line
@@ -369,10 +370,7 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
 
     def on_planes(u):
         a, b, _ = lines.ends(u)
-        h0, h1 = a @ d, b @ d
-        s0 = ((planes[0] - h0) / (h1 - h0))[:, None]
-        s1 = ((planes[1] - h0) / (h1 - h0))[:, None]
-        return np.stack([a + s0 * (b - a), a + s1 * (b - a)], axis=1)
+        return to_planes(a, b, d, planes)
 
     off_dev = float(dev.max())
     warnings = []
@@ -392,8 +390,8 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
     a, b, _ = lines.ends(us)
     inside_turns: list = []
     if lines.offset:
-        us, a, b, inside_turns = _round_corners(lines, us, a, b, budget)
-    E = _to_planes(a, b, d, planes)
+        us, a, b, inside_turns = round_corners(lines, us, a, b, budget)
+    E = to_planes(a, b, d, planes)
     lower, upper = E[:, 0], E[:, 1]
     part = np.stack([a, b], axis=1)
     moves, kinds = _with_leads(lower, upper, lines, us, sign, fr, opts, R)
@@ -414,66 +412,10 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
                        opts.kerf, 0.0, opts.feed, stats, tuple(warnings), on_planes)
 
 
-def _to_planes(a: np.ndarray, b: np.ndarray, d: np.ndarray, planes) -> np.ndarray:
+def to_planes(a: np.ndarray, b: np.ndarray, d: np.ndarray, planes) -> np.ndarray:
     """(n, 2, 3): the lines through a and b met with the two planes normal to d at the heights planes."""
     h0, h1 = a @ d, b @ d
-    s0 = ((planes[0] - h0) / (h1 - h0))[:, None]
-    s1 = ((planes[1] - h0) / (h1 - h0))[:, None]
-    return np.stack([a + s0 * (b - a), a + s1 * (b - a)], axis=1)
-
-
-def _round_corners(lines: Lines, us: np.ndarray, a: np.ndarray, b: np.ndarray, tol: float) -> tuple:
-    """(us, a, b, the inside corners' normal turns): the offset lines round each crease of R (a C0 ruling: a
-    corner both contours share).  Convex on the offset side: the ruling moved by the radius along normals
-    turning from the one before the crease to the one after, in steps whose chord stays within tol of the
-    arc (a wire of radius k round the corner).  Concave: the two offsets cross; one line where they meet
-    (the mitre), the offset lines past it on either side (which would cut into the other face) left out."""
-    R, k = lines.R, lines.radius
-    creases = R.creases(0)
-    turns: list = []
-    if creases.size == 0 or k <= 0:
-        return us, a, b, turns
-    L = lines.domain[1] - lines.domain[0]
-    for c in creases:
-        eps = 1e-9 * L
-        ts = np.linspace(*lines.t, _LINE_SAMPLES)
-        side = []
-        for x in (c - eps, c + eps):
-            D = R.evaluate(np.full(ts.size, x), ts, 1)
-            n = lines.sign * D.normals().mean(axis=0)
-            side.append(n / max(float(np.linalg.norm(n)), 1e-300))
-        n0, n1 = side
-        A, B = lines.rulings(np.array([c]))
-        A, B = A[0], B[0]
-        ang = float(np.arccos(np.clip(n0 @ n1, -1.0, 1.0)))
-        # convex on the offset side: past the crease the surface turns away from the side the wire is on
-        travel = R(np.array([c + 1e3 * eps]), np.array([lines.t[0]]))[0] - A
-        if ang < math.radians(0.01):          # (a tangent joint of two faces)
-            continue
-        i = int(np.searchsorted(us, c - eps))
-        if float(n0 @ travel) > 0:
-            # concave: the two offsets cross; the wire stops on their meeting line (the mitre), and the offset
-            # lines past it on either side, which would cut into the other face, are left out
-            mitre = k * (n0 + n1) / (1.0 + float(n0 @ n1))
-            speed = float(np.linalg.norm(R.evaluate(np.array([c - eps, c + eps]), np.full(2, lines.t[0]), 1).Su,
-                                         axis=1).min())
-            reach = 1.2 * k * math.tan(0.5 * ang) / max(speed, 1e-300)
-            keep = np.abs(us - c) > reach
-            lo_part, hi_part = keep & (us < c), keep & (us > c)
-            us = np.concatenate([us[lo_part], [c], us[hi_part]])
-            a = np.concatenate([a[lo_part], [A + mitre], a[hi_part]])
-            b = np.concatenate([b[lo_part], [B + mitre], b[hi_part]])
-            turns.append(ang)
-            continue
-        step = 2.0 * math.acos(max(-1.0, 1.0 - tol / k)) if tol < 2 * k else math.pi
-        m = max(2, int(math.ceil(ang / step)) + 1)
-        f = np.linspace(0.0, 1.0, m)[:, None]
-        N = (np.sin((1 - f) * ang) * n0 + np.sin(f * ang) * n1) / math.sin(ang)
-        cut = int(np.searchsorted(us, c + eps, side="right"))
-        us = np.concatenate([us[:i], np.full(m, c), us[cut:]])
-        a = np.concatenate([a[:i], A + k * N, a[cut:]])
-        b = np.concatenate([b[:i], B + k * N, b[cut:]])
-    return us, a, b, turns
+    return np.stack([a + ((h - h0) / (h1 - h0))[:, None] * (b - a) for h in planes], axis=1)
 
 
 def _length(P: np.ndarray) -> float:

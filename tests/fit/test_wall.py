@@ -258,3 +258,32 @@ def test_cadquery_fit_wall_takes_a_part_or_its_faces_in_any_order():
     size = a.wall.size
     for fit in (a, b):
         assert oracle(fit.wall.faces, fit.face.wrapped, size, 100) <= 1e-6 * size
+
+
+@pytest.mark.slow
+def test_batch_walls_fits_every_wall_of_many_parts_as_ruled_fit_wall_does(tmp_path):
+    """'ruled batch --walls' over two parts: one row per wall, its figures those of 'ruled fit --wall' on it."""
+    import json
+
+    from ruled.occ.io import write_step
+    from tests.conftest import ruled_here, ruled_process
+    from tests.wall_parts import airfoil_loft
+    parts = []
+    for name, build in (("tapered", tapered_extrusion), ("airfoil", airfoil_loft)):
+        parts.append(tmp_path / f"{name}.step")
+        write_step(build().wrapped, str(parts[-1]))
+    r = ruled_process("batch", *parts, "--walls", "--jobs", "1", "--samples", "20", "--measure-samples", "20",
+                      "-o", tmp_path / "out")
+    assert r.returncode == 0, r.stderr
+    assert "2 of 2 walls: 2 fitted, 0 refused, 0 failed" in r.stdout
+    rows = json.loads((tmp_path / "out" / "summary.json").read_text())["rows"]
+    assert sorted((row["file"], row["face"]) for row in rows) == [("airfoil.step", "wall 0"),
+                                                                  ("tapered.step", "wall 0")]
+    for row in rows:
+        single = tmp_path / f"single-{row['file']}.json"
+        assert ruled_here("fit", tmp_path / row["file"], "--wall", "auto", "--samples", "20", "--measure-samples", "20",
+                          "--quiet", "-o", tmp_path / "single.step", "--report", single).returncode == 0
+        rep = json.loads(single.read_text())
+        assert row["error_bound"] == pytest.approx(rep["error_bound"], rel=1e-9)
+        assert row["hausdorff"] == pytest.approx(rep["hausdorff"]["max"], rel=1e-6, abs=1e-12)
+        assert (tmp_path / "out" / row["file"].replace(".step", "") / "wall_0.step").exists()
