@@ -24,7 +24,7 @@ def round_corners(lines, us: np.ndarray, a: np.ndarray, b: np.ndarray, tol: floa
     L = lines.domain[1] - lines.domain[0]
     for c in creases:
         eps = 1e-9 * L
-        ts = np.linspace(*lines.t, SAMPLES)
+        ts = np.linspace(lines.t[0], lines.t[1], SAMPLES)
         side = []
         for x in (c - eps, c + eps):
             D = R.evaluate(np.full(ts.size, x), ts, 1)
