@@ -398,8 +398,10 @@ def _stacked(surfaces: list, ranges: list, size: float) -> tuple:
     """(Surface, gap): ruled surfaces (v of degree 1), each reparametrized onto its u range, joined end to end
     with full-multiplicity knots (C0) into one, their u degrees raised to the largest (exactly) and each
     rail's weights scaled to agree at the joints (a rail's weights scaled keep the ruled surface as a point
-    set: each ruling is still the segment between its rails' points); gap: the largest distance between
-    joined end rulings (round-off where each ends on the same corner line)."""
+    set: each ruling is still the segment between its rails' points), and the two end rulings met at a joint
+    replaced by their mean; gap: the largest distance between joined end rulings (round-off where each ends
+    on the same corner line; 4D pieces lift theirs off it).  Each piece moves by at most gap / 2 (a pole moved
+    moves the surface by at most as much: its basis functions are positive and sum to one)."""
     from ruled.core.knots import elevate
     from ruled.core.nurbs import Curve
     p = max(R.degree_u for R in surfaces)
@@ -418,12 +420,13 @@ def _stacked(surfaces: list, ranges: list, size: float) -> tuple:
             P, W, knots = Pk, Wk, list(kk)
             continue
         gap = max(gap, float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1))))
+        P[-1] = 0.5 * (P[-1] + Pk[0])
         Wk = Wk * (W[-1] / Wk[0])[None, :]
         P = np.concatenate([P, Pk[1:]])
         W = np.concatenate([W, Wk[1:]])
         knots = knots[:-1] + list(kk[p + 1:])
     gap = max(gap, float(np.max(np.linalg.norm(P[-1] - P[0], axis=1))))
-    P[-1] = P[0]
+    P[0] = P[-1] = 0.5 * (P[0] + P[-1])
     rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
     return Surface(P, np.asarray(knots), surfaces[0].knots_v, p, surfaces[0].degree_v, W if rational else None), gap
 
@@ -465,11 +468,16 @@ def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_s
             results.append(with_iso(fit_surface(piece, _replace(opts, samples=n).checked(), say), say))
         unwrapped = [(a, a + share) for (a, _), share in zip(ranges, spans)]
         surface, gap = _stacked([r.best.surface for r in results], unwrapped, wall.size)
-        if gap > 1e-6 * wall.size:
-            raise BadInputError(f"the wall's pieces do not meet on its corner lines ({gap:.3g} apart; please report "
-                                f"the part)")
+        bound = max(r.error_bound for r in results) + 0.5 * gap
+        if gap > 1e-9 * wall.size and all(r.other is not None for r in results):
+            # 4D pieces lift their end rulings off the corner lines: their 2D fits, which end on them, when the
+            # mean of the lifted end rulings costs more than the lift gains
+            s2, gap2 = _stacked([r.other.surface for r in results], unwrapped, wall.size)
+            b2 = max(r.other.error_bound for r in results) + 0.5 * gap2
+            if b2 < bound:
+                surface, bound = s2, b2
+                results = [_replace(r, best=r.other, other=r.best) for r in results]
         out = container_to_face(surface)
-        bound = max(r.error_bound for r in results) + gap
     bound += wall.slack
     if not measure:
         return WallFit(wall, results, out, bound, None, surface=surface)

@@ -149,13 +149,15 @@ def _per_face_worst(wall) -> float:
 
 @pytest.fixture(scope="module")
 def not_ruled_fits():
+    """Per wall that is not ruled: (wall, its 2D fit, that fit's measure, its 4D fit, that one's measure)."""
     from ruled.fit.options import FitOptions
     from ruled.occ.wall import fit_wall, wall_of
     out = {}
     for name, build in NOT_RULED.items():
         wall = wall_of(build().wrapped)
-        fit = fit_wall(wall, FitOptions(samples=40 * len(wall.faces)))
-        out[name] = (wall, fit, oracle(wall.faces, fit.face, wall.size, 1500))
+        fits = [fit_wall(wall, FitOptions(samples=40 * len(wall.faces), method=m)) for m in ("2d", "4d")]
+        out[name] = (wall, fits[0], oracle(wall.faces, fits[0].face, wall.size, 1500),
+                     fits[1], oracle(wall.faces, fits[1].face, wall.size, 1500))
     return out
 
 
@@ -164,7 +166,7 @@ def not_ruled_fits():
 def test_a_wall_that_is_not_ruled_is_no_worse_than_its_faces_cut_one_by_one(not_ruled_fits, name):
     """The closed result is at most the largest error of the per-face fits of the same faces (cut face by face,
     each pinned at its corners), both measured both ways; and within its bound."""
-    wall, fit, measured = not_ruled_fits[name]
+    wall, fit, measured = not_ruled_fits[name][:3]
     assert measured <= fit.error_bound
     per_face = _per_face_worst(wall)
     print(f"{name}: wall {measured:.4g} (bound {fit.error_bound:.4g}), per face {per_face:.4g}")
@@ -172,15 +174,17 @@ def test_a_wall_that_is_not_ruled_is_no_worse_than_its_faces_cut_one_by_one(not_
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
-    n == "three airfoil sections", strict=True,
-    reason="issue 37 not met here: the wall's best is FoamCut's own pairing (3.077 both; the iso-parametric "
-           "surface wins the piece that decides it), not below it")) for n in NOT_RULED])
-def test_a_wall_that_is_not_ruled_is_below_foamcuts_pairing(not_ruled_fits, name):
-    wall, fit, measured = not_ruled_fits[name]
+@pytest.mark.parametrize("name", list(NOT_RULED))
+def test_a_wall_that_is_not_ruled_is_below_foamcuts_pairing_in_4d(not_ruled_fits, name):
+    """With the rulings' ends lifted off the contours (4D, Wang & Elber), the closed wall is below FoamCut's
+    pairing of the same contours (which keeps them on the contours), both measured both ways, and within its
+    bound.  In 2D the three-section loft's best is FoamCut's own pairing (3.077 both): printed."""
+    wall, fit2, m2, fit4, m4 = not_ruled_fits[name]
     foamcut = oracle(wall.faces, _foamcut_faces(wall), wall.size, 1500)
-    print(f"{name}: wall {measured:.4g}, FoamCut {foamcut:.4g}")
-    assert measured < foamcut
+    print(f"{name}: wall 2D {m2:.4g}, 4D {m4:.4g} (bound {fit4.error_bound:.4g}), FoamCut {foamcut:.4g}")
+    assert m4 <= fit4.error_bound
+    assert m4 < foamcut
+    assert m2 <= foamcut * 1.0001
 
 
 def test_corner_lines_both_contours_share_are_rulings_of_the_result(exact_fits):
