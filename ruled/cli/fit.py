@@ -208,6 +208,8 @@ def cmd_fit(args) -> int:
     check_measure_samples(args.measure_samples)
     if args.wall is not None:
         return cmd_fit_wall(args)
+    if args.per_face:
+        raise RuledError("--per-face cuts a wall's result into its faces' pieces: give --wall, or drop --per-face")
     if args.tol is not None:
         if args.replace and (args.ends == "pinned" or args.split_faces or args.method != "2d"):
             raise RuledError("--replace puts one ruled face back into the part, and --tol with --ends pinned, "
@@ -243,9 +245,10 @@ def cmd_fit(args) -> int:
 
 def run_wall(input_path: str, wall_spec, output: str, *, samples=40, objective="sum", max_error=None,
              refine=True, method="2d", elevations=None, step=None, metric="lsad", memory_cap_mb=None,
-             report=None, measure_samples=40, quiet=False, shape=None) -> dict:
+             report=None, measure_samples=40, quiet=False, shape=None, per_face=False) -> dict:
     """A wall's whole job (read, join, fit, measure, write): the report dict.  wall_spec: 'auto', 'K,L-M' or
-    a list of face indices; samples: per face; shape: the part, read already."""
+    a list of face indices; samples: per face; shape: the part, read already; per_face: write the result
+    in one piece per input face, sewn (ruled.occ.wallfaces), each measured against its face."""
     from dataclasses import replace
 
     from ruled.fit.options import FitOptions
@@ -262,9 +265,19 @@ def run_wall(input_path: str, wall_spec, output: str, *, samples=40, objective="
     # samples per face: the ring's grow with its faces
     opts = replace(opts, samples=samples * len(wall.faces)).checked()
     wf = with_bar(quiet, "the wall", lambda bar: fit_wall(wall, opts, bar, measure_samples=measure_samples))
-    write_step(wf.face, output)
-    rep = {**wf.report(), "input": input_path, "samples": opts.samples, "seconds": time.perf_counter() - t0,
-           "version": __version__}
+    rep = {**wf.report(), "input": input_path, "samples": opts.samples, "version": __version__}
+    if per_face:
+        from ruled.occ.measure import hausdorff
+        from ruled.occ.ring import _sliver
+        from ruled.occ.wallfaces import per_face as pieces_of
+        pieces, shell = pieces_of(wf)
+        kept = [(i, f) for i, f in zip(wall.ring.faces, wall.faces) if not _sliver(f, wall.size)]
+        rep["per_face"] = [{"face": i, "measured": hausdorff(f, p, measure_samples).max}
+                           for (i, f), p in zip(kept, pieces)]
+        write_step(shell, output)
+    else:
+        write_step(wf.face, output)
+    rep["seconds"] = time.perf_counter() - t0
     if report:
         write_report(rep, report)
     return rep
@@ -279,7 +292,8 @@ def cmd_fit_wall(args) -> int:
     rep = run_wall(args.input, args.wall, args.output, samples=args.samples, objective=args.objective,
                    max_error=args.max_error, refine=not args.no_refine, method=args.method,
                    elevations=args.elevations, step=args.step, metric=args.metric, memory_cap_mb=args.memory_cap,
-                   report=args.report, measure_samples=args.measure_samples, quiet=args.quiet)
+                   report=args.report, measure_samples=args.measure_samples, quiet=args.quiet,
+                   per_face=args.per_face)
     h = rep["hausdorff"]
     cut = (f", fitted in {rep['pieces']} pieces between the corners both contours share (C0 rulings there)"
            if rep["pieces"] > 1 else ", fitted from the one corner both contours share round to it (a C0 ruling "
@@ -289,6 +303,9 @@ def cmd_fit_wall(args) -> int:
           f"{rep['result']['degree'][0]}x{rep['result']['degree'][1]}{cut}")
     print(f"error bound {rep['error_bound']:.6g}   measured Hausdorff max {h['max']:.6g} mean {h['mean']:.6g} "
           f"(against the wall's faces, both ways)")
+    if rep.get("per_face"):
+        print(f"per face: {len(rep['per_face'])} pieces sewn into one shell, each against its face: "
+              + ", ".join(f"face {p['face']} {p['measured']:.3g}" for p in rep["per_face"]))
     print_files_only((("STEP", args.output), ("report", args.report)))
     return 0
 

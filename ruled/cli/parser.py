@@ -35,6 +35,9 @@ def build_parser() -> argparse.ArgumentParser:
     what.add_argument("--wall", metavar="auto|K,L-M",
                       help="a wall: the ring of faces between two closed contours, found (auto) or given by face "
                            "indices ('ruled faces INPUT --walls'), fitted as one closed ruled surface")
+    g.add_argument("--per-face", action="store_true",
+                   help="--wall: OUTPUT holds the closed ruled surface in one piece per face of the wall (cut along "
+                        "the faces' joints), sewn into one shell")
     g.add_argument("--method", choices=["2d", "4d"], default="2d",
                    help="2d: rulings between boundary samples (Elber); 4d: their ends also lifted along the "
                         "surface normal (Wang & Elber), never worse than 2d")

@@ -29,9 +29,10 @@ def _wire(curves: tuple, surf):
     return mk.Wire()
 
 
-def trimmed_face(R: Surface, trim) -> TopoDS_Face:
-    """R bounded by the trim's outer loop, less its holes, with 3D edges built from the 2D ones."""
-    surf = container_to_bspline(R)
+def trimmed_face(R: Surface, trim, surf=None) -> TopoDS_Face:
+    """R bounded by the trim's outer loop, less its holes, with 3D edges built from the 2D ones (surf: R as
+    OCCT's surface, when the caller has made it, periodic say)."""
+    surf = container_to_bspline(R) if surf is None else surf
     outer = _wire(trim.loop(trim.outer, True), surf)
     mk = BRepBuilderAPI_MakeFace(surf, outer, True)
     for h in trim.holes:

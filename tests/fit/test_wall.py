@@ -291,3 +291,35 @@ def test_batch_walls_fits_every_wall_of_many_parts_as_ruled_fit_wall_does(tmp_pa
         assert row["error_bound"] == pytest.approx(rep["error_bound"], rel=1e-9)
         assert row["hausdorff"] == pytest.approx(rep["hausdorff"]["max"], rel=1e-6, abs=1e-12)
         assert (tmp_path / "out" / row["file"].replace(".step", "") / "wall_0.step").exists()
+
+
+@pytest.mark.parametrize("name", ["square to circle", "tapered extrusion"])
+def test_per_face_cuts_the_closed_result_into_its_faces_pieces_sewn(exact_fits, tmp_path, name):
+    """--per-face: one piece per face of the wall, each its face to round-off (the rulings of the square to
+    circle loft cross the joints: the cut follows them), sewn edge to edge round the ring."""
+    import json
+
+    from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+    from OCP.TopExp import TopExp
+    from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
+
+    from ruled.occ.io import faces_of, read_shape, write_step
+    from tests.conftest import ruled_here
+    part, wall, _ = exact_fits[name]
+    src = tmp_path / "part.step"
+    write_step(part.wrapped, str(src))
+    out, rep = tmp_path / "pieces.step", tmp_path / "pieces.json"
+    r = ruled_here("fit", src, "--wall", "auto", "--per-face", "--samples", "20", "--quiet", "-o", out, "--report", rep)
+    assert r.returncode == 0, r.stderr
+    shape = read_shape(str(out))
+    pieces = faces_of(shape)
+    report = json.loads(rep.read_text())
+    assert len(pieces) == len(report["per_face"]) == len(wall.faces)
+    size = wall.size
+    for piece, entry in zip(pieces, report["per_face"]):
+        source = faces_of(read_shape(str(src)))[entry["face"]]
+        assert oracle([source], piece, size, 150) <= 1e-6 * size
+    m = TopTools_IndexedDataMapOfShapeListOfShape()
+    TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, m)
+    shared = sum(m.FindFromIndex(i).Size() == 2 for i in range(1, m.Extent() + 1))
+    assert shared == len(pieces)          # each joint sewn, round the ring
