@@ -61,22 +61,26 @@ def _xyuv(r) -> str:
 
 
 def write_csv(path: MachinePath, filename: str, units: str = "mm") -> None:
-    """xyuv: one row per move (kind, X, Y, U, V, the two 3D points, u); flank: one row per CL point
-    (u, tip x y z, axis i j k); lengths in the output units."""
+    """xyuv: one row per move (kind, X, Y, U, V, the two 3D points, u, the wire's taper: its angle from the
+    machine axis, degrees); flank: one row per CL point (u, tip x y z, axis i j k); lengths in the output
+    units."""
     k = _scale(units)
     with atomic(filename) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         if path.mode == "xyuv":
             w.writerow(["kind", "X", "Y", "U", "V", "lower_x", "lower_y", "lower_z", "upper_x", "upper_y",
-                        "upper_z", "u"])
+                        "upper_z", "u", "taper_deg"])
             (h0, h1), fr = path.planes, path.frame
             i = 0
             for kind, row in zip(path.kinds, path.moves):
                 lo, hi = fr.point(row[:2], h0) * k, fr.point(row[2:], h1) * k
                 uu = path.u[i] if kind == "cut" else ""
                 i += kind == "cut"
+                d = hi - lo
+                taper = np.degrees(np.arccos(min(1.0, abs(float(d @ fr.axis)) / max(float(np.linalg.norm(d)),
+                                                                                     1e-300))))
                 w.writerow([kind, *map(_fmt, row * k), *map(_fmt, lo), *map(_fmt, hi),
-                            uu if uu == "" else f"{uu:.12g}"])
+                            uu if uu == "" else f"{uu:.12g}", f"{taper:.4f}"])
         else:
             w.writerow(["u", "x", "y", "z", "i", "j", "k"])
             for uu, p, a in zip(path.u, path.lower, path.axes):

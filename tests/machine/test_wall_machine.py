@@ -113,6 +113,13 @@ def test_the_wall_is_one_closed_xyuv_loop_from_the_longest_straight_stretch(part
     assert np.allclose(rep["wall"]["start"], [20.0, 0.0, 0.0], atol=0.5)
     assert rep["machine"]["axis"] == [0.0, 0.0, 1.0]
     assert rep["cut"]["max"] <= rep["cut"]["bound"]
+    # the taper per ruling: each line's angle from the axis, from the CSV's own points; at least the draft
+    from tests.machine_helpers import read_csv
+    rows = [r for r in read_csv(os.path.splitext(ngc)[0] + ".csv") if r["kind"] == "cut"]
+    for r in rows:
+        d = np.array([float(r[f"upper_{c}"]) - float(r[f"lower_{c}"]) for c in "xyz"])
+        assert float(r["taper_deg"]) == pytest.approx(np.degrees(np.arccos(abs(d[2]) / np.linalg.norm(d))), abs=1e-3)
+    assert min(float(r["taper_deg"]) for r in rows) >= 8.0 - 1e-3
 
 
 def test_the_kerf_runs_round_the_whole_loop_and_its_corner(part):
