@@ -134,7 +134,9 @@ def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: flo
             sb = int(np.argmin(score[0]))
         st = (sb + 2) % 4
         worst = max(score[0][sb] if bcloud is not None else 0.0, score[1][st] if tcloud is not None else 0.0)
-        if worst > 1e-3 * size:
+        # (an edge within its tolerance of the surface, as the file says, lies on it)
+        edge_tol = max((BRep_Tool.Tolerance_s(e) for e in bottom + top), default=0.0)
+        if worst > max(1e-3 * size, 1.5 * edge_tol):
             raise BadInputError(f"face {index} of the wall: its contour edges are not opposite sides of its surface "
                                 f"(a trimmed face; {worst:.3g} off); walls of such faces are not supported yet")
         bs = bs.Copy()
@@ -220,6 +222,9 @@ def joined_surface(ring: Ring, faces: tuple) -> tuple:
             bs.SetUNotPeriodic()
         if bs.IsVPeriodic():
             bs.SetVNotPeriodic()
+        # (OCCT's non-periodic form of a periodic surface is not clamped: segmented to its range, it is)
+        if any(m[0] != d + 1 or m[-1] != d + 1 for m, d in ((_knots(bs, 0)[1], du), (_knots(bs, 1)[1], dv))):
+            bs.Segment(*bs.Bounds())
         _remap(bs, 0, breaks[k], breaks[k + 1])
         _remap(bs, 1, 0.0, 1.0)
         for x, m in zip(*_knots(bs, 1)):
