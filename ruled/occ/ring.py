@@ -135,6 +135,10 @@ def ring_of(part_faces: list, indices) -> Ring:
             raise BadInputError(f"an edge of the wall borders {len(own)} of its faces "
                                 f"({_names(indices[k] for k in own)}); a wall is a band of faces, each joined to two "
                                 f"others")
+    holed = [indices[k] for k, f in enumerate(faces) if _wires(f) > 1]
+    if holed:
+        raise BadInputError(f"face {holed[0]} of the wall has a hole in it (an inner loop of edges); a wall is a band "
+                            f"of faces between two contours: fill the hole first, or fit the face alone (--face)")
     loops = _loops(free, size)
     if len(loops) != 2:
         what = ("no free contour (the faces close on themselves)" if not loops else
@@ -183,6 +187,11 @@ def ring_of(part_faces: list, indices) -> Ring:
                                 f"bottom contour to the top one")
     return Ring(tuple(indices[k] for k in order), tuple(bottom), tuple(top), tuple(joints),
                 (tuple(loops[0]), tuple(loops[1])), size)
+
+
+def _wires(face) -> int:
+    from ruled.occ.io import shapes_of
+    return len(shapes_of(face, TopAbs_ShapeEnum.TopAbs_WIRE))
 
 
 def _length(edge) -> float:

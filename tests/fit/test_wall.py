@@ -214,9 +214,12 @@ def test_bad_rings_are_refused_in_one_line(tmp_path):
          "ruled: error: faces 1,4 of the wall do not each meet two others of it edge to edge; a wall is a ring of "
          "faces between two contours"),
         (("fit", holed, "--wall", "0,1,4,6", "-o", out),
-         "ruled: error: faces 0,1,4,6 are not a wall: their free edges make 4 free contours (a band has two: a hole "
-         "in the ring, or faces that are not one band?); pick the ring of faces between the bottom and the top "
-         "contour (see 'ruled faces INPUT --walls')"),
+         "ruled: error: face 0 of the wall has a hole in it (an inner loop of edges); a wall is a band of faces "
+         "between two contours: fill the hole first, or fit the face alone (--face)"),
+        (("fit", holed, "--wall", "1,2", "-o", out),
+         "ruled: error: faces 1,2 are not a wall: their free edges make one free contour (the faces do not close "
+         "into a band round the part); pick the ring of faces between the bottom and the top contour (see 'ruled "
+         "faces INPUT --walls')"),
         (("fit", part, "--wall", "1,2,99", "-o", out),
          "ruled: error: the wall's faces 99 are not faces of the part (it has 7: 0-6); see 'ruled faces INPUT "
          "--walls'"),
