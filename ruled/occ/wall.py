@@ -436,6 +436,27 @@ def _stacked(surfaces: list, ranges: list, size: float) -> tuple:
     return Surface(P, np.asarray(knots), surfaces[0].knots_v, p, surfaces[0].degree_v, W if rational else None), gap
 
 
+def _own_net(R: Surface, S: Surface, bound: float, size: float) -> float:
+    """The smaller of a fit's bound and, where the result R is the ruled surface S itself in another
+    representation of the same net (both of degree 1 along the rulings, the same knots up to an affine map,
+    each rail's weights the same up to a factor: an exactly ruled wall fitted along its own rulings), the
+    largest distance between their poles: each rail of R is then within it of S's (its points convex
+    combinations of the pole differences), and so is each ruling, the segment between them."""
+    if R.degree_v != 1 or S.degree_v != 1 or R.poles.shape != S.poles.shape or R.degree_u != S.degree_u:
+        return bound
+
+    def unit(k):
+        return (k - k[0]) / (k[-1] - k[0])
+    if np.max(np.abs(unit(R.knots_u) - unit(S.knots_u))) > 1e-12:
+        return bound
+    wr = R.weights if R.weights is not None else np.ones(R.poles.shape[:2])
+    ws = S.weights if S.weights is not None else np.ones(S.poles.shape[:2])
+    ratio = wr / ws
+    if np.max(np.ptp(ratio, axis=0) / np.max(ratio, axis=0)) > 1e-12:
+        return bound
+    return min(bound, float(np.max(np.linalg.norm(R.poles - S.poles, axis=2))) + 1e-12 * size)
+
+
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
     """The wall's one closed ruled surface: the engine's fit of the joined surface along its rulings (from the
     bottom contour to the top), built as one face and measured against the wall's faces.  With no corner
@@ -461,24 +482,26 @@ def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_s
         results = [res]
         out = result_face(res)
         surface = res.best.surface
-        bound = res.error_bound + built_slack(out, res)
+        bound = _own_net(res.best.surface, wall.surface, res.error_bound, wall.size) + built_slack(out, res)
     else:
         ranges = [(c, cuts[(i + 1) % len(cuts)]) for i, c in enumerate(cuts)]
         spans = [(b - a) % 1.0 or 1.0 for a, b in ranges]
-        results = []
+        results, pieces = [], []
         for i, ((a, b), share) in enumerate(zip(ranges, spans)):
             piece = pinned_at_seam(_piece(wall.surface, a, b))
+            pieces.append(piece)
             n = max(8, int(round(opts.samples * share)))
             say = None if progress is None else (lambda st, f, i=i: progress(f"piece {i + 1}/{len(ranges)}: {st}", f))
             results.append(with_iso(fit_surface(piece, _replace(opts, samples=n).checked(), say), say))
         unwrapped = [(a, a + share) for (a, _), share in zip(ranges, spans)]
         surface, gap = _stacked([r.best.surface for r in results], unwrapped, wall.size)
-        bound = max(r.error_bound for r in results) + 0.5 * gap
+        bound = max(_own_net(r.best.surface, p, r.error_bound, wall.size) for r, p in zip(results, pieces)) + 0.5 * gap
         if gap > 1e-9 * wall.size and all(r.other is not None for r in results):
             # 4D pieces lift their end rulings off the corner lines: their 2D fits, which end on them, when the
             # mean of the lifted end rulings costs more than the lift gains
             s2, gap2 = _stacked([r.other.surface for r in results], unwrapped, wall.size)
-            b2 = max(r.other.error_bound for r in results) + 0.5 * gap2
+            b2 = max(_own_net(r.other.surface, p, r.other.error_bound, wall.size)
+                     for r, p in zip(results, pieces)) + 0.5 * gap2
             if b2 < bound:
                 surface, bound = s2, b2
                 results = [_replace(r, best=r.other, other=r.best) for r in results]
