@@ -26,6 +26,7 @@ from OCP.GeomFill import GeomFill
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
+from ruled.fit.wallfit import CORNER_DEG, turn
 from ruled.occ.convert import face_to_bspline, occ_array
 from ruled.occ.io import faces_of
 from ruled.occ.ring import (
@@ -197,9 +198,6 @@ class Wall:
         return self.ring.size
 
 
-CORNER_DEG = 1.0     # contours turning by more than this at a joint have a corner there
-
-
 def joined_surface(ring: Ring, faces: tuple) -> tuple:
     """(Surface, breaks, corners): the ring's faces as one B-spline surface closed round the ring (see the
     module); breaks: the faces' joints in its u; corners: the joints (indices into breaks, 0 the seam) where
@@ -269,47 +267,9 @@ def joined_surface(ring: Ring, faces: tuple) -> tuple:
     P[-1] = P[0]
     rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
     S = Surface(P, np.asarray(knots), kv, du, dv, W if rational else None)
-    corners = [k for k in range(K) if all(_turn(arrays[k - 1][0][:, row], arrays[k][0][:, row]) > CORNER_DEG
+    corners = [k for k in range(K) if all(turn(arrays[k - 1][0][:, row], arrays[k][0][:, row]) > CORNER_DEG
                                           for row in (0, -1))]
     return S, breaks, corners
-
-
-def _turn(before: np.ndarray, after: np.ndarray) -> float:
-    """The angle (degrees) a curve turns at the joint of two clamped control polygons (the last pole of before
-    is the first of after): between their end legs; 0 where a leg has no length (a contour collapsed to a
-    point there)."""
-    a = before[-1] - next((p for p in before[-2::-1] if np.linalg.norm(before[-1] - p) > 0), before[-1])
-    b = next((p for p in after[1:] if np.linalg.norm(p - after[0]) > 0), after[0]) - after[0]
-    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
-    if na == 0.0 or nb == 0.0:
-        return 0.0
-    return float(np.degrees(np.arccos(np.clip(a @ b / (na * nb), -1.0, 1.0))))
-
-
-def _piece(S: Surface, a: float, b: float) -> Surface:
-    """S (clamped along u, with full-multiplicity knots at a and b, or a > b: through its seam u = 1 = 0)
-    between u = a and u = b, its u running on from a (past 1 where it wraps)."""
-    p = S.degree_u
-    k = S.knots_u
-    if a < b:
-        lo, hi = int(np.searchsorted(k, a, "left")), int(np.searchsorted(k, b, "right"))
-        j0 = 0 if a == k[0] else lo - 1                       # the columns at a and b: the curve's poles there
-        j1 = S.poles.shape[0] - 1 if b == k[-1] else hi - p - 1
-        knots = np.concatenate([[a] * (p + 1), k[(k > a) & (k < b)], [b] * (p + 1)])
-        return Surface(S.poles[j0:j1 + 1], knots, S.knots_v, p, S.degree_v,
-                       None if S.weights is None else S.weights[j0:j1 + 1])
-    if b <= k[0]:
-        return _piece(S, a, k[-1])
-    if a >= k[-1]:
-        return _piece(S, k[0], b)
-    first, second = _piece(S, a, k[-1]), _piece(S, k[0], b)
-    w1 = first.weights if first.weights is not None else np.ones(first.poles.shape[:2])
-    w2 = second.weights if second.weights is not None else np.ones(second.poles.shape[:2])
-    r = float(np.mean(w1[-1] / w2[0]))
-    knots = np.concatenate([first.knots_u[:-1], 1.0 + second.knots_u[p + 1:]])
-    W = np.concatenate([w1, r * w2[1:]])
-    return Surface(np.concatenate([first.poles, second.poles[1:]]), knots, S.knots_v, p, S.degree_v,
-                   W if S.weights is not None else None)
 
 
 def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
@@ -399,112 +359,20 @@ def measure_wall(faces, out_face, n: int = 40):
     return _replace(two_sided(pa, pb, to_wall, to_out), resolution=max([rb] + [r for _, r in got]))
 
 
-def _stacked(surfaces: list, ranges: list, size: float) -> tuple:
-    """(Surface, gap): ruled surfaces (v of degree 1), each reparametrized onto its u range, joined end to end
-    with full-multiplicity knots (C0) into one, their u degrees raised to the largest (exactly) and each
-    rail's weights scaled to agree at the joints (a rail's weights scaled keep the ruled surface as a point
-    set: each ruling is still the segment between its rails' points), and the two end rulings met at a joint
-    replaced by their mean; gap: the largest distance between joined end rulings (round-off where each ends
-    on the same corner line; 4D pieces lift theirs off it).  Each piece moves by at most gap / 2 (a pole moved
-    moves the surface by at most as much: its basis functions are positive and sum to one)."""
-    from ruled.core.knots import elevate
-    from ruled.core.nurbs import Curve
-    p = max(R.degree_u for R in surfaces)
-    P = W = None
-    knots: list = []
-    gap = 0.0
-    for R, (a, b) in zip(surfaces, ranges):
-        w = R.weights if R.weights is not None else np.ones(R.poles.shape[:2])
-        u0, u1 = R.domain[:2]
-        rows = [elevate(Curve(R.poles[:, j], a + (b - a) * (R.knots_u - u0) / (u1 - u0), R.degree_u, w[:, j]), p)
-                for j in range(R.poles.shape[1])]
-        Pk = np.stack([c.poles for c in rows], axis=1)
-        Wk = np.stack([c.weights if c.weights is not None else np.ones(len(c.poles)) for c in rows], axis=1)
-        kk = rows[0].knots
-        if P is None:
-            P, W, knots = Pk, Wk, list(kk)
-            continue
-        gap = max(gap, float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1))))
-        P[-1] = 0.5 * (P[-1] + Pk[0])
-        Wk = Wk * (W[-1] / Wk[0])[None, :]
-        P = np.concatenate([P, Pk[1:]])
-        W = np.concatenate([W, Wk[1:]])
-        knots = knots[:-1] + list(kk[p + 1:])
-    gap = max(gap, float(np.max(np.linalg.norm(P[-1] - P[0], axis=1))))
-    P[0] = P[-1] = 0.5 * (P[0] + P[-1])
-    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
-    return Surface(P, np.asarray(knots), surfaces[0].knots_v, p, surfaces[0].degree_v, W if rational else None), gap
-
-
-def _own_net(R: Surface, S: Surface, bound: float, size: float) -> float:
-    """The smaller of a fit's bound and, where the result R is the ruled surface S itself in another
-    representation of the same net (both of degree 1 along the rulings, the same knots up to an affine map,
-    each rail's weights the same up to a factor: an exactly ruled wall fitted along its own rulings), the
-    largest distance between their poles: each rail of R is then within it of S's (its points convex
-    combinations of the pole differences), and so is each ruling, the segment between them."""
-    if R.degree_v != 1 or S.degree_v != 1 or R.poles.shape != S.poles.shape or R.degree_u != S.degree_u:
-        return bound
-
-    def unit(k):
-        return (k - k[0]) / (k[-1] - k[0])
-    if np.max(np.abs(unit(R.knots_u) - unit(S.knots_u))) > 1e-12:
-        return bound
-    wr = R.weights if R.weights is not None else np.ones(R.poles.shape[:2])
-    ws = S.weights if S.weights is not None else np.ones(S.poles.shape[:2])
-    ratio = wr / ws
-    if np.max(np.ptp(ratio, axis=0) / np.max(ratio, axis=0)) > 1e-12:
-        return bound
-    return min(bound, float(np.max(np.linalg.norm(R.poles - S.poles, axis=2))) + 1e-12 * size)
-
-
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
-    """The wall's one closed ruled surface: the engine's fit of the joined surface along its rulings (from the
-    bottom contour to the top), built as one face and measured against the wall's faces.  With no corner
-    both contours share, one periodic fit; else the ring cut at those corners into pieces, each fitted with
-    its end rulings on the corner lines (pinned), joined into one closed surface whose corner lines are C0
-    rulings (options.samples spread over the pieces by their share of the ring)."""
-    from dataclasses import replace as _replace
-
+    """The wall's one closed ruled surface (ruled.fit.wallfit.fit_ring on the joined surface), built as one face
+    and measured against the wall's faces, both ways."""
     from ruled.fit.facefit import measured_warnings
-    from ruled.fit.facepatch import with_iso
-    from ruled.fit.fit2d import pinned_at_seam
-    from ruled.fit.options import Direction
-    from ruled.fit.surface import fit_surface
+    from ruled.fit.wallfit import fit_ring
     from ruled.occ.convert import container_to_face
     from ruled.occ.io import face_area
     from ruled.occ.trimmed import built_slack, result_face
-    opts = _replace(options.checked(), direction=Direction.V)
-    cuts = [float(wall.breaks[k]) for k in wall.corners]
-    if not cuts:
-        res = with_iso(fit_surface(wall.surface, opts, progress), progress)
-        if not res.best.closed:
-            raise BadInputError("the wall's joined surface did not close round the ring (please report the part)")
-        results = [res]
-        out = result_face(res)
-        surface = res.best.surface
-        bound = _own_net(res.best.surface, wall.surface, res.error_bound, wall.size) + built_slack(out, res)
+    ring = fit_ring(wall.surface, wall.breaks, wall.corners, options, wall.size, progress)
+    results, surface, bound = ring.results, ring.surface, ring.bound
+    if ring.periodic:
+        out = result_face(results[0])
+        bound += built_slack(out, results[0])
     else:
-        ranges = [(c, cuts[(i + 1) % len(cuts)]) for i, c in enumerate(cuts)]
-        spans = [(b - a) % 1.0 or 1.0 for a, b in ranges]
-        results, pieces = [], []
-        for i, ((a, b), share) in enumerate(zip(ranges, spans)):
-            piece = pinned_at_seam(_piece(wall.surface, a, b))
-            pieces.append(piece)
-            n = max(8, int(round(opts.samples * share)))
-            say = None if progress is None else (lambda st, f, i=i: progress(f"piece {i + 1}/{len(ranges)}: {st}", f))
-            results.append(with_iso(fit_surface(piece, _replace(opts, samples=n).checked(), say), say))
-        unwrapped = [(a, a + share) for (a, _), share in zip(ranges, spans)]
-        surface, gap = _stacked([r.best.surface for r in results], unwrapped, wall.size)
-        bound = max(_own_net(r.best.surface, p, r.error_bound, wall.size) for r, p in zip(results, pieces)) + 0.5 * gap
-        if gap > 1e-9 * wall.size and all(r.other is not None for r in results):
-            # 4D pieces lift their end rulings off the corner lines: their 2D fits, which end on them, when the
-            # mean of the lifted end rulings costs more than the lift gains
-            s2, gap2 = _stacked([r.other.surface for r in results], unwrapped, wall.size)
-            b2 = max(_own_net(r.other.surface, p, r.other.error_bound, wall.size)
-                     for r, p in zip(results, pieces)) + 0.5 * gap2
-            if b2 < bound:
-                surface, bound = s2, b2
-                results = [_replace(r, best=r.other, other=r.best) for r in results]
         out = container_to_face(surface)
     bound += wall.slack
     if not measure:

@@ -12,7 +12,8 @@ import numpy as np
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Curve, Surface
-from ruled.occ.wall import Wall, WallFit, _piece
+from ruled.fit.wallfit import piece
+from ruled.occ.wall import Wall, WallFit
 
 RAIL_SAMPLES = 4097      # samples of the result's bottom rail to place the start by
 START_TOL = 1e-3         # --start may be this fraction of the wall's size off the bottom contour
@@ -33,8 +34,8 @@ def started(R: Surface, s0: float) -> Surface:
         rows = [insert_knot(c, s0, p - have) for c in rows]
     full = Surface(np.stack([c.poles for c in rows], axis=1), rows[0].knots, R.knots_v, p, R.degree_v,
                    None if R.weights is None else np.stack([c.weights for c in rows], axis=1))
-    piece = _piece(full, s0, s0)
-    return Surface(piece.poles, piece.knots_u, piece.knots_v, p, piece.degree_v, piece.weights, periodic_u=True)
+    part = piece(full, s0, s0)
+    return Surface(part.poles, part.knots_u, part.knots_v, p, part.degree_v, part.weights, periodic_u=True)
 
 
 def _bottom_rail(R: Surface) -> tuple:
