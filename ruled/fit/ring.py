@@ -1,0 +1,170 @@
+"""A wall's topology on plain data: a set of faces joined edge to edge checked to be a band whose free edges
+make two closed contours (the bottom and the top), and its faces ordered round it.  Every host gives its
+edges (end points, samples, the faces each borders) and faces (their edges, a hole or not, their areas);
+bad rings are refused in one line naming the faces."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ruled.core.errors import BadInputError
+
+# a face of area below this times the wall's size squared is a sliver (a draft's crease at a tangent join of a
+# profile's line and arc): part of the ring's topology, nothing of its surface
+SLIVER = 1e-6
+
+
+@dataclass(frozen=True)
+class RingEdge:
+    """An edge of the wall's faces: its end points, samples along it (end to end), its length, the faces it
+    borders (positions in the wall's face list, distinct), and whether it is a seam of its one face or
+    degenerate (a point)."""
+
+    start: np.ndarray
+    end: np.ndarray
+    points: np.ndarray
+    length: float
+    owners: tuple
+    seam: bool = False
+    degenerate: bool = False
+
+
+@dataclass
+class RingOrder:
+    """The faces round the ring (positions in the face list), per face its bottom and top contour edges and
+    its joint with the next face (edge positions), the two contours (bottom first), the wall's size and
+    which faces are slivers."""
+
+    order: list
+    bottom: list
+    top: list
+    joints: list
+    loops: tuple
+    size: float
+    slivers: list
+
+
+def _names(indices) -> str:
+    return ",".join(str(i) for i in indices)
+
+
+def _loops(free: list, edges: list, size: float) -> list:
+    """The free edges chained into closed loops by their end points."""
+    tol = 1e-6 * size
+    left = list(free)
+    loops = []
+    while left:
+        k = left.pop(0)
+        loop, start, cur = [k], edges[k].start, edges[k].end
+        while np.linalg.norm(cur - start) > tol:
+            nxt = None
+            for j in left:
+                if np.linalg.norm(edges[j].start - cur) <= tol:
+                    nxt, cur = j, edges[j].end
+                elif np.linalg.norm(edges[j].end - cur) <= tol:
+                    nxt, cur = j, edges[j].start
+                if nxt is not None:
+                    break
+            if nxt is None:
+                raise BadInputError(f"the wall's free edges do not close into loops: one ends at ({cur[0]:.4g}, "
+                                    f"{cur[1]:.4g}, {cur[2]:.4g}); pick faces that make a band between two closed "
+                                    f"contours")
+            left.remove(nxt)
+            loop.append(nxt)
+        loops.append(loop)
+    return loops
+
+
+def order_ring(names: list, edges: list, face_edges: list, holed: list, areas: list) -> RingOrder:
+    """The ring the faces make (names: their indices in the part, for messages; face_edges: each face's edge
+    positions; holed: whether each has an inner loop; areas: theirs), checked and ordered."""
+    size = float(np.linalg.norm(np.ptp(np.concatenate([e.points for e in edges]), axis=0)))
+    slivers = [a <= SLIVER * size * size for a in areas]
+    free: list = []
+    shared: dict = {}
+    for i, e in enumerate(edges):
+        if e.degenerate:
+            continue
+        if len(e.owners) == 1:
+            if e.length <= 1e-6 * size:       # (a sliver face's end: a point of the contour)
+                continue
+            if not e.seam:                    # (a seam of one face is inside the band)
+                free.append(i)
+        elif len(e.owners) == 2:
+            shared.setdefault(tuple(sorted(e.owners)), []).append(i)
+        else:
+            raise BadInputError(f"an edge of the wall borders {len(e.owners)} of its faces "
+                                f"({_names(names[k] for k in e.owners)}); a wall is a band of faces, each joined to "
+                                f"two others")
+    if any(holed):
+        raise BadInputError(f"face {names[holed.index(True)]} of the wall has a hole in it (an inner loop of edges); a "
+                            f"wall is a band of faces between two contours: fill the hole first, or fit the face "
+                            f"alone (--face)")
+    loops = _loops(free, edges, size)
+    if len(loops) != 2:
+        what = ("no free contour (the faces close on themselves)" if not loops else
+                "one free contour (the faces do not close into a band round the part)" if len(loops) == 1 else
+                f"{len(loops)} free contours (a band has two: a hole in the ring, or faces that are not one band?)")
+        raise BadInputError(f"faces {_names(names)} are not a wall: their free edges make {what}; pick the ring "
+                            f"of faces between the bottom and the top contour (see 'ruled faces INPUT --walls')")
+    n = len(face_edges)
+    nb: dict = {k: [] for k in range(n)}
+    for (a, b), es in shared.items():
+        for e in es:
+            nb[a].append((b, e))
+            nb[b].append((a, e))
+    if n > 1:
+        wrong = [names[k] for k, v in nb.items() if len(v) != 2]
+        if wrong:
+            raise BadInputError(f"faces {_names(wrong)} of the wall do not each meet two others of it edge to edge; "
+                                f"a wall is a ring of faces between two contours")
+    order, joints = [0], []
+    while len(order) < n:
+        nxt = [(k, e) for k, e in nb[order[-1]] if k not in order]
+        if not nxt:
+            raise BadInputError(f"faces {_names(names)} do not make one ring; pick the faces of one wall")
+        order.append(nxt[0][0])
+        joints.append(nxt[0][1])
+    joints.append(next(e for k, e in nb[order[-1]] if k == order[0] and e not in joints) if n > 1 else None)
+    # the bottom: the contour lower along the axis between the contours' centres (z first)
+    c = [np.mean(np.concatenate([edges[i].points for i in lp]), axis=0) for lp in loops]
+    d = c[1] - c[0]
+    axis = int(np.argmax(np.abs(d) > 1e-6 * size) if abs(d[2]) <= 1e-6 * size else 2)
+    if d[axis] < 0:
+        loops = loops[::-1]
+    bottom, top = [], []
+    for k in order:
+        mine = [[i for i in lp if i in face_edges[k]] for lp in loops]
+        bottom.append(mine[0])
+        top.append(mine[1])
+        if not mine[0] and not mine[1] and not slivers[k]:
+            raise BadInputError(f"face {names[k]} of the wall touches neither contour; a wall's faces run from the "
+                                f"bottom contour to the top one")
+    return RingOrder(order, bottom, top, joints, (loops[0], loops[1]), size, slivers)
+
+
+def connected(face_edges: list) -> list:
+    """The faces (positions) in groups connected edge to edge (face_edges: each face's edge positions)."""
+    parent = list(range(len(face_edges)))
+
+    def root(k):
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+    owners: dict = {}
+    for k, es in enumerate(face_edges):
+        for e in es:
+            owners.setdefault(e, []).append(k)
+    for own in owners.values():
+        for k in own[1:]:
+            parent[root(k)] = root(own[0])
+    groups: dict = {}
+    for k in range(len(face_edges)):
+        groups.setdefault(root(k), []).append(k)
+    return sorted(groups.values(), key=lambda g: g[0])
+
+
+__all__ = ["RingEdge", "RingOrder", "order_ring", "connected", "SLIVER"]
