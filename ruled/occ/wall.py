@@ -9,6 +9,10 @@ the face exactly.  The patches, made compatible along the rulings' direction (co
 knots: exact), are joined with full-multiplicity knots at the joints, so that the contours' corners
 stay corners, into one surface closed round the ring; the DP's rulings then cross the faces' joints
 freely.  A wall whose faces cannot be joined exactly is refused in one line naming the faces.
+
+This module reads the faces with OCCT; the work is the engine's, on plain arrays: ruled.fit.ring (the
+ring's topology), ruled.fit.join (the patches joined), ruled.fit.wallfit (the fit), so that another host's
+adapter (FreeCAD's) gives the same walls.
 """
 
 from __future__ import annotations
@@ -19,15 +23,13 @@ from typing import Any, Optional
 import numpy as np
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
-from OCP.Geom import Geom_BSplineSurface, Geom_TrimmedCurve
+from OCP.Geom import Geom_TrimmedCurve
 from OCP.GeomAbs import GeomAbs_CurveType
 from OCP.GeomConvert import GeomConvert, GeomConvert_CompCurveToBSplineCurve
-from OCP.GeomFill import GeomFill
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
-from ruled.fit.wallfit import CORNER_DEG, turn
-from ruled.occ.convert import face_to_bspline, occ_array
+from ruled.occ.convert import face_to_bspline
 from ruled.occ.io import faces_of
 from ruled.occ.ring import (
     Ring,
@@ -36,7 +38,6 @@ from ruled.occ.ring import (
     _face_edges,
     _length,
     _planar_normal,
-    _pt,
     _sliver,
     find_walls,
     ring_of,
@@ -83,34 +84,29 @@ def _is_line(edge, tol: float) -> bool:
     return float(np.max(np.linalg.norm(off, axis=1))) <= tol
 
 
-@dataclass
-class _Patch:
-    surface: Geom_BSplineSurface       # u along the ring, v from the bottom to the top contour
-    length: float                      # its contours' mean length (its share of the ring's parameter)
+def _clamped(bs):
+    """bs non-periodic and clamped (OCCT's non-periodic form of a periodic surface is not: segmented to its
+    range, it is)."""
+    bs = bs.Copy()
+    if bs.IsUPeriodic():
+        bs.SetUNotPeriodic()
+    if bs.IsVPeriodic():
+        bs.SetVNotPeriodic()
+    um = [bs.UMultiplicity(i) for i in (1, bs.NbUKnots())]
+    vm = [bs.VMultiplicity(i) for i in (1, bs.NbVKnots())]
+    if any(m != bs.UDegree() + 1 for m in um) or any(m != bs.VDegree() + 1 for m in vm):
+        bs.Segment(*bs.Bounds())
+    return bs
 
 
-def _side_distance(bs, side: int, cloud: np.ndarray) -> float:
-    """The largest distance from the points cloud to the samples of side (0: v-min, 1: u-max, 2: v-max,
-    3: u-min) of bs: small when cloud lies along that side."""
-    u0, u1, v0, v1 = bs.Bounds()
-    t = np.linspace(0.0, 1.0, 129)
-    uv = {0: (u0 + (u1 - u0) * t, np.full(t.size, v0)), 1: (np.full(t.size, u1), v0 + (v1 - v0) * t),
-          2: (u0 + (u1 - u0) * t, np.full(t.size, v1)), 3: (np.full(t.size, u0), v0 + (v1 - v0) * t)}[side]
-    P = np.array([_pt(bs.Value(float(a), float(b))) for a, b in zip(*uv)])
-    # to the polyline through the samples
-    A, D = P[:-1], np.diff(P, axis=0)
-    x = cloud[:, None, :] - A[None]
-    w = np.clip((x * D[None]).sum(-1) / np.maximum((D * D).sum(-1), 1e-300)[None], 0.0, 1.0)
-    d = np.linalg.norm(x - w[..., None] * D[None], axis=2)
-    return float(np.max(np.min(d, axis=1)))
-
-
-def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: float) -> _Patch:
-    """The face as a four-sided patch: u along the ring (from its joint ``before`` to ``after``), v from
-    its bottom contour edges to its top ones."""
+def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: float) -> tuple:
+    """(the face as a four-sided patch: u along the ring, from its joint ``before`` to ``after``, v from its
+    bottom contour edges to its top ones (ruled.fit.join), its contours' mean length)."""
+    from ruled.fit.join import oriented, ruled_patch
+    from ruled.occ.convert import bspline_surface_to_container
+    from ruled.occ.region import _kernel_curve
     tol = 1e-6 * size
-    blen = sum(_length(e) for e in bottom)
-    tlen = sum(_length(e) for e in top)
+    length = max(0.5 * (sum(_length(e) for e in bottom) + sum(_length(e) for e in top)), 1e-12 * size)
     if _planar_normal(face) is not None:
         sides = [e for e in (before, after) if e is not None]
         if not bottom or not top or not all(_is_line(e, tol) for e in sides):
@@ -121,64 +117,14 @@ def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: flo
         start_b = p0[0] if np.min(np.linalg.norm(bpts - p0[0], axis=1)) <= np.min(
             np.linalg.norm(bpts - p0[1], axis=1)) else p0[1]
         start_t = p0[1] if start_b is p0[0] else p0[0]
-        cb = _chain_curve(bottom, start_b, tol)
-        ct = _chain_curve(top, start_t, tol)
-        bs = GeomConvert.SurfaceToBSplineSurface_s(GeomFill.Surface_s(cb, ct))
-    else:
-        bs = face_to_bspline(face)
-        bcloud = np.concatenate([_edge_points(e) for e in bottom]) if bottom else None
-        tcloud = np.concatenate([_edge_points(e) for e in top]) if top else None
-        score = [[_side_distance(bs, s, c) if c is not None else np.inf for s in range(4)] for c in (bcloud, tcloud)]
-        if bcloud is None:          # the face meets the bottom contour at a point: the side opposite the top
-            sb = (int(np.argmin(score[1])) + 2) % 4
-        else:
-            sb = int(np.argmin(score[0]))
-        st = (sb + 2) % 4
-        worst = max(score[0][sb] if bcloud is not None else 0.0, score[1][st] if tcloud is not None else 0.0)
-        # (an edge within its tolerance of the surface, as the file says, lies on it)
-        edge_tol = max((BRep_Tool.Tolerance_s(e) for e in bottom + top), default=0.0)
-        if worst > max(1e-3 * size, 1.5 * edge_tol):
-            raise BadInputError(f"face {index} of the wall: its contour edges are not opposite sides of its surface "
-                                f"(a trimmed face; {worst:.3g} off); walls of such faces are not supported yet")
-        bs = bs.Copy()
-        if sb in (1, 3):
-            bs.ExchangeUV()
-            sb = 0 if sb == 3 else 2
-        if sb == 2:
-            bs.VReverse()
-    # u from the joint with the previous face
-    if before is not None:
-        jp = np.concatenate([_edge_points(before, 9)])
-        if _side_distance(bs, 3, jp) > _side_distance(bs, 1, jp):
-            bs.UReverse()
-    elif after is not None:
-        jp = _edge_points(after, 9)
-        if _side_distance(bs, 1, jp) > _side_distance(bs, 3, jp):
-            bs.UReverse()
-    return _Patch(bs, max(0.5 * (blen + tlen), 1e-12 * size))
-
-
-def _knots(bs, d: int) -> tuple:
-    if d == 0:
-        return ([bs.UKnot(i) for i in range(1, bs.NbUKnots() + 1)],
-                [bs.UMultiplicity(i) for i in range(1, bs.NbUKnots() + 1)])
-    return ([bs.VKnot(i) for i in range(1, bs.NbVKnots() + 1)],
-            [bs.VMultiplicity(i) for i in range(1, bs.NbVKnots() + 1)])
-
-
-def _remap(bs, d: int, a: float, b: float) -> None:
-    k, _ = _knots(bs, d)
-    k = np.asarray(k)
-    new = a + (b - a) * (k - k[0]) / (k[-1] - k[0])
-    new[0], new[-1] = a, b
-    (bs.SetUKnots if d == 0 else bs.SetVKnots)(occ_array(new))
-
-
-def _arrays(bs) -> tuple:
-    nu, nv = bs.NbUPoles(), bs.NbVPoles()
-    P = np.array([[_pt(bs.Pole(i + 1, j + 1)) for j in range(nv)] for i in range(nu)])
-    W = np.array([[bs.Weight(i + 1, j + 1) for j in range(nv)] for i in range(nu)])
-    return P, W
+        chains = [_kernel_curve(_chain_curve(c, start, tol), False) for c, start in ((bottom, start_b), (top, start_t))]
+        return ruled_patch(*chains), length
+    S = bspline_surface_to_container(_clamped(face_to_bspline(face)))
+    # (an edge within its tolerance of the surface, as the file says, lies on it)
+    edge_tol = max((BRep_Tool.Tolerance_s(e) for e in bottom + top), default=0.0)
+    b, t = (np.concatenate([_edge_points(e) for e in c]) if c else None for c in (bottom, top))
+    jb, ja = (None if e is None else _edge_points(e, 9) for e in (before, after))
+    return oriented(S, b, t, jb, ja, index, size, max(1e-3 * size, 1.5 * edge_tol)), length
 
 
 @dataclass
@@ -199,77 +145,14 @@ class Wall:
 
 
 def joined_surface(ring: Ring, faces: tuple) -> tuple:
-    """(Surface, breaks, corners): the ring's faces as one B-spline surface closed round the ring (see the
-    module); breaks: the faces' joints in its u; corners: the joints (indices into breaks, 0 the seam) where
-    both contours turn by more than CORNER_DEG."""
+    """(Surface, breaks, corners): the ring's faces (slivers left out) as one B-spline surface closed round
+    the ring (ruled.fit.join.joined)."""
+    from ruled.fit.join import joined
     n = len(faces)
     keep = [k for k in range(n) if not _sliver(faces[k], ring.size)]
-    patches = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], ring.joints[k - 1] if n > 1 else None,
-                      ring.joints[k] if n > 1 else None, ring.size) for k in keep]
-    names = [ring.faces[k] for k in keep]
-    K = len(patches)
-    lengths = np.array([p.length for p in patches])
-    breaks = np.concatenate([[0.0], np.cumsum(lengths) / lengths.sum()])
-    du = max(p.surface.UDegree() for p in patches)
-    dv = max(p.surface.VDegree() for p in patches)
-    vk: dict = {}
-    for k, p in enumerate(patches):
-        bs = p.surface
-        bs.IncreaseDegree(du, dv)
-        if bs.IsUPeriodic():
-            bs.SetUNotPeriodic()
-        if bs.IsVPeriodic():
-            bs.SetVNotPeriodic()
-        # (OCCT's non-periodic form of a periodic surface is not clamped: segmented to its range, it is)
-        if any(m[0] != d + 1 or m[-1] != d + 1 for m, d in ((_knots(bs, 0)[1], du), (_knots(bs, 1)[1], dv))):
-            bs.Segment(*bs.Bounds())
-        _remap(bs, 0, breaks[k], breaks[k + 1])
-        _remap(bs, 1, 0.0, 1.0)
-        for x, m in zip(*_knots(bs, 1)):
-            key = round(x, 12)
-            vk[key] = max(vk.get(key, 0), m)
-    inner = {x: m for x, m in vk.items() if 0.0 < x < 1.0}
-    for p in patches:
-        have = dict(zip((round(x, 12) for x in _knots(p.surface, 1)[0]), _knots(p.surface, 1)[1]))
-        for x, m in sorted(inner.items()):
-            if have.get(x, 0) < m:
-                p.surface.InsertVKnot(x, m, 1e-12, False)
-    arrays = [_arrays(p.surface) for p in patches]
-    nv = {a[0].shape[1] for a in arrays}
-    if len(nv) != 1:
-        raise BadInputError("the wall's faces could not be made compatible along the rulings (please report the part)")
-    P, W = arrays[0]
-    knots = [breaks[0]] * (du + 1)
-    tol = 1e-6 * ring.size
-    for k in range(K):
-        Pk, Wk = arrays[k]
-        ku, mu = _knots(patches[k].surface, 0)
-        if k > 0:
-            r = W[-1] / Wk[0]
-            off = float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1)))
-            if off > tol or np.ptp(r) > 1e-9 * float(np.max(r)):
-                raise BadInputError(f"faces {names[k - 1]} and {names[k]} of the wall parametrize the edge "
-                                    f"they share differently ({off:.3g} apart); walls of such faces are not "
-                                    f"supported yet")
-            Wk = Wk * float(np.mean(r))
-            P = np.concatenate([P, Pk[1:]])
-            W = np.concatenate([W, Wk[1:]])
-            knots += [breaks[k]] * du
-        for x, m in zip(ku[1:-1], mu[1:-1]):
-            knots += [x] * m
-    knots += [breaks[-1]] * (du + 1)
-    vkn, vm = _knots(patches[0].surface, 1)
-    kv = np.repeat(vkn, vm)
-    closing = float(np.max(np.linalg.norm(P[0] - P[-1], axis=1)))
-    if closing > tol:
-        raise BadInputError(f"the wall's faces {names[-1]} and {names[0]} do not meet along one edge "
-                            f"parametrized alike ({closing:.3g} apart); walls of such faces are not supported yet")
-    P[-1] = P[0]
-    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
-    S = Surface(P, np.asarray(knots), kv, du, dv, W if rational else None)
-    corners = [k for k in range(K) if all(turn(arrays[k - 1][0][:, row], arrays[k][0][:, row]) > CORNER_DEG
-                                          for row in (0, -1))]
-    return S, breaks, corners
+    got = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], ring.joints[k - 1] if n > 1 else None,
+                  ring.joints[k] if n > 1 else None, ring.size) for k in keep]
+    return joined([g[0] for g in got], [g[1] for g in got], [ring.faces[k] for k in keep], ring.size)
 
 
 def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:

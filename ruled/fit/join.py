@@ -1,0 +1,175 @@
+"""A wall's faces as one B-spline surface closed round the ring, on plain arrays: each face a four-sided
+patch (its surface turned so that v runs from the bottom contour to the top and u round the ring, or the
+ruled patch between its contour curves on a plane), the patches made compatible along v (common degrees
+and knots: exact) and joined with full-multiplicity knots at the joints (C0: the contours' corners stay
+corners), the faces' shares of u their contours' lengths.  Hosts give the faces' surfaces, their contour
+curves and the points of their edges (ruled.occ.wall for OCCT)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ruled.core.errors import BadInputError
+from ruled.core.knots import elevate, insert_knot
+from ruled.core.nurbs import Curve, Surface
+from ruled.fit.wallfit import CORNER_DEG, turn
+
+
+def _w(S: Surface) -> np.ndarray:
+    return S.weights if S.weights is not None else np.ones(S.poles.shape[:2])
+
+
+def _rows(S: Surface) -> list:
+    """S's rows along u (one curve per v-index)."""
+    w = _w(S)
+    return [Curve(S.poles[:, j], S.knots_u, S.degree_u, w[:, j] if S.weights is not None else None)
+            for j in range(S.poles.shape[1])]
+
+
+def _from_rows(rows: list, S: Surface) -> Surface:
+    P = np.stack([c.poles for c in rows], axis=1)
+    W = np.stack([c.weights if c.weights is not None else np.ones(len(c.poles)) for c in rows], axis=1)
+    return Surface(P, rows[0].knots, S.knots_v, rows[0].degree, S.degree_v, W if S.weights is not None else None)
+
+
+def _along_u(S: Surface, op) -> Surface:
+    return _from_rows([op(c) for c in _rows(S)], S)
+
+
+def _along_v(S: Surface, op) -> Surface:
+    return _along_u(S.transposed(), op).transposed()
+
+
+def reversed_u(S: Surface) -> Surface:
+    k = S.knots_u
+    return Surface(S.poles[::-1].copy(), (k[0] + k[-1]) - k[::-1], S.knots_v, S.degree_u, S.degree_v,
+                   None if S.weights is None else S.weights[::-1].copy())
+
+
+def remapped(S: Surface, a: float, b: float, c: float = 0.0, d: float = 1.0) -> Surface:
+    """S with its u knots mapped affinely onto [a, b] and its v knots onto [c, d]."""
+    def m(k, x, y):
+        out = x + (y - x) * (k - k[0]) / (k[-1] - k[0])
+        out[k == k[0]], out[k == k[-1]] = x, y
+        return out
+    return Surface(S.poles, m(S.knots_u, a, b), m(S.knots_v, c, d), S.degree_u, S.degree_v, S.weights)
+
+
+def _with_knots(C: Curve, wanted: dict) -> Curve:
+    """C with each knot x of wanted (inside its domain) of multiplicity at least wanted[x]."""
+    for x, m in sorted(wanted.items()):
+        have = int(np.sum(np.abs(C.knots - x) <= 1e-12))
+        if have < m:
+            C = insert_knot(C, x, m - have)
+    return C
+
+
+def _knot_mults(k: np.ndarray) -> dict:
+    x, m = np.unique(np.round(k, 12), return_counts=True)
+    return dict(zip(x.tolist(), m.tolist()))
+
+
+def side_distance(S: Surface, side: int, cloud: np.ndarray) -> float:
+    """The largest distance from the points cloud to side (0: v-min, 1: u-max, 2: v-max, 3: u-min) of S, as a
+    polyline of 129 of its points: small when cloud lies along that side."""
+    u0, u1, v0, v1 = S.domain
+    t = np.linspace(0.0, 1.0, 129)
+    u, v = {0: (u0 + (u1 - u0) * t, np.full(t.size, v0)), 1: (np.full(t.size, u1), v0 + (v1 - v0) * t),
+            2: (u0 + (u1 - u0) * t, np.full(t.size, v1)), 3: (np.full(t.size, u0), v0 + (v1 - v0) * t)}[side]
+    P = S(u, v)
+    A, D = P[:-1], np.diff(P, axis=0)
+    x = cloud[:, None, :] - A[None]
+    f = np.clip((x * D[None]).sum(-1) / np.maximum((D * D).sum(-1), 1e-300)[None], 0.0, 1.0)
+    return float(np.max(np.min(np.linalg.norm(x - f[..., None] * D[None], axis=2), axis=1)))
+
+
+def oriented(S: Surface, bottom, top, before, after, name, size: float, tol: float) -> Surface:
+    """The face's surface S turned so that v runs from its bottom contour edges' points (bottom, or None where
+    it meets the contour at a point) to its top ones and u from its joint with the previous face (before's
+    points; after's where before is None).  Refused when the edges are no opposite sides of S within tol."""
+    score = [[side_distance(S, s, c) if c is not None else np.inf for s in range(4)] for c in (bottom, top)]
+    sb = (int(np.argmin(score[1])) + 2) % 4 if bottom is None else int(np.argmin(score[0]))
+    st = (sb + 2) % 4
+    worst = max(score[0][sb] if bottom is not None else 0.0, score[1][st] if top is not None else 0.0)
+    if worst > tol:
+        raise BadInputError(f"face {name} of the wall: its contour edges are not opposite sides of its surface "
+                            f"(a trimmed face; {worst:.3g} off); walls of such faces are not supported yet")
+    if sb in (1, 3):
+        S = S.transposed()
+        sb = 0 if sb == 3 else 2
+    if sb == 2:
+        S = S.transposed()
+        S = reversed_u(S).transposed()
+    if before is not None and side_distance(S, 3, before) > side_distance(S, 1, before):
+        S = reversed_u(S)
+    elif before is None and after is not None and side_distance(S, 1, after) > side_distance(S, 3, after):
+        S = reversed_u(S)
+    return S
+
+
+def ruled_patch(bottom: Curve, top: Curve) -> Surface:
+    """The ruled surface between two curves at equal fractions of their parameters (both running from the
+    face's joint with the previous one): a planar face between straight joints, exactly."""
+    p = max(bottom.degree, top.degree)
+    cs = [elevate(Curve(c.poles, (c.knots - c.knots[0]) / (c.knots[-1] - c.knots[0]), c.degree, c.weights), p)
+          for c in (bottom, top)]
+    inner: dict = {}
+    for c in cs:
+        for x, m in _knot_mults(c.knots).items():
+            if 0.0 < x < 1.0:
+                inner[x] = max(inner.get(x, 0), m)
+    cs = [_with_knots(c, inner) for c in cs]
+    W = np.stack([c.weights if c.weights is not None else np.ones(len(c.poles)) for c in cs], axis=1)
+    rational = any(c.weights is not None for c in cs)
+    return Surface(np.stack([c.poles for c in cs], axis=1), cs[0].knots, np.array([0.0, 0.0, 1.0, 1.0]), p, 1,
+                   W if rational else None)
+
+
+def joined(patches: list, lengths, names: list, size: float) -> tuple:
+    """(Surface, breaks, corners): the patches (u round the ring, v bottom to top) joined (see the module);
+    breaks: the faces' joints in u; corners: the joints (indices into breaks, 0 the seam) where both
+    contours turn by more than CORNER_DEG."""
+    lengths = np.asarray(lengths, float)
+    breaks = np.concatenate([[0.0], np.cumsum(lengths) / lengths.sum()])
+    du = max(S.degree_u for S in patches)
+    dv = max(S.degree_v for S in patches)
+    ps = []
+    for k, S in enumerate(patches):
+        S = remapped(S, breaks[k], breaks[k + 1])
+        S = _along_u(S, lambda c: elevate(c, du))
+        S = _along_v(S, lambda c: elevate(c, dv))
+        ps.append(S)
+    inner: dict = {}
+    for S in ps:
+        for x, m in _knot_mults(S.knots_v).items():
+            if 0.0 < x < 1.0:
+                inner[x] = max(inner.get(x, 0), m)
+    ps = [_along_v(S, lambda c: _with_knots(c, inner)) for S in ps]
+    tol = 1e-6 * size
+    P, W = ps[0].poles, _w(ps[0])
+    knots = list(ps[0].knots_u[:-1])
+    for k in range(1, len(ps)):
+        Pk, Wk = ps[k].poles, _w(ps[k])
+        r = W[-1] / Wk[0]
+        off = float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1)))
+        if off > tol or np.ptp(r) > 1e-9 * float(np.max(r)):
+            raise BadInputError(f"faces {names[k - 1]} and {names[k]} of the wall parametrize the edge they share "
+                                f"differently ({off:.3g} apart); walls of such faces are not supported yet")
+        P = np.concatenate([P, Pk[1:]])
+        W = np.concatenate([W, Wk[1:] * float(np.mean(r))])
+        knots += list(ps[k].knots_u[du + 1:-1])     # the joint's knot: du copies (one was the last patch's end)
+    knots += [breaks[-1]]
+    closing = float(np.max(np.linalg.norm(P[0] - P[-1], axis=1)))
+    if closing > tol:
+        raise BadInputError(f"the wall's faces {names[-1]} and {names[0]} do not meet along one edge parametrized "
+                            f"alike ({closing:.3g} apart); walls of such faces are not supported yet")
+    P = P.copy()
+    P[-1] = P[0]
+    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
+    S = Surface(P, np.asarray(knots), ps[0].knots_v, du, dv, W if rational else None)
+    corners = [k for k in range(len(ps)) if all(turn(ps[k - 1].poles[:, row], ps[k].poles[:, row]) > CORNER_DEG
+                                                for row in (0, -1))]
+    return S, breaks, corners
+
+
+__all__ = ["joined", "oriented", "ruled_patch", "side_distance", "reversed_u", "remapped"]
