@@ -415,7 +415,8 @@ def plan(inputs: list, outdir: str, spec, fraction: float, options: dict, memory
         if options.get("walls"):
             from ruled.occ.io import read_shape
             from ruled.occ.ring import find_walls
-            for k, faces in enumerate(find_walls(read_shape(path))):
+            for k, ring in enumerate(find_walls(read_shape(path))):
+                faces = list(ring.faces)
                 name = f"wall {k}"
                 out_jobs.append({"input": path, "file": os.path.basename(path), "face": name, "wall": faces,
                                  "type": f"wall of {len(faces)} faces", "trimmed_pct": None,

@@ -38,14 +38,12 @@ def cmd_faces(args) -> int:
                 print("    sides: " + "  ".join(f"{k}: [{','.join(map(str, sides.edges(k))) or 'point'}]"
                                                for k in range(4)) + f"  ({sides.how})")
     if args.walls:
-        from ruled.occ.io import faces_of, read_shape
-        from ruled.occ.ring import find_walls, ring_of
-        shape = read_shape(args.input)
-        walls = find_walls(shape)
+        from ruled.occ.io import read_shape
+        from ruled.occ.ring import find_walls
+        walls = find_walls(read_shape(args.input))
         if not walls:
             print("walls: none (no ring of faces between two planar caps); give a wall's faces with --wall K,L-M")
-        for k, w in enumerate(walls):
-            r = ring_of(faces_of(shape), w)
+        for k, r in enumerate(walls):
             print(f"wall {k}: faces {','.join(map(str, r.faces))}  (bottom contour {len(r.loops[0])} edges, "
                   f"top contour {len(r.loops[1])} edges)")
     return 0
@@ -268,10 +266,9 @@ def run_wall(input_path: str, wall_spec, output: str, *, samples=40, objective="
     rep = {**wf.report(), "input": input_path, "samples": opts.samples, "version": __version__}
     if per_face:
         from ruled.occ.measure import hausdorff
-        from ruled.occ.ring import _sliver
         from ruled.occ.wallfaces import per_face as pieces_of
         pieces, shell = pieces_of(wf)
-        kept = [(i, f) for i, f in zip(wall.ring.faces, wall.faces) if not _sliver(f, wall.size)]
+        kept = [(wall.ring.faces[k], wall.faces[k]) for k in wall.ring.kept]
         rep["per_face"] = [{"face": i, "measured": hausdorff(f, p, measure_samples).max}
                            for (i, f), p in zip(kept, pieces)]
         write_step(shell, output)

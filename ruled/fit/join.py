@@ -12,7 +12,20 @@ import numpy as np
 from ruled.core.errors import BadInputError
 from ruled.core.knots import elevate, insert_knot
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.wallfit import CORNER_DEG, turn
+
+CORNER_DEG = 1.0     # contours turning by more than this at a joint have a corner there
+
+
+def turn(before: np.ndarray, after: np.ndarray) -> float:
+    """The angle (degrees) a curve turns at the joint of two clamped control polygons (the last pole of before
+    is the first of after): between their end legs; 0 where a leg has no length (a contour collapsed to a
+    point there)."""
+    a = before[-1] - next((p for p in before[-2::-1] if np.linalg.norm(before[-1] - p) > 0), before[-1])
+    b = next((p for p in after[1:] if np.linalg.norm(p - after[0]) > 0), after[0]) - after[0]
+    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    if na == 0.0 or nb == 0.0:
+        return 0.0
+    return float(np.degrees(np.arccos(np.clip(a @ b / (na * nb), -1.0, 1.0))))
 
 
 def _w(S: Surface) -> np.ndarray:
@@ -32,12 +45,17 @@ def _from_rows(rows: list, S: Surface) -> Surface:
     return Surface(P, rows[0].knots, S.knots_v, rows[0].degree, S.degree_v, W if S.weights is not None else None)
 
 
-def _along_u(S: Surface, op) -> Surface:
+def along_u(S: Surface, op) -> Surface:
     return _from_rows([op(c) for c in _rows(S)], S)
 
 
 def _along_v(S: Surface, op) -> Surface:
-    return _along_u(S.transposed(), op).transposed()
+    return along_u(S.transposed(), op).transposed()
+
+
+def elevated_u(S: Surface, p: int) -> Surface:
+    """S with its u degree raised to p (exactly)."""
+    return along_u(S, lambda c: elevate(c, p))
 
 
 def reversed_u(S: Surface) -> Surface:
@@ -55,7 +73,7 @@ def remapped(S: Surface, a: float, b: float, c: float = 0.0, d: float = 1.0) -> 
     return Surface(S.poles, m(S.knots_u, a, b), m(S.knots_v, c, d), S.degree_u, S.degree_v, S.weights)
 
 
-def _with_knots(C: Curve, wanted: dict) -> Curve:
+def with_knots(C: Curve, wanted: dict) -> Curve:
     """C with each knot x of wanted (inside its domain) of multiplicity at least wanted[x]."""
     for x, m in sorted(wanted.items()):
         have = int(np.sum(np.abs(C.knots - x) <= 1e-12))
@@ -118,11 +136,38 @@ def ruled_patch(bottom: Curve, top: Curve) -> Surface:
         for x, m in _knot_mults(c.knots).items():
             if 0.0 < x < 1.0:
                 inner[x] = max(inner.get(x, 0), m)
-    cs = [_with_knots(c, inner) for c in cs]
+    cs = [with_knots(c, inner) for c in cs]
     W = np.stack([c.weights if c.weights is not None else np.ones(len(c.poles)) for c in cs], axis=1)
     rational = any(c.weights is not None for c in cs)
     return Surface(np.stack([c.poles for c in cs], axis=1), cs[0].knots, np.array([0.0, 0.0, 1.0, 1.0]), p, 1,
                    W if rational else None)
+
+
+def end_to_end(ps: list) -> tuple:
+    """(Surface, offsets, spreads): surfaces of one u degree and one v knot vector, on consecutive u ranges,
+    joined end to end with full-multiplicity knots (C0) and closed round: at each joint (and the closing one,
+    last) the two end columns replaced by their mean, and each row of the later surface's weights scaled to
+    agree with the earlier's there.  offsets: per joint the largest distance between the two columns;
+    spreads: per joint the relative spread of the rows' weight ratios (0 where one factor scales them all,
+    which keeps any surface; a ruled surface, v of degree 1, is kept as a point set by any)."""
+    p = ps[0].degree_u
+    P, W = ps[0].poles.copy(), _w(ps[0])
+    knots = list(ps[0].knots_u[:-1])
+    offs, spreads = [], []
+    for S in ps[1:]:
+        Pk, Wk = S.poles, _w(S)
+        r = W[-1] / Wk[0]
+        offs.append(float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1))))
+        spreads.append(float(np.ptp(r) / np.max(r)))
+        P[-1] = 0.5 * (P[-1] + Pk[0])
+        P = np.concatenate([P, Pk[1:]])
+        W = np.concatenate([W, Wk[1:] * r[None, :]])
+        knots += list(S.knots_u[p + 1:-1])          # the joint's knot: p copies (one was the last surface's end)
+    knots += [ps[-1].knots_u[-1]]
+    offs.append(float(np.max(np.linalg.norm(P[0] - P[-1], axis=1))))
+    P[0] = P[-1] = 0.5 * (P[0] + P[-1])
+    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
+    return Surface(P, np.asarray(knots), ps[0].knots_v, p, ps[0].degree_v, W if rational else None), offs, spreads
 
 
 def joined(patches: list, lengths, names: list, size: float) -> tuple:
@@ -136,7 +181,7 @@ def joined(patches: list, lengths, names: list, size: float) -> tuple:
     ps = []
     for k, S in enumerate(patches):
         S = remapped(S, breaks[k], breaks[k + 1])
-        S = _along_u(S, lambda c: elevate(c, du))
+        S = elevated_u(S, du)
         S = _along_v(S, lambda c: elevate(c, dv))
         ps.append(S)
     inner: dict = {}
@@ -144,32 +189,20 @@ def joined(patches: list, lengths, names: list, size: float) -> tuple:
         for x, m in _knot_mults(S.knots_v).items():
             if 0.0 < x < 1.0:
                 inner[x] = max(inner.get(x, 0), m)
-    ps = [_along_v(S, lambda c: _with_knots(c, inner)) for S in ps]
+    ps = [_along_v(S, lambda c: with_knots(c, inner)) for S in ps]
+    S, offs, spreads = end_to_end(ps)
     tol = 1e-6 * size
-    P, W = ps[0].poles, _w(ps[0])
-    knots = list(ps[0].knots_u[:-1])
     for k in range(1, len(ps)):
-        Pk, Wk = ps[k].poles, _w(ps[k])
-        r = W[-1] / Wk[0]
-        off = float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1)))
-        if off > tol or np.ptp(r) > 1e-9 * float(np.max(r)):
+        if offs[k - 1] > tol or spreads[k - 1] > 1e-9:
             raise BadInputError(f"faces {names[k - 1]} and {names[k]} of the wall parametrize the edge they share "
-                                f"differently ({off:.3g} apart); walls of such faces are not supported yet")
-        P = np.concatenate([P, Pk[1:]])
-        W = np.concatenate([W, Wk[1:] * float(np.mean(r))])
-        knots += list(ps[k].knots_u[du + 1:-1])     # the joint's knot: du copies (one was the last patch's end)
-    knots += [breaks[-1]]
-    closing = float(np.max(np.linalg.norm(P[0] - P[-1], axis=1)))
-    if closing > tol:
+                                f"differently ({offs[k - 1]:.3g} apart); walls of such faces are not supported yet")
+    if offs[-1] > tol:
         raise BadInputError(f"the wall's faces {names[-1]} and {names[0]} do not meet along one edge parametrized "
-                            f"alike ({closing:.3g} apart); walls of such faces are not supported yet")
-    P = P.copy()
-    P[-1] = P[0]
-    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
-    S = Surface(P, np.asarray(knots), ps[0].knots_v, du, dv, W if rational else None)
+                            f"alike ({offs[-1]:.3g} apart); walls of such faces are not supported yet")
     corners = [k for k in range(len(ps)) if all(turn(ps[k - 1].poles[:, row], ps[k].poles[:, row]) > CORNER_DEG
                                                 for row in (0, -1))]
     return S, breaks, corners
 
 
-__all__ = ["joined", "oriented", "ruled_patch", "side_distance", "reversed_u", "remapped"]
+__all__ = ["CORNER_DEG", "turn", "joined", "end_to_end", "elevated_u", "along_u", "with_knots", "oriented",
+           "ruled_patch", "side_distance", "reversed_u", "remapped"]

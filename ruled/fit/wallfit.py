@@ -13,20 +13,7 @@ import numpy as np
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
-
-CORNER_DEG = 1.0     # contours turning by more than this at a joint have a corner there
-
-
-def turn(before: np.ndarray, after: np.ndarray) -> float:
-    """The angle (degrees) a curve turns at the joint of two clamped control polygons (the last pole of before
-    is the first of after): between their end legs; 0 where a leg has no length (a contour collapsed to a
-    point there)."""
-    a = before[-1] - next((p for p in before[-2::-1] if np.linalg.norm(before[-1] - p) > 0), before[-1])
-    b = next((p for p in after[1:] if np.linalg.norm(p - after[0]) > 0), after[0]) - after[0]
-    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
-    if na == 0.0 or nb == 0.0:
-        return 0.0
-    return float(np.degrees(np.arccos(np.clip(a @ b / (na * nb), -1.0, 1.0))))
+from ruled.fit.join import elevated_u, end_to_end, remapped
 
 
 def piece(S: Surface, a: float, b: float) -> Surface:
@@ -63,33 +50,10 @@ def stacked(surfaces: list, ranges: list, size: float) -> tuple:
     replaced by their mean; gap: the largest distance between joined end rulings (round-off where each ends
     on the same corner line; 4D pieces lift theirs off it).  Each piece moves by at most gap / 2 (a pole moved
     moves the surface by at most as much: its basis functions are positive and sum to one)."""
-    from ruled.core.knots import elevate
-    from ruled.core.nurbs import Curve
     p = max(R.degree_u for R in surfaces)
-    P = W = None
-    knots: list = []
-    gap = 0.0
-    for R, (a, b) in zip(surfaces, ranges):
-        w = R.weights if R.weights is not None else np.ones(R.poles.shape[:2])
-        u0, u1 = R.domain[:2]
-        rows = [elevate(Curve(R.poles[:, j], a + (b - a) * (R.knots_u - u0) / (u1 - u0), R.degree_u, w[:, j]), p)
-                for j in range(R.poles.shape[1])]
-        Pk = np.stack([c.poles for c in rows], axis=1)
-        Wk = np.stack([c.weights if c.weights is not None else np.ones(len(c.poles)) for c in rows], axis=1)
-        kk = rows[0].knots
-        if P is None:
-            P, W, knots = Pk, Wk, list(kk)
-            continue
-        gap = max(gap, float(np.max(np.linalg.norm(P[-1] - Pk[0], axis=1))))
-        P[-1] = 0.5 * (P[-1] + Pk[0])
-        Wk = Wk * (W[-1] / Wk[0])[None, :]
-        P = np.concatenate([P, Pk[1:]])
-        W = np.concatenate([W, Wk[1:]])
-        knots = knots[:-1] + list(kk[p + 1:])
-    gap = max(gap, float(np.max(np.linalg.norm(P[-1] - P[0], axis=1))))
-    P[0] = P[-1] = 0.5 * (P[0] + P[-1])
-    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
-    return Surface(P, np.asarray(knots), surfaces[0].knots_v, p, surfaces[0].degree_v, W if rational else None), gap
+    ps = [elevated_u(remapped(R, a, b, *R.domain[2:]), p) for R, (a, b) in zip(surfaces, ranges)]
+    S, offs, _ = end_to_end(ps)
+    return S, max(offs)
 
 
 def own_net(R: Surface, S: Surface, bound: float, size: float) -> float:
@@ -162,4 +126,4 @@ def fit_ring(S: Surface, breaks, corners, options, size: float, progress=None) -
     return RingFit(results, surface, bound, False)
 
 
-__all__ = ["CORNER_DEG", "RingFit", "fit_ring", "piece", "stacked", "own_net", "turn"]
+__all__ = ["RingFit", "fit_ring", "piece", "stacked", "own_net"]

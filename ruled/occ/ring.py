@@ -17,7 +17,7 @@ from OCP.TopoDS import TopoDS
 from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 
 from ruled.core.errors import BadInputError
-from ruled.fit.ring import SLIVER
+from ruled.fit.ring import _names
 from ruled.occ.io import compound, faces_of
 
 EDGE_SAMPLES = 24      # samples per edge to tell a face's sides and the contours' order by
@@ -37,9 +37,6 @@ def _ends(edge) -> tuple:
     return _pt(ad.Value(ad.FirstParameter())), _pt(ad.Value(ad.LastParameter()))
 
 
-def _names(indices) -> str:
-    return ",".join(str(i) for i in indices)
-
 # ------------------------------------------------------------------------------------------------ the ring
 @dataclass
 class Ring:
@@ -52,6 +49,12 @@ class Ring:
     joints: tuple                  # per face: the edge it shares with the next face round the ring
     loops: tuple                   # (bottom loop, top loop): each a tuple of edges
     size: float = 0.0
+    slivers: tuple = ()            # per face: a sliver (a draft's crease: its topology only, ruled.fit.ring.SLIVER)
+
+    @property
+    def kept(self) -> list:
+        """The positions (in ring order) of the faces that are no slivers."""
+        return [k for k in range(len(self.faces)) if not self.slivers[k]]
 
     def contour_points(self, which: int) -> np.ndarray:
         return np.concatenate([_edge_points(e) for e in self.loops[which]])
@@ -106,7 +109,8 @@ def ring_of(part_faces: list, indices) -> Ring:
     def pick(ids):
         return tuple(topo[i] for i in ids)
     return Ring(tuple(indices[k] for k in o.order), tuple(pick(b) for b in o.bottom), tuple(pick(t) for t in o.top),
-                tuple(None if j is None else topo[j] for j in o.joints), (pick(o.loops[0]), pick(o.loops[1])), o.size)
+                tuple(None if j is None else topo[j] for j in o.joints), (pick(o.loops[0]), pick(o.loops[1])), o.size,
+                tuple(o.slivers[k] for k in o.order))
 
 
 def _wires(face) -> int:
@@ -116,13 +120,6 @@ def _wires(face) -> int:
 
 def _length(edge) -> float:
     return float(np.linalg.norm(np.diff(_edge_points(edge), axis=0), axis=1).sum())
-
-
-# a face of area below this times the wall's size squared is a sliver (a draft's crease at a tangent join
-# of a profile's line and arc): part of the ring's topology, nothing of its surface
-def _sliver(face, size: float) -> bool:
-    from ruled.occ.io import face_area
-    return face_area(face) <= SLIVER * size * size
 
 
 def _face_edges(face) -> list:
@@ -141,7 +138,7 @@ def _planar_normal(face) -> Optional[np.ndarray]:
 def find_walls(shape) -> list:
     """The walls of a part: for each direction of its planar faces (largest total area first), the faces
     other than the planar caps normal to it, split into edge-connected groups, each a ring between two
-    closed contours.  The first direction that gives walls gives them all (lists of face indices)."""
+    closed contours.  The first direction that gives walls gives them all (their Rings)."""
     from ruled.occ.io import face_area
     faces = faces_of(shape)
     normals = [_planar_normal(f) for f in faces]
@@ -162,7 +159,7 @@ def find_walls(shape) -> list:
         walls = []
         for group in _connected(faces, rest):
             try:
-                walls.append(list(ring_of(faces, group).faces))
+                walls.append(ring_of(faces, group))
             except BadInputError:
                 continue
         if walls:

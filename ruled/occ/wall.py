@@ -38,7 +38,6 @@ from ruled.occ.ring import (
     _face_edges,
     _length,
     _planar_normal,
-    _sliver,
     find_walls,
     ring_of,
 )
@@ -149,7 +148,7 @@ def joined_surface(ring: Ring, faces: tuple) -> tuple:
     the ring (ruled.fit.join.joined)."""
     from ruled.fit.join import joined
     n = len(faces)
-    keep = [k for k in range(n) if not _sliver(faces[k], ring.size)]
+    keep = ring.kept
     got = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], ring.joints[k - 1] if n > 1 else None,
                   ring.joints[k] if n > 1 else None, ring.size) for k in keep]
     return joined([g[0] for g in got], [g[1] for g in got], [ring.faces[k] for k in keep], ring.size)
@@ -169,8 +168,9 @@ def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
         if not walls:
             raise BadInputError("the part has no wall (a ring of faces between two planar caps); give its faces "
                                 "with --wall K,L-M")
-        indices = walls[0]
-    ring = ring_of(faces, indices)
+        ring = walls[0]
+    else:
+        ring = ring_of(faces, indices)
     tfaces = tuple(faces[i] for i in ring.faces)
     S, breaks, corners = joined_surface(ring, tfaces)
     return Wall(ring, tfaces, S, breaks, corners, _slack(ring, tfaces))
@@ -184,10 +184,10 @@ def _slack(ring: Ring, faces: tuple) -> float:
     from ruled.occ.faceset import FaceSet
     from ruled.occ.measure import face_samples
     tol = max((BRep_Tool.Tolerance_s(e) for f in faces for e in _face_edges(f)), default=0.0)
-    slivers = [f for f in faces if _sliver(f, ring.size)]
+    slivers = [f for f, s in zip(faces, ring.slivers) if s]
     if not slivers:
         return float(tol)
-    kept = FaceSet([f for f in faces if not _sliver(f, ring.size)])
+    kept = FaceSet([faces[k] for k in ring.kept])
     worst = 0.0
     for f in slivers:
         worst = max(worst, float(kept.distances(face_samples(f, 80)[0]).max()))

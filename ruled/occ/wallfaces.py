@@ -10,7 +10,7 @@ import numpy as np
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Curve
-from ruled.occ.ring import _edge_points, _ends, _sliver
+from ruled.occ.ring import _edge_points, _ends
 from ruled.occ.wall import WallFit
 
 JOINT_SAMPLES = 65     # points of each joint edge projected onto the result
@@ -19,7 +19,7 @@ JOINT_SAMPLES = 65     # points of each joint edge projected onto the result
 def _joints(fit: WallFit) -> list:
     """Per kept face (slivers are part of their neighbours' joints) in ring order: the edge after it."""
     ring, faces = fit.wall.ring, fit.wall.faces
-    keep = [k for k in range(len(faces)) if not _sliver(faces[k], fit.wall.size)]
+    keep = ring.kept
     out = []
     for i, k in enumerate(keep):
         nxt = keep[(i + 1) % len(keep)]
@@ -70,12 +70,12 @@ def per_face(fit: WallFit) -> tuple:
     surf.SetUPeriodic()
     u0, u1, t0, t1 = R.domain
     L = u1 - u0
-    bottom_pts = [_ends(e) for _, e in joints]
+    s = np.linspace(u0, u1, 2001)
+    rail = R(s, np.full(s.size, t0))
     curves = []
-    for (k, e), ends in zip(joints, bottom_pts):
+    for _, e in joints:
         # the joint's end on the bottom contour: the one nearer the result's bottom rail
-        s = np.linspace(u0, u1, 2001)
-        rail = R(s, np.full(s.size, t0))
+        ends = _ends(e)
         near = min(ends, key=lambda p: float(np.min(np.linalg.norm(rail - p, axis=1))))
         curves.append(_on_result(R, e, near))
     pieces = []

@@ -11,7 +11,7 @@ from typing import Optional
 import numpy as np
 
 from ruled.core.errors import BadInputError
-from ruled.core.nurbs import Curve, Surface
+from ruled.core.nurbs import Surface
 from ruled.fit.wallfit import piece
 from ruled.occ.wall import Wall, WallFit
 
@@ -22,20 +22,13 @@ START_TOL = 1e-3         # --start may be this fraction of the wall's size off t
 def started(R: Surface, s0: float) -> Surface:
     """The closed ruled surface R (rulings along v) running round from s = s0 (a knot of full multiplicity
     inserted there, the geometry unchanged), flagged closed."""
-    from ruled.core.knots import insert_knot
-    p = R.degree_u
+    from ruled.fit.join import along_u, with_knots
     u0, u1 = R.domain[:2]
     if min(abs(s0 - u0), abs(s0 - u1)) <= 1e-12 * (u1 - u0):
         return R
-    have = int(np.sum(np.isclose(R.knots_u, s0, rtol=0.0, atol=1e-14)))
-    w = R.weights if R.weights is not None else np.ones(R.poles.shape[:2])
-    rows = [Curve(R.poles[:, j], R.knots_u, p, w[:, j]) for j in range(R.poles.shape[1])]
-    if have < p:
-        rows = [insert_knot(c, s0, p - have) for c in rows]
-    full = Surface(np.stack([c.poles for c in rows], axis=1), rows[0].knots, R.knots_v, p, R.degree_v,
-                   None if R.weights is None else np.stack([c.weights for c in rows], axis=1))
-    part = piece(full, s0, s0)
-    return Surface(part.poles, part.knots_u, part.knots_v, p, part.degree_v, part.weights, periodic_u=True)
+    part = piece(along_u(R, lambda c: with_knots(c, {s0: R.degree_u})), s0, s0)
+    return Surface(part.poles, part.knots_u, part.knots_v, part.degree_u, part.degree_v, part.weights,
+                   periodic_u=True)
 
 
 def _bottom_rail(R: Surface) -> tuple:
@@ -54,8 +47,9 @@ def start_parameter(wall: Wall, R: Surface, start: Optional[tuple] = None) -> fl
         d = np.linalg.norm(P[:, :2] - np.asarray(start, float)[None, :], axis=1)
         k = int(np.argmin(d))
         if d[k] > START_TOL * wall.size:
+            x, y = np.where(np.abs(P[k, :2]) > 1e-9 * wall.size, P[k, :2], 0.0)      # (round-off shown as 0)
             raise BadInputError(f"«start» ({start[0]:g}, {start[1]:g}) is {d[k]:.4g} off the wall's bottom contour "
-                                f"(its nearest point is ({P[k, 0]:.4g}, {P[k, 1]:.4g})); give a point on it")
+                                f"(its nearest point is ({x:.4g}, {y:.4g})); give a point on it")
         return float(s[k])
     edges = list(wall.ring.loops[0])
     tol = 1e-6 * wall.size
@@ -73,11 +67,8 @@ def outside_sign(wall: Wall) -> float:
     from OCP.gp import gp_Pnt, gp_Vec
 
     from ruled.occ.machine import outward
-    from ruled.occ.ring import _sliver
-    k = next(i for i, f in enumerate(wall.faces) if not _sliver(f, wall.size))
-    kept = [i for i, f in enumerate(wall.faces) if not _sliver(f, wall.size)]
-    j = kept.index(k)
-    u = 0.5 * (wall.breaks[j] + wall.breaks[j + 1])
+    k = wall.ring.kept[0]
+    u = 0.5 * (wall.breaks[0] + wall.breaks[1])
     D = wall.surface.evaluate(np.array([u]), np.array([0.5]), 1)
     n_joined = D.normals()[0]
     face = wall.faces[k]
@@ -116,10 +107,9 @@ def measure_wall_cut(wall: Wall, path, kerf: float, n: int = 30) -> dict:
     from ruled.machine.envelope import cut_points
     from ruled.occ.faceset import FaceSet, SweptLines
     from ruled.occ.measure import face_points
-    from ruled.occ.ring import _sliver
     to_wall = FaceSet(list(wall.faces))
     cut = cut_points(path, 3 * n * n, 11)
-    P = np.concatenate([face_points(f, n) for f in wall.faces if not _sliver(f, wall.size)])
+    P = np.concatenate([face_points(wall.faces[k], n) for k in wall.ring.kept])
     design = np.abs(SweptLines(path.lower, path.upper).distances(P) - kerf)
     cut_d = np.abs(to_wall.distances(cut) - kerf)
     against = "the wall's faces" if not kerf else f"the wall's faces, at the kerf {kerf:g} from them"
