@@ -56,6 +56,13 @@ def twisted_extrusion():
     return cq.Workplane("XY").rect(30, 12).twistExtrude(40, 30).val()
 
 
+def crossed_extrusion():
+    """A bow-tie profile (its outline crosses itself at (10, 10)) extruded 10: a wall whose contours cross (its
+    side faces, read back from STEP, are 0, 2, 4 and 7)."""
+    import cadquery as cq
+    return cq.Workplane("XY").polyline([(0, 0), (20, 20), (20, 0), (0, 20)]).close().extrude(10).val()
+
+
 def box_with_a_hole():
     """A box whose side is drilled through: its four sides and the hole's wall are no band (three contours)."""
     import cadquery as cq

@@ -217,3 +217,101 @@ def curve_to_edge(c):
     bc = Part.BSplineCurve()
     bc.buildFromPolesMultsKnots([FreeCAD.Vector(*map(float, p[:3])) for p in c.poles], mults, knots, False, degree, w)
     return bc.toShape()
+
+
+# ------------------------------------------------------------------------------------------------ walls
+RING_SAMPLES = 24        # samples per edge to tell a face's sides and the contours' order by (as ruled.occ.ring)
+
+
+def _ring_edge(e, owners: tuple, seam: bool, size: float = 0.0, curve: bool = False):
+    """A Part.Edge as the engine's RingEdge (ruled.fit.ring); with curve, its 3D curve as a B-spline from end
+    to end and whether it is straight."""
+    from ruled.fit.ring import RingEdge, is_straight
+    a, b = e.ParameterRange
+    pts = np.array([tuple(e.valueAt(float(t))) for t in np.linspace(a, b, RING_SAMPLES)])
+    length = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
+    c3, straight = None, False
+    if curve and not e.Degenerated:
+        c3 = _kernel_curve(e.Curve.toBSpline(a, b), False)
+        straight = isinstance(e.Curve, (Part.Line, Part.LineSegment)) or is_straight(
+            np.array([tuple(e.valueAt(float(t))) for t in np.linspace(a, b, 65)]), 1e-6 * size)
+    return RingEdge(pts[0], pts[-1], pts, length, owners, seam, bool(e.Degenerated), c3, straight)
+
+
+class Wall:
+    """A wall of FreeCAD faces (ruled.fit.ring's ring of them, in ring order), joined into one closed B-spline
+    surface by the engine (ruled.fit.join), as ruled.occ.wall.Wall is for OCCT: faces (ring order), names
+    (the caller's, ring order), the joined surface, its breaks and corners, the slack (edge tolerances)."""
+
+    def __init__(self, faces: list, names: list):
+        from ruled.fit.join import joined, wall_patch
+        from ruled.fit.ring import order_ring
+        edges: list = []
+        owners: list = []
+        face_edges = []
+        for k, f in enumerate(faces):
+            mine = set()
+            for e in f.Edges:
+                i = next((j for j, x in enumerate(edges) if x.isSame(e)), None)
+                if i is None:
+                    i = len(edges)
+                    edges.append(e)
+                    owners.append([])
+                if k not in owners[i]:
+                    owners[i].append(k)
+                mine.add(i)
+            face_edges.append(mine)
+        ring = [_ring_edge(e, tuple(own), len(own) == 1 and edge_is_seam(faces[own[0]], e))
+                for e, own in zip(edges, owners)]
+        o = order_ring(list(names), ring, face_edges, [len(f.Wires) > 1 for f in faces], [float(f.Area) for f in faces])
+        self.order = o
+        self.faces = [faces[k] for k in o.order]
+        self.names = [names[k] for k in o.order]
+        self.size = o.size
+        self.slivers = [o.slivers[k] for k in o.order]
+        self.kept = [i for i, s in enumerate(self.slivers) if not s]
+        self.loops = tuple([edges[i] for i in lp] for lp in o.loops)
+        n = len(faces)
+        patches, lengths = [], []
+        for i in self.kept:
+            k = o.order[i]
+            f = faces[k]
+            near = [None if j is None else _ring_edge(edges[j], (), False, o.size, True)
+                    for j in ((o.joints[i - 1], o.joints[i]) if n > 1 else (None, None))]
+            contour = [[_ring_edge(edges[j], (), False, o.size, True) for j in c] for c in (o.bottom[i], o.top[i])]
+            S = None if isinstance(f.Surface, Part.Plane) else _clamped_arrays(f)
+            tol = max((float(edges[j].Tolerance) for j in o.bottom[i] + o.top[i]), default=0.0)
+            P, L = wall_patch(names[k], S, contour[0], contour[1], near[0], near[1], o.size, tol)
+            patches.append(P)
+            lengths.append(L)
+        self.surface, self.breaks, self.corners = joined(patches, lengths, [self.names[i] for i in self.kept], o.size)
+        self.slack = max((float(e.Tolerance) for e in edges), default=0.0)
+        slivers = [f for f, s in zip(self.faces, self.slivers) if s]
+        if slivers:       # a sliver's distance from the faces kept, measured (as ruled.occ.wall._slack)
+            from .measure import distances, face_points
+            kept = Part.Compound([self.faces[i] for i in self.kept])
+            for f in slivers:
+                self.slack = max(self.slack, float(distances(face_points(f, 20), kept).max()))
+
+    def contour_edges(self, which: int) -> list:
+        """The bottom (0) or top (1) contour's edges as the engine's RingEdges, with their curves."""
+        return [_ring_edge(e, (), False, self.size, True) for e in self.loops[which]]
+
+    def contour_points(self, which: int) -> np.ndarray:
+        return np.concatenate([e.points for e in self.contour_edges(which)])
+
+
+def _clamped_arrays(face) -> Surface:
+    """The face's surface (a B-spline: converted exactly where it is not) restricted to the face's parameter
+    range, not periodic and clamped (as ruled.occ.wall reads a wall's face)."""
+    if not isinstance(face.Surface, Part.BSplineSurface):
+        face = face.toNurbs().Faces[0]
+    s = face.Surface.copy()
+    if s.isUPeriodic():
+        s.setUNotPeriodic()
+    if s.isVPeriodic():
+        s.setVNotPeriodic()
+    u0, u1, v0, v1 = face.ParameterRange
+    a0, a1, b0, b1 = s.bounds()
+    s.segment(max(u0, a0), min(u1, a1), max(v0, b0), min(v1, b1))
+    return surface_to_arrays(s)

@@ -179,6 +179,51 @@ class FitManyCommand:
         return made
 
 
+def selected_wall():
+    """(object, ["FaceN", ...]) of the selected faces of one part, at least two, or (None, what is wrong)."""
+    faces, why = selected_faces()
+    if faces is None:
+        return None, why.replace("select faces", "select the faces of a part's wall")
+    parts = list(dict.fromkeys(o for o, _ in faces))
+    if len(parts) != 1:
+        return None, f"a wall's faces are of one part (the selection has faces of {', '.join(o.Label for o in parts)})"
+    if len(faces) < 2:
+        return None, ("select every face of the wall (the ring of faces between the part's bottom and top contours; "
+                      "Ctrl+click adds a face), not one")
+    return parts[0], [n for _, n in faces]
+
+
+class WallCommand:
+    """The selected faces (a part's wall) as one closed ruled surface: a parametric RuledWall, recomputed with
+    the default parameters in one undo step (edit its properties afterwards)."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("wall.svg"), "MenuText": "Fit wall",
+                "ToolTip": "Fit the selected faces of a part's wall (the ring between its bottom and top contours) "
+                           "as one closed ruled surface, for one wire path round the part (select the wall's "
+                           "faces)"}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and selected_wall()[0] is not None
+
+    def Activated(self):
+        part, subs = selected_wall()
+        if part is None:
+            _say(subs)
+            return None
+        from .objects import make_ruled_wall
+        doc = part.Document
+        doc.openTransaction("Fit wall")
+        try:
+            obj = _recomputed(make_ruled_wall(doc, part, subs))
+        finally:
+            doc.commitTransaction()
+        if obj.isValid() and obj.Status == "ok":
+            FreeCAD.Console.PrintMessage(f"Ruled: {obj.Label}: within {obj.ErrorBound.Value:.4g} mm (certified), "
+                                         f"{obj.Hausdorff.Value:.4g} mm measured\n")
+        return obj
+
+
 class ReplaceCommand:
     """The selected RuledFit's result put back into its part in place of its face: a parametric RuledReplace."""
 
@@ -257,7 +302,7 @@ def export(objs, path: str, kind: str, **params) -> None:
 
 COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Split": SplitCommand,
             "Ruled_Partition": PartitionCommand, "Ruled_Cone": ConeCommand, "Ruled_Curve": CurveCommand,
-            "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand}
+            "Ruled_Wall": WallCommand, "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand}
 NAMES = list(COMMANDS)
 
 

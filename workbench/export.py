@@ -78,6 +78,81 @@ def rulings_step(objects, path: str, chord_tol=None) -> int:
     return len(shapes)
 
 
+def _report(path: str, rep: dict) -> dict:
+    from ruled.core.outputs import write_text
+    write_text(os.path.splitext(path)[0] + ".json", json.dumps(rep, indent=1, default=float))
+    return rep
+
+
+def _cam_step(R, u, cam_step) -> None:
+    """The ruled face and its rulings at the synchronized points as a STEP for CAM (``--step --rulings``)."""
+    from ruled.machine.paths import Lines
+
+    from .adapter import surface_to_face
+    A, B = Lines(R, 1.0).rulings(u)
+    write_step(Part.makeCompound([surface_to_face(R)] + [
+        Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]), cam_step)
+
+
+def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None, taper: float = 0.0,
+                side: str = "outside", planes=None, feed: float = 100.0, lead=None, units: str = "mm", cam_step=None,
+                measure_samples: int = 20, progress=None, start=None) -> dict:
+    """A RuledWall's one closed path, as ``ruled machine --wall`` makes it (ruled.machine.wall): its closed
+    result started on the bottom contour (start (X, Y), or the middle of its longest straight edge), one XYUV
+    loop (axis: the wall's) or one flank CL path, the kerf round the whole loop on the chosen side (outside: a
+    punch; inside: a die); what the wire sweeps measured against the wall's faces, each distance less the kerf."""
+    from dataclasses import replace
+
+    from ruled.machine.envelope import cut_points, swept_surface
+    from ruled.machine.output import path_report, write_machine
+    from ruled.machine.paths import MachineOptions, machine_path
+    from ruled.machine.wall import outside_sign, start_parameter, started, wall_axis
+
+    from .adapter import Wall, surface_to_face
+    from .features import value
+    from .measure import distances, face_points
+    from .objects import wall_source
+    if obj.Shape.isNull() or not obj.Shape.Faces:
+        from ruled.core.errors import BadInputError
+        raise BadInputError(f"{obj.Label} has no result yet (see its Status); recompute it first")
+    faces, names = wall_source(obj)
+    wall = Wall(faces, names)
+    R = result_arrays(obj.Shape.Faces[0])
+    R = started(R, start_parameter(R, wall.contour_edges(0), wall.size, start))
+    first = wall.faces[wall.kept[0]]
+
+    def outward(x):
+        u, v = first.Surface.parameter(FreeCAD.Vector(*map(float, x)))
+        n = first.Surface.normal(u, v)
+        return np.array([n.x, n.y, n.z]) * (-1.0 if first.Orientation == "Reversed" else 1.0)
+    sign = outside_sign(wall.surface, wall.breaks, 0, outward) * (1.0 if side == "outside" else -1.0)
+    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed)
+    if kind == "xyuv":
+        opts = replace(opts, axis=wall_axis(wall.contour_points(0), wall.contour_points(1)))
+    mp = machine_path(R, wall.surface, opts.checked(), sign, progress)
+    title = f"{obj.Label} ({obj.Source[0].Label}: {', '.join(wall.names)})"
+    csv_path = write_machine(mp, path, title, units=units)
+    if cam_step:
+        _cam_step(R, mp.u, cam_step)
+    fit = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff), "closed": True}
+    rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
+           "machine": path_report(mp), "fit": fit, "side": side,
+           "wall": {"faces": wall.names, "start": [float(x) for x in R(np.array([R.domain[0]]),
+                                                                        np.array([R.domain[2]]))[0]]}}
+    if kind == "xyuv" and measure_samples:
+        n = measure_samples
+        design = Part.Compound(wall.faces)
+        P = np.concatenate([face_points(wall.faces[i], n) for i in wall.kept])
+        to_cut = np.abs(distances(P, surface_to_face(swept_surface(mp))) - kerf).max()
+        to_design = np.abs(distances(cut_points(mp, 3 * n * n), design) - kerf).max()
+        fillet = mp.stats["inside_corner_fillet"]
+        rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
+                      "cut_to_design": float(to_design), "inside_corner_fillet": fillet,
+                      "bound": fit["measured"] + mp.stats["cut_bound_beyond_fit"] + fillet}
+    rep["warnings"] = list(mp.warnings)
+    return _report(path, rep)
+
+
 def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None,
                    taper: float = 0.0, side: str = "outside", planes=None, feed: float = 100.0, lead=None,
                    units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None) -> dict:
@@ -92,6 +167,9 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     from .adapter import face_region, face_to_arrays, surface_to_face
     from .features import value
     from .measure import distances, face_points, trimmed
+    if len(objects) == 1 and type(getattr(objects[0], "Proxy", None)).__name__ == "RuledWall":
+        return wall_export(objects[0], path, kind, chord_tol, kerf, tool_radius, taper, side, planes, feed, lead,
+                           units, cam_step, measure_samples, progress)
     obj, src = _one_fit(objects)
     fit_figures = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}
     warnings = []
@@ -118,10 +196,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
     csv_path = write_machine(mp, path, title, units=units)
     if cam_step:
-        from ruled.machine.paths import Lines
-        A, B = Lines(R, 1.0).rulings(mp.u)
-        write_step(Part.makeCompound([surface_to_face(R)] + [
-            Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]), cam_step)
+        _cam_step(R, mp.u, cam_step)
     rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
            "machine": path_report(mp),
            "fit": fit_figures}
@@ -139,6 +214,4 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     elif measure_samples:
         rep["tool_envelope"] = tool_envelope(S, out_side, mp)
     rep["warnings"] = warnings + list(mp.warnings)
-    from ruled.core.outputs import write_text
-    write_text(os.path.splitext(path)[0] + ".json", json.dumps(rep, indent=1, default=float))
-    return rep
+    return _report(path, rep)

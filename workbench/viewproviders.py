@@ -104,7 +104,8 @@ def show_legend(obj, top: float) -> None:
     view = getattr(gdoc, "ActiveView", None) if gdoc else None
     if view is None or not hasattr(view, "getSceneGraph"):
         return
-    node, labels = _legend_node(top, f"{obj.Label}: distance to the face")
+    what = "the wall" if type(getattr(obj, "Proxy", None)).__name__ == "RuledWall" else "the face"
+    node, labels = _legend_node(top, f"{obj.Label}: distance to {what}")
     view.getSceneGraph().addChild(node)
     LEGENDS[obj.Document.Name] = (obj.Name, node, labels, view)
 
@@ -126,6 +127,10 @@ class _Editable:
 
     def doubleClicked(self, vobj):
         import FreeCADGui
+
+        from .taskpanels import PANELS
+        if type(vobj.Object.Proxy).__name__ not in PANELS:
+            return False         # (a RuledWall: its properties are its parameters)
         FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
         return True
 
@@ -154,7 +159,7 @@ class _Editable:
 
 
 ICONS = {"RuledFit": "fit.svg", "RuledSplit": "split.svg", "RuledPartition": "partition.svg",
-         "RuledConeSpline": "cone.svg", "RuledCurveOnFace": "curve.svg"}
+         "RuledConeSpline": "cone.svg", "RuledCurveOnFace": "curve.svg", "RuledWall": "wall.svg"}
 
 
 def _icon(vobj_or_obj) -> str:
@@ -245,7 +250,7 @@ class ViewProviderRuledFit(_Editable):
                 show_legend(obj, top)
         else:
             hide_legend(obj.Document.Name, obj.Name)
-        m = max(n, MESH)
+        m = max(n, MESH * (4 if type(getattr(obj, "Proxy", None)).__name__ == "RuledWall" else 1))   # (round a part)
         for k, face in enumerate(faces):
             if trimmed(face):     # a result trimmed by the face's edges: shown inside them
                 grid = None if dev is None else dev[k * n * n:(k + 1) * n * n].reshape(n, n) / top
@@ -362,7 +367,7 @@ def _polylines(edges, colour, width):
     for e in edges:
         if e.Degenerated:
             continue
-        q = e.discretize(Deflection=max(1e-3 * e.Length, 1e-7))
+        q = e.discretize(Deflection=max(2e-4 * e.Length, 1e-7))
         pts += [(p.x, p.y, p.z) for p in q]
         counts.append(len(q))
     return _line_node(pts, counts, colour, width)

@@ -143,6 +143,72 @@ def ruled_patch(bottom: Curve, top: Curve) -> Surface:
                    W if rational else None)
 
 
+def _reversed_curve(c: Curve) -> Curve:
+    k = c.knots
+    return Curve(c.poles[::-1].copy(), (k[0] + k[-1]) - k[::-1], c.degree,
+                 None if c.weights is None else c.weights[::-1].copy())
+
+
+def chained(curves: list, start: np.ndarray, tol: float) -> Curve:
+    """Curves (in any order and direction) chained end to end into one from the point start: each turned to
+    run on from the last's end, raised to the largest degree (exactly), given its share of the parameter by
+    its control polygon's length, and joined with a full-multiplicity knot (C0; a rational one's weights
+    scaled to agree at the joint, which keeps it)."""
+    left, cur, parts = list(curves), np.asarray(start, float), []
+    while left:
+        ends = [(c(np.array(c.domain[:1]))[0], c(np.array(c.domain[1:]))[0]) for c in left]
+        k, flip = min(((i, j) for i in range(len(left)) for j in (0, 1)),
+                      key=lambda ij: float(np.linalg.norm(ends[ij[0]][ij[1]] - cur)))
+        if np.linalg.norm(ends[k][flip] - cur) > tol:
+            raise BadInputError("a face's contour edges do not chain end to end; repair the part")
+        c = left.pop(k)
+        parts.append(_reversed_curve(c) if flip else c)
+        cur = ends[k][1 - flip]
+    p = max(c.degree for c in parts)
+    parts = [elevate(c, p) for c in parts]
+    lengths = np.array([max(float(np.linalg.norm(np.diff(c.poles, axis=0), axis=1).sum()), 1e-300) for c in parts])
+    edges = np.concatenate([[0.0], np.cumsum(lengths) / lengths.sum()])
+    P, W, knots = parts[0].poles, _cw(parts[0]), [edges[0]] * (p + 1)
+    for i, c in enumerate(parts):
+        k = c.knots
+        inner = edges[i] + (edges[i + 1] - edges[i]) * (k[p + 1:-p - 1] - k[0]) / (k[-1] - k[0])
+        knots += list(inner) + [edges[i + 1]] * p
+        if i:
+            w = _cw(c) * (W[-1] / _cw(c)[0])
+            P, W = np.concatenate([P, c.poles[1:]]), np.concatenate([W, w[1:]])
+    knots.append(edges[-1])
+    rational = bool(np.ptp(W) > 1e-12 * float(np.max(W)))
+    return Curve(P, np.asarray(knots), p, W if rational else None)
+
+
+def _cw(c: Curve) -> np.ndarray:
+    return c.weights if c.weights is not None else np.ones(len(c.poles))
+
+
+def wall_patch(name, S, bottom: list, top: list, before, after, size: float, edge_tol: float) -> tuple:
+    """(a wall's face as a four-sided patch: u along the ring, from its joint ``before`` to ``after``, v from its
+    bottom contour edges to its top ones; its contours' mean length).  S: the face's surface (clamped, not
+    periodic), or None for a planar face, whose patch is the ruled surface between its chained contour
+    curves (exact where its joints are straight).  bottom, top, before, after: ruled.fit.ring.RingEdge (with
+    their curves where S is None); edge_tol: the face's contour edges' tolerance (an edge that close to the
+    surface lies on it)."""
+    length = max(0.5 * (sum(e.length for e in bottom) + sum(e.length for e in top)), 1e-12 * size)
+    if S is None:
+        sides = [e for e in (before, after) if e is not None]
+        if before is None or not bottom or not top or not all(e.straight for e in sides):
+            raise BadInputError(f"face {name} of the wall is planar but not bounded by its contour edges and two "
+                                f"straight joints; walls of such faces are not supported yet")
+        bpts = np.concatenate([e.points for e in bottom])
+        near = [float(np.min(np.linalg.norm(bpts - q, axis=1))) for q in (before.start, before.end)]
+        start_b, start_t = (before.start, before.end) if near[0] <= near[1] else (before.end, before.start)
+        tol = 1e-6 * size
+        return ruled_patch(chained([e.curve for e in bottom], start_b, tol),
+                           chained([e.curve for e in top], start_t, tol)), length
+    b, t = (np.concatenate([e.points for e in c]) if c else None for c in (bottom, top))
+    jb, ja = (None if e is None else e.points for e in (before, after))
+    return oriented(S, b, t, jb, ja, name, size, max(1e-3 * size, 1.5 * edge_tol)), length
+
+
 def end_to_end(ps: list) -> tuple:
     """(Surface, offsets, spreads): surfaces of one u degree and one v knot vector, on consecutive u ranges,
     joined end to end with full-multiplicity knots (C0) and closed round: at each joint (and the closing one,
@@ -204,5 +270,5 @@ def joined(patches: list, lengths, names: list, size: float) -> tuple:
     return S, breaks, corners
 
 
-__all__ = ["CORNER_DEG", "turn", "joined", "end_to_end", "elevated_u", "along_u", "with_knots", "oriented",
-           "ruled_patch", "side_distance", "reversed_u", "remapped"]
+__all__ = ["CORNER_DEG", "turn", "joined", "chained", "wall_patch", "end_to_end", "elevated_u", "along_u",
+           "with_knots", "oriented", "ruled_patch", "side_distance", "reversed_u", "remapped"]

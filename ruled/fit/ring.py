@@ -6,10 +6,12 @@ bad rings are refused in one line naming the faces."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
 from ruled.core.errors import BadInputError
+from ruled.core.nurbs import Curve
 
 # a face of area below this times the wall's size squared is a sliver (a draft's crease at a tangent join of a
 # profile's line and arc): part of the ring's topology, nothing of its surface
@@ -20,15 +22,28 @@ SLIVER = 1e-6
 class RingEdge:
     """An edge of the wall's faces: its end points, samples along it (end to end), its length, the faces it
     borders (positions in the wall's face list, distinct), and whether it is a seam of its one face or
-    degenerate (a point)."""
+    degenerate (a point); for building a face's patch and placing a loop's start, its 3D curve (a B-spline
+    from end to end, ruled.core.nurbs.Curve) and whether it is straight."""
 
     start: np.ndarray
     end: np.ndarray
     points: np.ndarray
     length: float
-    owners: tuple
+    owners: tuple = ()
     seam: bool = False
     degenerate: bool = False
+    curve: Optional[Curve] = None
+    straight: bool = False
+
+
+def is_straight(points: np.ndarray, tol: float) -> bool:
+    """Points along an edge lie within tol of its chord (and the chord is longer than tol)."""
+    d = points[-1] - points[0]
+    L = float(np.linalg.norm(d))
+    if L <= tol:
+        return False
+    off = np.cross(points - points[0], d / L)
+    return float(np.max(np.linalg.norm(off, axis=1))) <= tol
 
 
 @dataclass
@@ -53,6 +68,13 @@ def _names(indices) -> str:
 def _loops(free: list, edges: list, size: float) -> list:
     """The free edges chained into closed loops by their end points."""
     tol = 1e-6 * size
+    ends = np.array([p for k in free for p in (edges[k].start, edges[k].end)]).reshape(-1, 3)
+    for p in ends:
+        if int(np.sum(np.linalg.norm(ends - p, axis=1) <= tol)) > 2:
+            raise BadInputError(f"the wall's contours cross at ({p[0]:.4g}, {p[1]:.4g}, {p[2]:.4g}): more than two "
+                                f"of its free edges meet there, and a wire cannot follow a contour through its own "
+                                f"crossing; fit each loop of the part as a wall of its own, or the faces one by one "
+                                f"(--face)")
     left = list(free)
     loops = []
     while left:
@@ -167,4 +189,4 @@ def connected(face_edges: list) -> list:
     return sorted(groups.values(), key=lambda g: g[0])
 
 
-__all__ = ["RingEdge", "RingOrder", "order_ring", "connected", "SLIVER"]
+__all__ = ["RingEdge", "RingOrder", "order_ring", "connected", "is_straight", "SLIVER"]

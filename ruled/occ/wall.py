@@ -25,7 +25,7 @@ from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.Geom import Geom_TrimmedCurve
 from OCP.GeomAbs import GeomAbs_CurveType
-from OCP.GeomConvert import GeomConvert, GeomConvert_CompCurveToBSplineCurve
+from OCP.GeomConvert import GeomConvert
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
@@ -44,43 +44,25 @@ from ruled.occ.ring import (
 
 
 # ------------------------------------------------------------------------------------- the joined surface
-def _chain_curve(edges: tuple, start: np.ndarray, tol: float):
-    """The edges (chained end to end) as one Geom_BSplineCurve running from the point start."""
-    left, cur, comp = list(edges), start, None
-    while left:
-        for e in left:
-            a, b = _ends(e)
-            if np.linalg.norm(a - cur) <= tol or np.linalg.norm(b - cur) <= tol:
-                break
-        else:
-            raise BadInputError("a face's contour edges do not chain from its joint; repair the part")
-        left.remove(e)
-        ad = BRepAdaptor_Curve(e)
-        c3 = BRep_Tool.Curve_s(e, 0.0, 0.0)
-        bs = GeomConvert.CurveToBSplineCurve_s(Geom_TrimmedCurve(c3, ad.FirstParameter(), ad.LastParameter()))
-        if np.linalg.norm(a - cur) > np.linalg.norm(b - cur):
-            bs.Reverse()
-            cur = a
-        else:
-            cur = b
-        if comp is None:
-            comp = GeomConvert_CompCurveToBSplineCurve(bs)
-        elif not comp.Add(bs, tol, True):
-            raise BadInputError("a face's contour edges do not join into one curve; repair the part")
-    return comp.BSplineCurve()
-
-
 def _is_line(edge, tol: float) -> bool:
     """The edge is straight: a line, or a curve within tol of its chord."""
+    from ruled.fit.ring import is_straight
     if BRepAdaptor_Curve(edge).GetType() == GeomAbs_CurveType.GeomAbs_Line:
         return True
-    P = _edge_points(edge, 65)
-    d = P[-1] - P[0]
-    L = float(np.linalg.norm(d))
-    if L <= tol:
-        return False
-    off = np.cross(P - P[0], d / L)
-    return float(np.max(np.linalg.norm(off, axis=1))) <= tol
+    return is_straight(_edge_points(edge, 65), tol)
+
+
+def contour_edge(edge, size: float):
+    """The edge as the engine's RingEdge with its 3D curve (a B-spline from end to end) and whether it is
+    straight (for a face's patch and a loop's start)."""
+    from ruled.fit.ring import RingEdge
+    from ruled.occ.region import _kernel_curve
+    a, b = _ends(edge)
+    ad = BRepAdaptor_Curve(edge)
+    c3 = BRep_Tool.Curve_s(edge, 0.0, 0.0)
+    bs = GeomConvert.CurveToBSplineCurve_s(Geom_TrimmedCurve(c3, ad.FirstParameter(), ad.LastParameter()))
+    pts = _edge_points(edge)
+    return RingEdge(a, b, pts, _length(edge), curve=_kernel_curve(bs, False), straight=_is_line(edge, 1e-6 * size))
 
 
 def _clamped(bs):
@@ -99,31 +81,15 @@ def _clamped(bs):
 
 
 def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: float) -> tuple:
-    """(the face as a four-sided patch: u along the ring, from its joint ``before`` to ``after``, v from its
-    bottom contour edges to its top ones (ruled.fit.join), its contours' mean length)."""
-    from ruled.fit.join import oriented, ruled_patch
+    """(the face as a four-sided patch, its contours' mean length): ruled.fit.join.wall_patch on its
+    surface (None for a plane) and its edges."""
+    from ruled.fit.join import wall_patch
     from ruled.occ.convert import bspline_surface_to_container
-    from ruled.occ.region import _kernel_curve
-    tol = 1e-6 * size
-    length = max(0.5 * (sum(_length(e) for e in bottom) + sum(_length(e) for e in top)), 1e-12 * size)
-    if _planar_normal(face) is not None:
-        sides = [e for e in (before, after) if e is not None]
-        if not bottom or not top or not all(_is_line(e, tol) for e in sides):
-            raise BadInputError(f"face {index} of the wall is planar but not bounded by its contour edges and two "
-                                f"straight joints; walls of such faces are not supported yet")
-        p0 = _ends(before)
-        bpts = np.concatenate([_edge_points(e) for e in bottom])
-        start_b = p0[0] if np.min(np.linalg.norm(bpts - p0[0], axis=1)) <= np.min(
-            np.linalg.norm(bpts - p0[1], axis=1)) else p0[1]
-        start_t = p0[1] if start_b is p0[0] else p0[0]
-        chains = [_kernel_curve(_chain_curve(c, start, tol), False) for c, start in ((bottom, start_b), (top, start_t))]
-        return ruled_patch(*chains), length
-    S = bspline_surface_to_container(_clamped(face_to_bspline(face)))
-    # (an edge within its tolerance of the surface, as the file says, lies on it)
+    S = None if _planar_normal(face) is not None else bspline_surface_to_container(_clamped(face_to_bspline(face)))
     edge_tol = max((BRep_Tool.Tolerance_s(e) for e in bottom + top), default=0.0)
-    b, t = (np.concatenate([_edge_points(e) for e in c]) if c else None for c in (bottom, top))
-    jb, ja = (None if e is None else _edge_points(e, 9) for e in (before, after))
-    return oriented(S, b, t, jb, ja, index, size, max(1e-3 * size, 1.5 * edge_tol)), length
+    ce = [[contour_edge(e, size) for e in c] for c in (bottom, top)]
+    b, a = (None if e is None else contour_edge(e, size) for e in (before, after))
+    return wall_patch(index, S, ce[0], ce[1], b, a, size, edge_tol)
 
 
 @dataclass

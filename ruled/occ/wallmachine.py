@@ -10,92 +10,43 @@ from typing import Optional
 
 import numpy as np
 
-from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
-from ruled.fit.wallfit import piece
+from ruled.machine.wall import started
 from ruled.occ.wall import Wall, WallFit
-
-RAIL_SAMPLES = 4097      # samples of the result's bottom rail to place the start by
-START_TOL = 1e-3         # --start may be this fraction of the wall's size off the bottom contour
-
-
-def started(R: Surface, s0: float) -> Surface:
-    """The closed ruled surface R (rulings along v) running round from s = s0 (a knot of full multiplicity
-    inserted there, the geometry unchanged), flagged closed."""
-    from ruled.fit.join import along_u, with_knots
-    u0, u1 = R.domain[:2]
-    if min(abs(s0 - u0), abs(s0 - u1)) <= 1e-12 * (u1 - u0):
-        return R
-    part = piece(along_u(R, lambda c: with_knots(c, {s0: R.degree_u})), s0, s0)
-    return Surface(part.poles, part.knots_u, part.knots_v, part.degree_u, part.degree_v, part.weights,
-                   periodic_u=True)
-
-
-def _bottom_rail(R: Surface) -> tuple:
-    s = np.linspace(*R.domain[:2], RAIL_SAMPLES)
-    return s, R(s, np.full(s.size, R.domain[2]))
 
 
 def start_parameter(wall: Wall, R: Surface, start: Optional[tuple] = None) -> float:
-    """R's s where the loop starts: at the bottom contour's point nearest (X, Y) (start, refused when it is
-    farther than START_TOL of the wall's size from the contour), else the middle of the bottom contour's
-    longest straight edge (or of its longest edge)."""
-    from ruled.occ.ring import _edge_points, _length
-    from ruled.occ.wall import _is_line
-    s, P = _bottom_rail(R)
-    if start is not None:
-        d = np.linalg.norm(P[:, :2] - np.asarray(start, float)[None, :], axis=1)
-        k = int(np.argmin(d))
-        if d[k] > START_TOL * wall.size:
-            x, y = np.where(np.abs(P[k, :2]) > 1e-9 * wall.size, P[k, :2], 0.0)      # (round-off shown as 0)
-            raise BadInputError(f"«start» ({start[0]:g}, {start[1]:g}) is {d[k]:.4g} off the wall's bottom contour "
-                                f"(its nearest point is ({x:.4g}, {y:.4g})); give a point on it")
-        return float(s[k])
-    edges = list(wall.ring.loops[0])
-    tol = 1e-6 * wall.size
-    straight = [e for e in edges if _is_line(e, tol)]
-    e = max(straight or edges, key=_length)
-    pts = _edge_points(e, 33)
-    mid = pts[len(pts) // 2]
-    return float(s[int(np.argmin(np.linalg.norm(P - mid[None, :], axis=1)))])
+    """ruled.machine.wall.start_parameter on the wall's bottom contour."""
+    from ruled.machine.wall import start_parameter as on_rail
+    from ruled.occ.wall import contour_edge
+    return on_rail(R, [contour_edge(e, wall.size) for e in wall.ring.loops[0]], wall.size, start)
 
 
 def outside_sign(wall: Wall) -> float:
     """+1 when the joined surface's normal Su x Sv points out of the part (its first face's outside)."""
+    from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
     from OCP.gp import gp_Pnt, gp_Vec
 
+    from ruled.machine.wall import outside_sign as sign
     from ruled.occ.machine import outward
-    k = wall.ring.kept[0]
-    u = 0.5 * (wall.breaks[0] + wall.breaks[1])
-    D = wall.surface.evaluate(np.array([u]), np.array([0.5]), 1)
-    n_joined = D.normals()[0]
-    face = wall.faces[k]
-    from OCP.BRep import BRep_Tool
-    proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*map(float, D.P[0])), BRep_Tool.Surface_s(face))
-    a, b = proj.LowerDistanceParameters()
-    p, du, dv = gp_Pnt(), gp_Vec(), gp_Vec()
-    BRepAdaptor_Surface(face, False).D1(a, b, p, du, dv)
-    n = du.Crossed(dv)
-    n_face = np.array([n.X(), n.Y(), n.Z()]) * outward(face)
-    return 1.0 if float(n_joined @ n_face) >= 0 else -1.0
+    face = wall.faces[wall.ring.kept[0]]
+
+    def normal(x):
+        proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*map(float, x)), BRep_Tool.Surface_s(face))
+        a, b = proj.LowerDistanceParameters()
+        p, du, dv = gp_Pnt(), gp_Vec(), gp_Vec()
+        BRepAdaptor_Surface(face, False).D1(a, b, p, du, dv)
+        n = du.Crossed(dv)
+        return np.array([n.X(), n.Y(), n.Z()]) * outward(face)
+    return sign(wall.surface, wall.breaks, 0, normal)
 
 
 def wall_axis(wall: Wall) -> tuple:
-    """The wall's axis: the normal of the plane nearest its bottom contour, from the bottom contour towards
-    the top one, snapped to x, y or z within 0.5 degree (the machine's axis: its guides' planes are parallel
-    to the contours')."""
-    import math
-    bottom, top = wall.ring.contour_points(0), wall.ring.contour_points(1)
-    c = bottom.mean(axis=0)
-    n = np.linalg.svd(bottom - c)[2][-1]
-    if float(n @ (top.mean(axis=0) - c)) < 0:
-        n = -n
-    k = int(np.argmax(np.abs(n)))
-    if abs(n[k]) > math.cos(math.radians(0.5)):
-        n = np.sign(n[k]) * np.eye(3)[k]
-    return tuple(float(x) for x in n)
+    """ruled.machine.wall.wall_axis of the wall's contours."""
+    from ruled.machine.wall import wall_axis as axis
+    return axis(wall.ring.contour_points(0), wall.ring.contour_points(1))
 
 
 def measure_wall_cut(wall: Wall, path, kerf: float, n: int = 30) -> dict:
@@ -160,4 +111,4 @@ def machine_of_wall(fit: WallFit, opts, side: float = 1.0, start: Optional[tuple
     return FaceMachine(None, R, path, container_to_face(R), rep, sign, warns)
 
 
-__all__ = ["machine_of_wall", "started", "start_parameter", "outside_sign"]
+__all__ = ["machine_of_wall", "start_parameter", "outside_sign", "wall_axis"]

@@ -12,7 +12,7 @@ import pytest
 
 pytest.importorskip("cadquery")
 
-from tests.wall_parts import EXACT, NOT_RULED, box_with_a_hole, tapered_extrusion  # noqa: E402
+from tests.wall_parts import EXACT, NOT_RULED, box_with_a_hole, crossed_extrusion, tapered_extrusion  # noqa: E402
 
 
 def _mesh_points(face, defl: float) -> np.ndarray:
@@ -115,6 +115,35 @@ def test_the_square_to_circle_loft_is_one_periodic_fit_keeping_the_squares_corne
     assert d.max() <= 2 * np.linalg.norm(np.diff(bottom, axis=0), axis=1).max()
 
 
+def _chain_curve(edges: tuple, start: np.ndarray, tol: float):
+    """The edges (chained end to end from the point start) as one Geom_BSplineCurve, by OCCT's own joining
+    (GeomConvert_CompCurveToBSplineCurve), as FoamCut's sketch-to-wire chaining makes one."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.Geom import Geom_TrimmedCurve
+    from OCP.GeomConvert import GeomConvert, GeomConvert_CompCurveToBSplineCurve
+
+    from ruled.occ.ring import _ends
+    left, cur, comp = list(edges), start, None
+    while left:
+        e = next(e for e in left if min(np.linalg.norm(x - cur) for x in _ends(e)) <= tol)
+        left.remove(e)
+        a, b = _ends(e)
+        ad = BRepAdaptor_Curve(e)
+        bs = GeomConvert.CurveToBSplineCurve_s(Geom_TrimmedCurve(BRep_Tool.Curve_s(e, 0.0, 0.0), ad.FirstParameter(),
+                                                                 ad.LastParameter()))
+        if np.linalg.norm(a - cur) > np.linalg.norm(b - cur):
+            bs.Reverse()
+            cur = a
+        else:
+            cur = b
+        if comp is None:
+            comp = GeomConvert_CompCurveToBSplineCurve(bs)
+        else:
+            assert comp.Add(bs, tol, True)
+    return comp.BSplineCurve()
+
+
 def _foamcut_faces(wall) -> list:
     """FreeCAD FoamCut's pairing of the same contours: per face, its bottom and top edges joined at equal
     parameter steps, first end to first end (the ruled surface between the two curves, GeomFill)."""
@@ -122,7 +151,7 @@ def _foamcut_faces(wall) -> list:
     from OCP.GeomConvert import GeomConvert
     from OCP.GeomFill import GeomFill
 
-    from ruled.occ.wall import _chain_curve, _ends
+    from ruled.occ.ring import _ends
     out = []
     for bottom, top in zip(wall.ring.bottom, wall.ring.top):
         a0, a1 = _ends(bottom[0])
@@ -210,8 +239,14 @@ def test_bad_rings_are_refused_in_one_line(tmp_path):
     write_step(tapered_extrusion().wrapped, str(part))
     holed = tmp_path / "holed.step"
     write_step(box_with_a_hole().wrapped, str(holed))
+    crossed = tmp_path / "crossed.step"
+    write_step(crossed_extrusion().wrapped, str(crossed))
     out = str(tmp_path / "out.step")
     cases = [
+        (("fit", crossed, "--wall", "0,2,4,7", "-o", out),
+         "ruled: error: the wall's contours cross at (10, 10, 10): more than two of its free edges meet there, and a "
+         "wire cannot follow a contour through its own crossing; fit each loop of the part as a wall of its own, or "
+         "the faces one by one (--face)"),
         (("fit", part, "--wall", "1,4", "-o", out),
          "ruled: error: faces 1,4 of the wall do not each meet two others of it edge to edge; a wall is a ring of "
          "faces between two contours"),

@@ -41,7 +41,7 @@ def test_the_workbench_in_the_gui(tmp_path):
     command, none enabled with nothing selected, and a click on Fit with a face selected opens its panel."""
     run_gui("smoke_gui.py", tmp_path / "home")
     r = json.load(open(os.path.join(OUT, "smoke.json")))
-    assert r["toolbar"] == r["names"] and len(r["names"]) == 8, r
+    assert r["toolbar"] == r["names"] and len(r["names"]) == 9, r
     assert r["enabled_on_nothing"] == [], r
     assert r["clicked"] and r["panel"] and r["closed"] and r["objects"] == ["Impeller"], r
 
@@ -52,7 +52,7 @@ def test_fit_through_the_task_panel(tmp_path):
     r = json.load(open(os.path.join(OUT, "result.json")))
     assert r["toolbar"] and all(r["toolbar"])          # each command clicked in the Ruled toolbar
     assert r["commands"] == ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Partition", "Ruled_Cone",
-                             "Ruled_Curve", "Ruled_Replace", "Ruled_Export"]
+                             "Ruled_Curve", "Ruled_Wall", "Ruled_Replace", "Ruled_Export"]
     for sub, active, msg in r["bad"]:
         assert not active and msg and "\n" not in msg
         assert ("nothing is selected" in msg) if sub is None else (sub in msg and "not a face" in msg)
@@ -230,3 +230,48 @@ def test_commands_and_the_export_panel(tmp_path):
     again = json.load(open(os.path.join(OUT, "restart.json")))
     assert all(again["values"][k] == v for k, v in want.items()), again
     assert again["fit_samples"] == 30
+
+
+@pytest.mark.slow
+def test_fit_wall_in_the_gui(tmp_path):
+    """'Fit wall' on the tapered extrusion's wall (its five faces selected, the toolbar's button clicked): a
+    valid closed RuledWall within its bound, coloured with its legend; the export panel writes the G-code of
+    'ruled machine --wall --xyuv' with the same settings; undo removes it; a screenshot to look at."""
+    import sys
+
+    import numpy as np
+    from machine_helpers import check_sync
+    from wall_parts import tapered_extrusion
+
+    from ruled.occ.io import write_step
+    step = str(tmp_path / "tapered.step")
+    write_step(tapered_extrusion().wrapped, step)
+    from ruled.occ.io import read_shape
+    from ruled.occ.wall import wall_of
+    ring = wall_of(read_shape(step)).ring
+    run_gui("wall_gui.py", tmp_path / "home", RULED_WALL_STEP=step,
+            RULED_WALL_FACES=",".join(f"Face{i + 1}" for i in sorted(ring.faces)))
+    r = json.load(open(os.path.join(OUT, "wall.json")))
+    assert r["one_face"] is False and r["clicked"] and r["made"] == 1, r
+    w = r["wall"]
+    assert w["valid"] and w["status"] == "ok" and w["shape_valid"] and w["n_faces"] == 1 and w["closed"], w
+    assert sorted(w["faces"]) == sorted(f"Face{i + 1}" for i in ring.faces) and w["label"] == "Ruled wall of Part"
+    assert w["hausdorff"] <= w["bound"] <= 1e-6 * 56, w             # exactly ruled: within the edge tolerance
+    assert w["vp"] == "ViewProviderRuledFit" and w["legend_owner"] and w["deviation"] == 16 * 16, w
+    assert os.path.getsize(r["shot"]) > 20_000
+    assert r["export_clicked"] and r["export_ok"] and r["export_exists"], r["export_text"]
+    assert r["after_undo"] == ["Part"]
+    cli = tmp_path / "cli.ngc"
+    run = subprocess.run([sys.executable, "-m", "ruled.cli", "machine", step, "--wall", "auto", "--xyuv",
+                          "--chord-tol", "0.01", "--kerf", "0.15", "--side", "outside", "--lead", "2", "-o", str(cli),
+                          "--report", str(tmp_path / "cli.json"), "--measure-samples", "20", "--quiet"],
+                         capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert run.returncode == 0, run.stderr
+    panel = os.path.join(OUT, "panel_wall")
+    assert _lines(panel + ".ngc", "(") == _lines(str(cli), "(")          # all but the comments
+    parsed, kinds = check_sync(panel + ".ngc", panel + ".csv")
+    assert kinds.count("cut") > 10
+    rep = json.load(open(panel + ".json"))
+    assert rep["cut"]["max"] <= rep["cut"]["bound"] + 1e-9 and rep["machine"]["kerf"] == 0.15
+    # FreeCAD's measure of what the wire cuts agrees with the command line's (OCCT)
+    assert np.isclose(rep["cut"]["max"], json.load(open(tmp_path / "cli.json"))["cut"]["max"], atol=0.002)

@@ -1,0 +1,72 @@
+"""Run by tests/workbench/test_workbench_gui.py inside the FreeCAD GUI (under Xvfb): a part's wall (the
+tapered extrusion of tests/wall_parts.py, $RULED_WALL_STEP) selected face by face in the 3D view's selection,
+"Fit wall" clicked in the Ruled toolbar (a parametric RuledWall, coloured by its measured distance), the
+export panel writing its XYUV G-code, undo, and a screenshot.  Writes wall.json and pictures to
+$RULED_GUI_OUT; ends with os._exit."""
+import os
+import sys
+
+sys.path.insert(0, os.environ["RULED_GUI_LIB"])
+from guitools import Results, run_and_exit, toolbar_run  # noqa: E402
+
+OUT = os.environ["RULED_GUI_OUT"]
+res = Results()
+
+
+def main():
+    import FreeCAD
+    import FreeCADGui
+    import Part
+    FreeCADGui.activateWorkbench("RuledWorkbench")
+    from ruled_workbench import exportpanel, viewproviders
+    from ruled_workbench.features import value
+    doc = FreeCAD.newDocument("Wall")
+    part = doc.addObject("Part::Feature", "Part")
+    part.Shape = Part.read(os.environ["RULED_WALL_STEP"])
+    doc.recompute()
+    sel = FreeCADGui.Selection
+    faces = os.environ["RULED_WALL_FACES"].split(",")
+    sel.clearSelection()
+    sel.addSelection(part, faces[0])
+    res["one_face"] = toolbar_run("Ruled_Wall")           # one face is no wall: the button stays greyed
+    for name in faces[1:]:
+        sel.addSelection(part, name)
+    before = len(doc.Objects)
+    res["clicked"] = toolbar_run("Ruled_Wall")
+    walls = [o for o in doc.Objects if type(getattr(o, "Proxy", None)).__name__ == "RuledWall"]
+    res["made"] = len(doc.Objects) - before
+    w = walls[0]
+    vp = w.ViewObject.Proxy
+    res["wall"] = {"valid": w.isValid(), "status": w.Status, "bound": value(w.ErrorBound),
+                   "hausdorff": value(w.Hausdorff), "faces": list(w.Faces), "pieces": w.Pieces,
+                   "label": w.Label, "closed": bool(w.Shape.Faces and w.Shape.Faces[0].Surface.isUClosed()),
+                   "shape_valid": w.Shape.isValid(), "n_faces": len(w.Shape.Faces), "deviation": len(w.Deviation),
+                   "vp": type(vp).__name__, "legend_owner": viewproviders.LEGENDS.get(doc.Name, (None,))[0] == w.Name,
+                   "legend": list(viewproviders.LEGENDS.get(doc.Name, (None, None, []))[2])}
+    part.ViewObject.Visibility = False
+    sel.clearSelection()
+    view = FreeCADGui.ActiveDocument.ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    FreeCADGui.updateGui()
+    res["shot"] = os.path.join(OUT, "ruled_wall.png")
+    view.saveImage(res["shot"], 1280, 1024, "White")
+    # the export panel takes the wall: the G-code of 'ruled machine --wall ... --xyuv' with the same settings
+    sel.addSelection(w)
+    res["export_clicked"] = toolbar_run("Ruled_Export")
+    ep = exportpanel.ACTIVE
+    path = os.path.join(OUT, "panel_wall.ngc")
+    ep.format.setCurrentIndex(ep.kinds.index("xyuv"))
+    ep.path.setText(path)
+    for key, val in {"Units": "mm", "ChordTol": 0.01, "Kerf": 0.15, "Side": "outside", "Planes": "", "Lead": 2.0,
+                     "Feed": 100.0, "CamStep": False}.items():
+        exportpanel._put(ep.widgets[key], val)
+    res["export_text"] = ep.result.text()
+    res["export_ok"] = ep.accept()
+    res["export_exists"] = os.path.exists(path)
+    # undo: the RuledWall goes, the part stays
+    doc.undo()
+    res["after_undo"] = sorted(o.Name for o in doc.Objects)
+
+
+run_and_exit(main, res, "wall.json")
