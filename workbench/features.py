@@ -19,6 +19,8 @@ import time
 
 import FreeCAD
 
+from .progress import LISTENERS, RUNNING, _Progress, request_cancel  # noqa: F401  (the workbench's names for them)
+
 RESULT_GROUP = "Result"
 FIT_GROUP = "Fit"
 
@@ -64,13 +66,16 @@ def source_face(obj):
 
 
 class _TracebackRestorer:
-    """FreeCAD reports an exception raised by execute() with its Python traceback.  A refusal of bad
-    input is a message, not a crash: sys.tracebacklimit is 0 while FreeCAD reports it, and restored
-    when the document's recompute ends."""
+    """FreeCAD reports an exception raised by execute() with its Python traceback and a line
+    "<class 'RuntimeError'>: ..." of its own.  A refusal of bad input is one line, the object's, not a crash:
+    while FreeCAD reports it, sys.tracebacklimit is 0 and the console's and report view's error output are
+    off; both come back when the object's (or the document's) recompute ends."""
 
     saved = None
     armed = False
     registered = False
+    OUTPUTS = ("Console", "ReportOutput")     # FreeCAD's console observers: the terminal, the report view
+    errors: dict = {}
 
     def arm(self) -> None:
         import sys
@@ -79,6 +84,13 @@ class _TracebackRestorer:
             self.registered = True
         if not self.armed:
             self.saved = getattr(sys, "tracebacklimit", None)
+            self.errors = {}
+            for name in self.OUTPUTS:
+                try:
+                    self.errors[name] = FreeCAD.Console.GetStatus(name, "Err")
+                    FreeCAD.Console.SetStatus(name, "Err", False)
+                except Exception:     # (no such observer here: freecadcmd has no report view)
+                    continue
             self.armed = True
         sys.tracebacklimit = 0
 
@@ -91,7 +103,13 @@ class _TracebackRestorer:
                 del sys.tracebacklimit
         else:
             sys.tracebacklimit = self.saved
+        for name, on in self.errors.items():
+            if on is not None:
+                FreeCAD.Console.SetStatus(name, "Err", bool(on))
         self.armed = False
+
+    def slotRecomputedObject(self, obj) -> None:
+        self.restore()
 
     def slotRecomputedDocument(self, doc) -> None:
         self.restore()
@@ -102,68 +120,6 @@ _RESTORER = _TracebackRestorer()
 
 def _quiet_traceback() -> None:
     _RESTORER.arm()
-
-
-class _Progress:
-    """The engine's progress(stage, fraction) on FreeCAD's progress indicator (the status bar in the GUI;
-    one run over the whole computation, each stage a share of it) and on the listeners (a task panel's
-    own bar and stage label).  In the GUI the window stays responsive: pending events are processed at
-    most every PUMP seconds, so a task panel's Cancel (request_cancel) or Esc in the status bar stop the
-    engine with a CancelledError at its next progress report."""
-
-    PUMP = 0.05
-    STAGES = 8           # about as many stages as a fit reports (the overall bar never goes back)
-
-    def __init__(self, text: str, steps: int = 1000):
-        global _CANCEL
-        _CANCEL = False
-        self.bar = FreeCAD.Base.ProgressIndicator()
-        self.text, self.stage, self.steps = text, None, steps
-        self.stages = -1
-        self.done = 0
-        self.bar.start(text, steps)
-        self.pumped = 0.0
-
-    def __call__(self, stage: str, frac: float) -> None:
-        from ruled.core.errors import CancelledError
-        frac = min(max(float(frac), 0.0), 1.0)
-        if stage != self.stage:
-            self.stage = stage
-            self.stages += 1
-        overall = (self.stages + frac) / max(self.STAGES, self.stages + 1)
-        want = int(overall * self.steps * 0.999)
-        while self.done < want:
-            self.done += 1
-            try:
-                self.bar.next(True)
-            except Exception:  # FreeCAD raises when the user pressed Esc
-                raise CancelledError("cancelled by the user") from None
-        if FreeCAD.GuiUp and time.perf_counter() - self.pumped > self.PUMP:
-            self.pumped = time.perf_counter()
-            for listener in LISTENERS:
-                listener(stage, frac)
-            from PySide import QtGui
-            QtGui.QApplication.processEvents()
-        if _CANCEL:
-            raise CancelledError("cancelled by the user")
-
-    def stop(self) -> None:
-        self.bar.stop()
-
-
-LISTENERS = []       # callables (stage, fraction): a task panel's progress display
-_CANCEL = False
-
-RUNNING = []         # the objects being computed now (a panel's Cancel asks them to stop)
-
-
-def request_cancel() -> bool:
-    """Ask the running computation to stop at its next progress report; False when none runs."""
-    global _CANCEL
-    if not RUNNING:
-        return False
-    _CANCEL = True
-    return True
 
 
 _KERNELS_SAID = False
@@ -372,7 +328,7 @@ class RuledFit(_Feature):
             return result, measured_warnings(res, float(obj.ErrorBound), float(obj.Hausdorff), p.face_size,
                                              area_ratio(res, float(face.Area), float(result.Area)))
         try:
-            res, result, more = first_consistent(fit_region(face_region(face, S), opts, progress), built)
+            res, result, more = first_consistent(progress.run(fit_region, face_region(face, S), opts, progress), built)
             for w in tuple(res.patch.warnings) + tuple(more):
                 FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             for note in res.notes:          # what the fit decided (the iso surface, the next candidate)
@@ -427,7 +383,7 @@ class RuledSplit(_Feature):
             for w in patch.warnings:
                 FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             S = patch.surface
-            res = split_face(S, opts, progress)
+            res = progress.run(split_face, S, opts, progress)
             self.finish(obj, face, S, res, progress, float(patch.deviation))
         finally:
             progress.stop()

@@ -97,7 +97,7 @@ def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
             if box[0] <= u <= box[1] and box[2] <= v <= box[3] and cls(u, v):
                 d = min(d, float((s.value(u, v) - x).Length))
         out[i] = d
-        if progress is not None and i % 64 == 0:
+        if progress is not None and i % 16 == 0:
             progress(i / len(points))
     return out
 

@@ -93,7 +93,7 @@ class RuledPartition(_Feature):
                 raise BadInputError(f"the Tolerance {tol:.4g} mm is too tight for this trimmed face: its own "
                                     f"four-sided patch, which the strips split, is {dev:.3g} mm from it; raise the "
                                     f"Tolerance above {2 * dev:.3g} mm")
-            p = partition(S, tol - dev, opts, progress)     # the strips within tol of the face as bounded
+            p = progress.run(partition, S, tol - dev, opts, progress)     # the strips within tol of the face as bounded
             fits = [surface_to_face(s.fit.surface) for s in p.strips]
             measure_into(obj, fits, face, lambda f: progress("measuring (distances to the source)", f))
         finally:
@@ -180,13 +180,13 @@ class RuledConeSpline(_Feature):
             if fit_bound is None:
                 region = face_region(design, S)
                 if obj.FitFirst:
-                    res = fit_region(region, FitOptions(direction=str(obj.Direction)).checked(), progress)
+                    res = progress.run(fit_region, region, FitOptions(direction=str(obj.Direction)).checked(), progress)
                     S, fit_bound = res.surface, float(res.error_bound)
                 else:
                     patch = face_patch(region)       # the face as bounded by its edges
                     S, fit_bound = patch.surface, (None if patch.identity else float(patch.deviation))
-            cone = cone_spline_of_surface(S, tol, float(obj.Step), direction=str(obj.Direction),
-                                          progress=progress, allow_creases=bool(obj.AllowCreases))
+            cone = progress.run(cone_spline_of_surface, S, tol, float(obj.Step), direction=str(obj.Direction),
+                                progress=progress, allow_creases=bool(obj.AllowCreases))
             faces = [surface_to_face(p.surface) for p in cone.patches]
             measure_into(obj, faces, design, lambda f: progress("measuring (distances to the design face)", f))
         finally:
@@ -289,8 +289,8 @@ class RuledCurveOnFace(_Feature):
         try:
             for k, D in enumerate(curves):
                 check_inside(region, D)
-                results.append(approximate(S, D, tol, float(getattr(obj.Angle, "Value", obj.Angle)),
-                                           progress=lambda st, f, k=k: progress(st, (k + f) / len(curves))))
+                results.append(progress.run(approximate, S, D, tol, float(getattr(obj.Angle, "Value", obj.Angle)),
+                                            progress=lambda st, f, k=k: progress(st, (k + f) / len(curves))))
         finally:
             progress.stop()
         edges = [curve_to_edge(r.curve) for r in results]
@@ -374,7 +374,7 @@ class RuledWall(_Feature):
         opts = replace(self.options(obj), samples=int(obj.Samples) * len(wall.faces)).checked()
         progress = _Progress(f"Ruled: fitting the wall {obj.Label}")
         try:
-            ring = fit_ring(wall.surface, wall.breaks, wall.corners, opts, wall.size, progress)
+            ring = progress.run(fit_ring, wall.surface, wall.breaks, wall.corners, opts, wall.size, progress)
             out = result_face(ring.results[0]) if ring.periodic else surface_to_face(ring.surface)
             bound = ring.bound + wall.slack + (built_slack(out, ring.results[0]) if ring.periodic else 0.0)
             design = Part.Compound(wall.faces)

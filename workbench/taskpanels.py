@@ -71,7 +71,10 @@ class _Panel:
         self.bar.show()
         LISTENERS.append(self._progress)
         try:
-            self.doc.recompute()
+            # the object alone: the document's recompute runs FreeCAD's progress indicator, which refuses
+            # every click (Cancel's too) and keeps the keyboard while it runs (workbench.busy)
+            if self.obj.recompute():
+                self.obj.purgeTouched()      # (the document's recompute does that; OK keeps what Preview made)
         finally:
             LISTENERS.remove(self._progress)
             self.busy = False
@@ -109,7 +112,7 @@ class _Panel:
         return True
 
     def reject(self):
-        from .features import request_cancel
+        from .progress import request_cancel
         if self.busy:
             self.closing = True
             request_cancel()             # the engine stops at its next progress report; then the panel closes

@@ -168,10 +168,11 @@ def chained(curves: list, start: np.ndarray, tol: float) -> Curve:
     parts = [elevate(c, p) for c in parts]
     lengths = np.array([max(float(np.linalg.norm(np.diff(c.poles, axis=0), axis=1).sum()), 1e-300) for c in parts])
     edges = np.concatenate([[0.0], np.cumsum(lengths) / lengths.sum()])
-    P, W, knots = parts[0].poles, _cw(parts[0]), [edges[0]] * (p + 1)
+    P, W = parts[0].poles, _cw(parts[0])
+    knots: list = [edges[0]] * (p + 1)
     for i, c in enumerate(parts):
-        k = c.knots
-        inner = edges[i] + (edges[i + 1] - edges[i]) * (k[p + 1:-p - 1] - k[0]) / (k[-1] - k[0])
+        kn = c.knots
+        inner = edges[i] + (edges[i + 1] - edges[i]) * (kn[p + 1:-p - 1] - kn[0]) / (kn[-1] - kn[0])
         knots += list(inner) + [edges[i + 1]] * p
         if i:
             w = _cw(c) * (W[-1] / _cw(c)[0])

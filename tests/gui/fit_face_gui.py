@@ -74,24 +74,89 @@ def extra_checks(doc, imp, obj, res):
     res["progress_readings"] = sorted({v for v in seen if v})
     res["panel_progress"] = sorted(set(p2.progress_seen))
     p2.reject()
-    # Cancel while a fit runs: it stops within 2 s and the document is as it was
-    before = sorted(o.Name for o in doc.Objects)
-    sel.clearSelection()
-    sel.addSelection(imp, "Face7")
-    res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
-    p3 = taskpanels.ACTIVE
-    p3.samples.setValue(160)
-    p3.measure.setValue(80)
-    p3.method.setCurrentIndex(p3.method.findText("4d"))
-    clicked = []
-    QtCore.QTimer.singleShot(1500, lambda: clicked.append((time.time(), p3.reject())))
-    t0 = time.time()
-    stopped = p3.preview()
-    t1 = time.time()
-    res["cancel"] = {"returned": stopped, "clicked": bool(clicked), "run_s": t1 - t0,
-                     "latency_s": t1 - clicked[0][0] if clicked else None,
-                     "objects_same": sorted(o.Name for o in doc.Objects) == before,
-                     "panel_closed": taskpanels.ACTIVE is None}
+    # Cancel while a fit of tens of seconds runs, by real input (QTest's mouse and key events through the
+    # application): meanwhile the window takes clicks (the combo view's Model tab, the tree, the 3D view),
+    # each seen within a poll of 10 ms on a Qt timer (which runs only while the window processes events);
+    # then Cancel (and, the second time, Esc) closes the panel, the document as it was
+    from guitools import click, combo_tab, key, task_button, tree_item, widgets
+    from ruled_workbench import viewproviders
+    FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
+    FreeCADGui.ActiveDocument.ActiveView.fitAll()
+    for how in ("cancel", "esc"):
+        before = sorted(o.Name for o in doc.Objects)
+        sel.clearSelection()
+        sel.addSelection(imp, "Face7")
+        res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
+        p3 = taskpanels.ACTIVE
+        p3.samples.setValue(150)
+        p3.measure.setValue(80)
+        live = {}
+
+        def until(name, cond, t0, live=live):
+            if cond():
+                live[name] = time.time() - t0
+            elif time.time() - t0 > 5:
+                live[name] = None
+            else:
+                QtCore.QTimer.singleShot(10, lambda: until(name, cond, t0))
+
+        def model_tab(live=live):
+            bar, pos = combo_tab("Model")
+            t0 = time.time()
+            click(bar, pos)
+            until("model_tab", lambda: bar.tabText(bar.currentIndex()) == "Model", t0)
+
+        def tree(live=live):
+            vp, pos = tree_item("Impeller")
+            sel.clearSelection()
+            t0 = time.time()
+            click(vp, pos)
+            until("tree", lambda: [o.Name for o in sel.getSelection()] == ["Impeller"], t0)
+
+        def view3d(live=live):
+            vp = widgets("SIM::Coin3D::Quarter::QuarterWidget")[0].viewport()
+            view = FreeCADGui.ActiveDocument.ActiveView
+            x, y = view.getPointOnScreen(imp.Shape.BoundBox.Center)      # the impeller there selects a face
+            w, h = view.getSize()
+            sel.clearSelection()
+            t0 = time.time()
+            click(vp, QtCore.QPoint(int(x * vp.width() / w), int(vp.height() * (1 - y / h))))
+            until("view", lambda: bool(sel.getSelection()), t0)
+
+        def tasks_tab(live=live):
+            bar, pos = combo_tab("Tasks")
+            click(bar, pos)
+
+        def stop(live=live, p3=p3, how=how):
+            live["busy"] = p3.busy
+            live["t"] = time.time()
+            if how == "cancel":
+                click(task_button("Cancel"))
+            else:
+                key(mw, QtCore.Qt.Key_Escape)
+        if how == "cancel":
+            # (the tree's first click after the Model tab is shown only makes its item current, idle or busy)
+            model_tab()
+            vp, pos = tree_item("Impeller")
+            click(vp, pos)
+            tasks_tab()
+            sel.clearSelection()
+        steps = [(1000, model_tab), (1600, tree), (2200, view3d), (2800, tasks_tab), (3400, stop)] \
+            if how == "cancel" else [(2000, stop)]
+        for ms, fn in steps:
+            QtCore.QTimer.singleShot(ms, fn)
+        t0 = time.time()
+        click(p3.preview_button)                              # returns when the computation has ended
+        t1 = time.time()
+        for _ in range(5):
+            QtGui.QApplication.processEvents()
+        names = sorted(o.Name for o in doc.Objects)
+        owner = viewproviders.LEGENDS.get(doc.Name, (None,))[0]
+        res[how] = {"busy_at_stop": live.get("busy"), "run_s": t1 - t0,
+                    "latency_s": t1 - live["t"] if "t" in live else None,
+                    "objects_same": names == before, "legend_ok": owner is None or owner in names,
+                    "panel_closed": taskpanels.ACTIVE is None,
+                    "responses": {k: live.get(k) for k in ("model_tab", "tree", "view")}}
     # double-click on the RuledFit: its own panel, editing it
     obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
     ed = taskpanels.ACTIVE
@@ -199,7 +264,14 @@ def main():
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     bad_panel = taskpanels.ACTIVE
     bad_panel.samples.setValue(12)
-    res["bad_face"] = {"accepted": bad_panel.accept(), "text": bad_panel.result.text()}
+    from PySide import QtGui
+    report = [w for w in FreeCADGui.getMainWindow().findChildren(QtGui.QTextEdit) if "Report" in w.objectName()]
+    FreeCADGui.updateGui()
+    report[0].clear()
+    accepted = bad_panel.accept()
+    FreeCADGui.updateGui()
+    res["bad_face"] = {"accepted": accepted, "text": bad_panel.result.text(),
+                       "report": [x for x in report[0].toPlainText().splitlines() if x.strip()]}
     bad_panel.reject()
     res["after_cancel"] = [o.Name for o in doc.Objects]
     step = os.path.join(OUT, "ruled_fit.step")

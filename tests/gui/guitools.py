@@ -77,3 +77,61 @@ def _click(action, wait: float = 3.0) -> bool:
         return False
     action.trigger()
     return True
+
+
+# ------------------------------------------------------------------------------ real input (QTest events)
+def click(widget, pos=None) -> None:
+    """A left click on the widget (at pos, its centre by default): mouse press and release events through
+    the application, as a user's click (PySide2's QTest)."""
+    from PySide2.QtCore import Qt
+    from PySide2.QtTest import QTest
+    if pos is None:
+        QTest.mouseClick(widget, Qt.LeftButton)
+    else:
+        QTest.mouseClick(widget, Qt.LeftButton, Qt.NoModifier, pos)
+
+
+def key(widget, k) -> None:
+    from PySide2.QtTest import QTest
+    QTest.keyClick(widget, k)
+
+
+def widgets(class_name: str) -> list:
+    """The main window's visible widgets of a Qt class (by its C++ name, e.g. 'Gui::TreeWidget')."""
+    import FreeCADGui
+    from PySide import QtGui
+    return [w for w in FreeCADGui.getMainWindow().findChildren(QtGui.QWidget)
+            if w.metaObject().className() == class_name and w.isVisible()]
+
+
+def combo_tab(label: str):
+    """(the combo view's tab bar, the position of its tab named label)."""
+    import FreeCADGui
+    from PySide import QtGui
+    for bar in FreeCADGui.getMainWindow().findChildren(QtGui.QTabBar):
+        for i in range(bar.count()):
+            if bar.tabText(i) == label and bar.isVisible():
+                return bar, bar.tabRect(i).center()
+    return None, None
+
+
+def task_button(which: str):
+    """The task panel's standard button ('Cancel' or 'OK') as FreeCAD shows it."""
+    from PySide import QtGui
+    kind = {"Cancel": QtGui.QDialogButtonBox.Cancel, "OK": QtGui.QDialogButtonBox.Ok}[which]
+    for box in widgets("QDialogButtonBox"):
+        b = box.button(kind)
+        if b is not None and b.isVisible():
+            return b
+    return None
+
+
+def tree_item(label: str):
+    """(the tree's viewport, the position of the item labelled label)."""
+    from PySide import QtCore
+    for tree in widgets("Gui::TreeWidget"):
+        items = tree.findItems(label, QtCore.Qt.MatchExactly | QtCore.Qt.MatchRecursive, 0)
+        if items:
+            tree.scrollToItem(items[0])
+            return tree.viewport(), tree.visualItemRect(items[0]).center()
+    return None, None

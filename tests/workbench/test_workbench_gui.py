@@ -46,8 +46,17 @@ def test_the_workbench_in_the_gui(tmp_path):
     assert r["clicked"] and r["panel"] and r["closed"] and r["objects"] == ["Impeller"], r
 
 
+def needs_qttest():
+    """Skip without PySide2's QtTest in FreeCAD's Python (the real clicks and key presses)."""
+    import glob
+    if not glob.glob("/usr/lib/python3/dist-packages/PySide2/QtTest*.so"):
+        pytest.skip("PySide2's QtTest is not installed for FreeCAD's Python (apt-get install -y "
+                    "python3-pyside2.qttest; .ci/run installs it)")
+
+
 @pytest.mark.slow
 def test_fit_through_the_task_panel(tmp_path):
+    needs_qttest()
     run_gui("fit_face_gui.py", tmp_path / "home")
     r = json.load(open(os.path.join(OUT, "result.json")))
     assert r["toolbar"] and all(r["toolbar"])          # each command clicked in the Ruled toolbar
@@ -69,6 +78,9 @@ def test_fit_through_the_task_panel(tmp_path):
     assert os.path.getsize(r["shot"]) > 20_000 and r["step_size"] > 1000
     # a face the engine refuses: the panel stays open with the reason; Cancel removes the object again
     assert not r["bad_face"]["accepted"] and r["bad_face"]["text"].startswith("Cannot fit:")
+    # ... said once in the report view, in one line, without Python's exception class
+    lines = r["bad_face"]["report"]
+    assert len(lines) == 1 and "degenerate face" in lines[0] and "<class" not in lines[0], lines
     assert sorted(r["after_cancel"]) == ["Impeller", "RuledFit", "Sphere"]
     # "Split for ruling": previewed and kept, the two fitted sides and the split curve, better than one strip
     assert r["split_preview"] and r["split_accept"] and "kept the" in r["split_text"]
@@ -97,10 +109,15 @@ def _check_everyday_use(r):
     # progress of a fit of several seconds: the status bar's bar and the panel's, many readings each
     assert r["progress_ok"] and r["progress_fit_s"] > 2
     assert len(r["progress_readings"]) >= 3 and len(r["panel_progress"]) >= 3
-    # Cancel while a fit runs: stopped within 2 s, the panel closed, the document as before
-    c = r["cancel"]
-    assert c["clicked"] and c["returned"] is False and c["latency_s"] < 2.0, c
-    assert c["objects_same"] and c["panel_closed"]
+    # Cancel and Esc while a fit of tens of seconds runs (real clicks and key presses): the panel closed within
+    # 1 s of the click, the document as before (no object, no legend left); meanwhile the combo view's tab, the
+    # tree and the 3D view each took a click within 0.5 s
+    for how in ("cancel", "esc"):
+        c = r[how]
+        assert c["busy_at_stop"] and c["latency_s"] is not None and c["latency_s"] < 1.0, (how, c)
+        assert c["objects_same"] and c["legend_ok"] and c["panel_closed"], (how, c)
+    resp = r["cancel"]["responses"]
+    assert all(resp[k] is not None and resp[k] < 0.5 for k in ("model_tab", "tree", "view")), resp
     # double-click opens the object's own panel (editing it), Cancel closes it
     assert r["edit"]["opened"] and r["edit"]["closed"] and r["edit"]["samples"] == 16
     # save and reopen in the GUI: nothing in the report view, the objects with their code, the same results

@@ -1,0 +1,123 @@
+"""Progress and cancel of the workbench's computations (no GUI imports: they run in freecadcmd too): the
+engine's progress(stage, fraction) on FreeCAD's console indicator headless, on the status bar in the GUI
+(workbench.busy), with the engine in a worker thread there so that the window stays usable; a task panel's
+Cancel and Esc stop it (request_cancel)."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import FreeCAD
+
+
+class _Progress:
+    """The engine's progress(stage, fraction), one run over the whole computation (each stage a share of it),
+    shown on FreeCAD's status bar in the GUI (workbench.busy) or its console progress indicator headless,
+    and on the listeners (a task panel's own bar and stage label).  In the GUI the engine runs in a worker
+    thread (run) while the main thread keeps processing events, so that the window stays usable: the task
+    panel's Cancel (request_cancel) and Esc stop the computation at once (the worker at its next report)."""
+
+    PUMP = 0.03
+    STAGES = 8           # about as many stages as a fit reports (the overall bar never goes back)
+
+    def __init__(self, text: str, steps: int = 1000):
+        global _CANCEL
+        _CANCEL = False
+        self.text, self.stage, self.frac, self.steps = text, None, 0.0, steps
+        self.stages = -1
+        self.cancelled = False
+        self.main = threading.get_ident()
+        self.pumped = 0.0
+        self.bar = self.display = None
+        if FreeCAD.GuiUp:
+            from .busy import StatusDisplay
+            self.display = StatusDisplay(text)
+        else:
+            self.done = 0
+            self.bar = FreeCAD.Base.ProgressIndicator()
+            self.bar.start(text, steps)
+
+    def __call__(self, stage: str, frac: float) -> None:
+        from ruled.core.errors import CancelledError
+        frac = min(max(float(frac), 0.0), 1.0)
+        if stage != self.stage:
+            self.stage = stage
+            self.stages += 1
+        self.frac = frac
+        if _CANCEL or self.cancelled:
+            self.cancelled = True
+            raise CancelledError("cancelled by the user")
+        if threading.get_ident() == self.main:      # (a worker only records it: the main thread shows it)
+            self.show()
+
+    def show(self) -> None:
+        """The progress on the bars; in the GUI, pending events processed (at most every PUMP seconds)."""
+        from ruled.core.errors import CancelledError
+        overall = (self.stages + self.frac) / max(self.STAGES, self.stages + 1)
+        if self.bar is not None:
+            want = int(overall * self.steps * 0.999)
+            while self.done < want:
+                self.done += 1
+                try:
+                    self.bar.next(True)
+                except Exception:  # FreeCAD raises when the user aborts
+                    raise CancelledError("cancelled by the user") from None
+            return
+        if time.perf_counter() - self.pumped > self.PUMP:
+            self.pumped = time.perf_counter()
+            if self.stage is not None:
+                self.display.show(self.stage, overall, self.frac)
+                for listener in LISTENERS:
+                    listener(self.stage, self.frac)
+            from PySide import QtGui
+            QtGui.QApplication.processEvents()
+        if _CANCEL:
+            self.cancelled = True
+            raise CancelledError("cancelled by the user")
+
+    def run(self, fn, *args, **kwargs):
+        """fn(*args, **kwargs), the engine's work on plain arrays (no FreeCAD in it): in the GUI in a worker
+        thread, the main thread showing its progress and processing events until it ends; Cancel or Esc end
+        the wait at once (the worker stops at its next progress report, its result dropped)."""
+        if self.display is None:
+            return fn(*args, **kwargs)
+        out: dict = {}
+
+        def work():
+            try:
+                out["value"] = fn(*args, **kwargs)
+            except BaseException as exc:   # handed to the main thread
+                out["error"] = exc
+        worker = threading.Thread(target=work, name="ruled-engine", daemon=True)
+        worker.start()
+        while worker.is_alive():
+            worker.join(self.PUMP)
+            self.show()
+        if "error" in out:
+            raise out["error"]
+        return out["value"]
+
+    def stop(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+        if self.display is not None:
+            self.display.close()
+            self.display = None
+
+
+LISTENERS = []       # callables (stage, fraction): a task panel's progress display
+_CANCEL = False
+
+RUNNING = []         # the objects being computed now (a panel's Cancel asks them to stop)
+
+
+def request_cancel() -> bool:
+    """Ask the running computation to stop at its next progress report; False when none runs."""
+    global _CANCEL
+    if not RUNNING:
+        return False
+    _CANCEL = True
+    return True
+
+
