@@ -119,11 +119,50 @@ def cone_source(obj):
     src, subs = link
     subs = [s for s in (subs or []) if s]
     if not subs and type(getattr(src, "Proxy", None)).__name__ == "RuledFit":
+        from .measure import trimmed
         if not src.Shape.Faces:
             raise BadInputError(f"{src.Label} has no result yet (see its Status); recompute it first")
+        if trimmed(src.Shape.Faces[0]):
+            # its ruled surface runs past the face (trimmed by the face's edges): cone patches of it would
+            # too, farther from the face than any bound says; the fit pinned to the face's corners instead
+            return None, source_face(src), src
         return face_to_arrays(src.Shape.Faces[0]), source_face(src), value(src.ErrorBound)
     face = source_face(obj)
     return face_to_arrays(face), face, None
+
+
+def pinned_fit(region, face, options, progress) -> tuple:
+    """(the ruled surface, its certified bound against the face as bounded by its edges) of the fit pinned to
+    the face's corners: its rails are the face's own sides, so that it, and a cone spline of it, ends where
+    the face does."""
+    from dataclasses import replace
+
+    from ruled.core.hostform import bounds_slack
+    from ruled.fit.facefit import fit_region
+    res = progress.run(fit_region, region, replace(options, ends="pinned").checked(), progress)
+    return res.surface, float(res.error_bound + bounds_slack(region.surface, face.ParameterRange))
+
+
+def cone_measure(obj, cone, faces, design, progress) -> None:
+    """What the cone spline's ErrorBound bounds, measured (as ``ruled cone`` measures it): the design face's
+    points to the patches (FreeCAD's BRepExtrema) and the patches' points, an n x n grid over each (also
+    their colours), to the ruled surface between the planes of its end curves (exact distances to its
+    ruling segments).  The patches span that surface: where the face's end curves are not planar they run
+    past the face, as far as those planes, so their distance to the face itself is not what is bounded."""
+    import numpy as np
+    import Part
+
+    from ruled.cone.report import to_ruled
+
+    from .measure import distances, face_points, grid
+    n = int(obj.MeasureSamples)
+    if n < 2:
+        obj.Hausdorff, obj.Deviation = 0.0, []
+        return
+    _, to_surface = to_ruled(cone, [grid(f, n) for f in faces])
+    pts = np.concatenate([face_points(f, n) for f in design.Faces])
+    to_cone = distances(pts, Part.Compound(faces), lambda f: progress("measuring (the face to the patches)", f))
+    obj.Hausdorff, obj.Deviation = float(max(to_surface.max(), to_cone.max())), list(to_surface)
 
 
 class RuledConeSpline(_Feature):
@@ -157,6 +196,13 @@ class RuledConeSpline(_Feature):
         _add(obj, "App::PropertyBool", "Developable", RESULT_GROUP, "every patch is developable (Theorem 1)", False,
              True)
         add_results(obj, "the patches (ConeBound + FitBound)")
+        for name, text in (("Hausdorff", "measured (cone_measure): the design face to the patches, and the patches "
+                                         "to the ruled surface between the planes of its end curves, which they span "
+                                         "(where those curves are not planar the patches run past the face)"),
+                           ("Deviation", "measured distance of each patch sample to the ruled surface between the "
+                                         "planes (MeasureSamples x MeasureSamples per patch, for colouring)")):
+            if hasattr(obj, "setDocumentation"):
+                obj.setDocumentation(name, text)
 
     def compute(self, obj):
         import Part
@@ -164,7 +210,7 @@ class RuledConeSpline(_Feature):
         from ruled import FitOptions
         from ruled.cone.surface import cone_spline_of_surface
         from ruled.core.errors import BadInputError
-        from ruled.fit.facefit import face_patch, fit_region
+        from ruled.fit.facefit import face_patch
 
         from .adapter import face_region, surface_to_face
         tol = value(obj.Tolerance)
@@ -177,18 +223,24 @@ class RuledConeSpline(_Feature):
         S, design, fit_bound = cone_source(obj)
         progress = _Progress(f"Ruled: cone spline of {obj.Label}")
         try:
-            if fit_bound is None:
+            if S is None:            # a RuledFit trimmed by its face's edges: its fit pinned to the face's corners
+                fit = fit_bound
+                S, fit_bound = pinned_fit(face_region(design), design, fit.Proxy.options(fit), progress)
+                FreeCAD.Console.PrintMessage(f"{obj.Label}: made from {fit.Label}'s fit pinned to the face's corners "
+                                             f"(bound {fit_bound:.4g}): its result, trimmed by the face's edges, "
+                                             f"runs past them\n")
+            elif fit_bound is None:
                 region = face_region(design, S)
                 if obj.FitFirst:
-                    res = progress.run(fit_region, region, FitOptions(direction=str(obj.Direction)).checked(), progress)
-                    S, fit_bound = res.surface, float(res.error_bound)
+                    S, fit_bound = pinned_fit(region, design, FitOptions(direction=str(obj.Direction)).checked(),
+                                              progress)
                 else:
                     patch = face_patch(region)       # the face as bounded by its edges
                     S, fit_bound = patch.surface, (None if patch.identity else float(patch.deviation))
             cone = progress.run(cone_spline_of_surface, S, tol, float(obj.Step), direction=str(obj.Direction),
                                 progress=progress, allow_creases=bool(obj.AllowCreases))
             faces = [surface_to_face(p.surface) for p in cone.patches]
-            measure_into(obj, faces, design, lambda f: progress("measuring (distances to the design face)", f))
+            cone_measure(obj, cone, faces, design, progress)
         finally:
             progress.stop()
         for note in cone.notes:

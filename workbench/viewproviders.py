@@ -31,8 +31,22 @@ def user_length(x: float) -> str:
         return f"{float(x):.4g} mm"
 
 
-def colour_range(dev: np.ndarray, size: float) -> float:
-    """The top of the colour scale: the largest distance, at least FLOOR x the face's size."""
+def legend_labels(top: float) -> list:
+    """Five values from 0 to top, three significant digits each, in the unit the user's schema gives top
+    (e.g. '0 µm' ... '1.46 µm'): the top label reads as the Hausdorff property does."""
+    try:
+        _, factor, unit = FreeCAD.Units.Quantity(float(top), FreeCAD.Units.Length).getUserPreferred()
+        factor = float(factor) or 1.0
+    except Exception:
+        factor, unit = 1.0, "mm"
+    return [f"{top * t / factor:.3g} {unit}" for t in np.linspace(0.0, 1.0, 5)]
+
+
+def colour_range(dev: np.ndarray, size: float, hausdorff: float = 0.0) -> float:
+    """The top of the colour scale: the measured Hausdorff distance (the legend's top reads as the property),
+    or without one the largest distance, at least FLOOR x the face's size."""
+    if hausdorff > 0:
+        return float(hausdorff)
     top = float(dev.max()) if dev.size else 0.0
     return max(top, FLOOR * size, 1e-12)
 
@@ -51,7 +65,10 @@ def _legend_node(top: float, title: str):
     light = coin.SoLightModel()
     light.model = coin.SoLightModel.BASE_COLOR
     root.addChild(light)
-    x0, x1, y0, y1, n = 0.80, 0.85, -0.75, 0.65, 32
+    # (the view's x and y each run from -1 to 1 across it: the bar at its right edge, the labels to the bar's
+    # left and the title above it, right-aligned, so that nothing reaches past the edge at any window size,
+    # the bar's top a third of the way down, under the navigation cube, its foot above the axis cross)
+    x0, x1, y0, y1, n = 0.90, 0.94, -0.72, 0.35, 32
     ts = np.linspace(0.0, 1.0, n + 1)
     cols = colour_ramp(ts)
     pts, colours, idx = [], [], []
@@ -73,23 +90,21 @@ def _legend_node(top: float, title: str):
     faces.materialIndex.setValues(0, len(idx), idx)
     for node in (mat, bind, coords, faces):
         root.addChild(node)
-    labels = [title] + [user_length(top * t) for t in np.linspace(0.0, 1.0, 5)]
+    labels = [title] + legend_labels(top)
     text_col = coin.SoBaseColor()
     text_col.rgb = (0.1, 0.1, 0.1)
     root.addChild(text_col)
     font = coin.SoFont()
     font.size = 13
     root.addChild(font)
-    # the title right-aligned at the view's right edge, above the bar; the values beside the bar
-    places = [(0.98, y1 + 0.08)] + [(x1 + 0.01, y0 + (y1 - y0) * t - 0.01) for t in np.linspace(0, 1, 5)]
-    for k, (text, (x, y)) in enumerate(zip(labels, places)):
+    places = [(x1, y1 + 0.05)] + [(x0 - 0.012, y0 + (y1 - y0) * t - 0.012) for t in np.linspace(0, 1, 5)]
+    for text, (x, y) in zip(labels, places):
         sep = coin.SoSeparator()
         tr = coin.SoTranslation()
         tr.translation = (x, y, 0.0)
         t2 = coin.SoText2()
         t2.string = text
-        if k == 0:
-            t2.justification = coin.SoText2.RIGHT
+        t2.justification = coin.SoText2.RIGHT
         sep.addChild(tr)
         sep.addChild(t2)
         root.addChild(sep)
@@ -245,7 +260,8 @@ class ViewProviderRuledFit(_Editable):
         if n < 2 or n * n * len(faces) != len(dev):
             n, dev = 16, None
         if dev is not None:
-            top = colour_range(dev, obj.Shape.BoundBox.DiagonalLength)
+            top = colour_range(dev, obj.Shape.BoundBox.DiagonalLength, float(getattr(obj.Hausdorff, "Value",
+                                                                                       obj.Hausdorff or 0.0)))
             if getattr(self.vobj, "Visibility", True):
                 show_legend(obj, top)
         else:

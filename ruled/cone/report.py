@@ -88,3 +88,31 @@ def plot(res: ConeSpline, path: str) -> None:
     with atomic(path) as tmp:
         fig.savefig(tmp, dpi=110)
     plt.close(fig)
+
+
+def to_ruled(res, per: list) -> tuple:
+    """(the points, their exact distances to the ruled surface between the planes): per, samples of each
+    patch of the cone spline res (a host's, of its faces); each point to its own piece's rulings, then,
+    from the farthest down while above the largest distance found, to the other pieces' too (the nearest
+    point may lie across a piece's end)."""
+    from ruled.core.distance import to_lines
+    pts = np.concatenate(per)
+    own = np.concatenate([np.full(len(c), q.piece) for c, q in zip(per, res.patches)])
+    d = np.empty(len(pts))
+    for k, piece in enumerate(res.pieces):
+        m = own == k
+        if m.any():
+            d[m] = to_lines(pts[m], piece.rulings)
+    if len(res.pieces) > 1:
+        top, order = 0.0, np.argsort(-d, kind="stable")
+        for lo in range(0, len(order), 64):
+            idx = order[lo:lo + 64]
+            idx = idx[d[idx] > top]
+            if not idx.size:
+                break
+            for k, piece in enumerate(res.pieces):
+                sel = idx[own[idx] != k]
+                if sel.size:
+                    d[sel] = np.minimum(d[sel], to_lines(pts[sel], piece.rulings))
+            top = max(top, float(d[idx].max()))
+    return pts, d

@@ -199,3 +199,68 @@ def to_polyline(A: np.ndarray, B: np.ndarray, k: int = 4) -> float:
             s = np.clip(((A - P) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0, 1)
             best = np.minimum(best, np.linalg.norm(A - (P + s[:, None] * d), axis=1))
     return float(best.max())
+
+
+def _golden_min(f, a, b, iters: int):
+    """The smallest value golden-section search finds for f on [a, b]; elementwise when a, b are arrays
+    (f then maps arrays of parameters to arrays of values)."""
+    g = 0.5 * (np.sqrt(5) - 1)
+    if np.ndim(a) == 0 and np.ndim(b) == 0:
+        return _golden_min_scalar(f, float(a), float(b), iters, g)
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = np.asarray(f(c), float), np.asarray(f(d), float)
+    for _ in range(iters):
+        left = fc < fd
+        a, b = np.where(left, a, c), np.where(left, d, b)
+        c, d = np.where(left, b - g * (b - a), d), np.where(left, c, a + g * (b - a))
+        fn = np.asarray(f(np.where(left, c, d)), float)
+        fc, fd = np.where(left, fn, fd), np.where(left, fc, fn)
+    m = np.minimum(fc, fd)
+    return float(m) if m.ndim == 0 else m
+
+
+def _golden_min_scalar(f, a: float, b: float, iters: int, g: float) -> float:
+    """_golden_min for one interval, in plain floats (the array form's numpy calls cost 20x the search)."""
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = float(f(c)), float(f(d))
+    for _ in range(iters):
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = float(f(c))
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = float(f(d))
+    return min(fc, fd)
+
+
+def to_lines(points: np.ndarray, ends, m: int = 2049, iters: int = 40) -> np.ndarray:
+    """Distances from points to the ruled surface swept by the segments ends(v) = (A(v), B(v)), v in
+    [0, 1] (each (N, 3)): the nearest of m segments, then a golden-section search over v between its
+    neighbours, exact segment distances throughout."""
+    def seg(X, A, B):
+        D = B - A
+        s = np.clip(((X - A) * D).sum(axis=-1) / np.maximum((D * D).sum(axis=-1), 1e-300), 0, 1)
+        return np.linalg.norm(X - (A + s[..., None] * D), axis=-1)
+    vs = np.linspace(0.0, 1.0, m)
+    A, B = ends(vs)
+    size = float(np.ptp(np.vstack([A, B]), axis=0).max())
+    closed = max(np.linalg.norm(A[0] - A[-1]), np.linalg.norm(B[0] - B[-1])) <= 1e-12 * max(size, 1e-300)
+    out = np.empty(len(points))
+    for i in range(0, len(points), 256):
+        X = points[i:i + 256]
+        d = seg(X[:, None, :], A[None], B[None])
+        k = np.argmin(d, axis=1)
+
+        def f(v, X=X):
+            a, b = ends(v)
+            return seg(X, a, b)
+        best = np.minimum(d[np.arange(len(X)), k],
+                          _golden_min(f, vs[np.maximum(k - 1, 0)], vs[np.minimum(k + 1, m - 1)], iters))
+        if closed:            # v = 0 and v = 1 are one ruling: search the other side of the seam too
+            k2 = np.where(k == 0, m - 1, np.where(k == m - 1, 0, k))
+            best = np.minimum(best, _golden_min(f, vs[np.maximum(k2 - 1, 0)], vs[np.minimum(k2 + 1, m - 1)], iters))
+        out[i:i + 256] = best
+    return out

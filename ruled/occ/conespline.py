@@ -17,7 +17,7 @@ from ruled.cone.surface import cone_spline_of_surface
 from ruled.core.errors import positive
 from ruled.core.progress import Progress
 from ruled.occ.convert import container_to_face, face_surface_type, face_to_container
-from ruled.occ.faceset import FaceSet, sample_faces, to_lines
+from ruled.occ.faceset import FaceSet, sample_faces
 from ruled.occ.measure import face_points
 
 
@@ -57,30 +57,10 @@ def _ruling_points(res: ConeSpline, n: int) -> np.ndarray:
 
 
 def _to_ruled(res: ConeSpline, faces, n: int):
-    """Samples of the patches and their exact distances to the ruled surface between the planes: each
-    to its own piece's rulings, then, from the farthest down while above the largest distance found,
-    to the other pieces' too (the nearest point may lie across a piece's end)."""
-    per = [face_points(f, n) for f in faces]
-    pts = np.concatenate(per)
-    own = np.concatenate([np.full(len(c), q.piece) for c, q in zip(per, res.patches)])
-    d = np.empty(len(pts))
-    for k, piece in enumerate(res.pieces):
-        m = own == k
-        if m.any():
-            d[m] = to_lines(pts[m], piece.rulings)
-    if len(res.pieces) > 1:
-        top, order = 0.0, np.argsort(-d, kind="stable")
-        for lo in range(0, len(order), 64):
-            idx = order[lo:lo + 64]
-            idx = idx[d[idx] > top]
-            if not idx.size:
-                break
-            for k, piece in enumerate(res.pieces):
-                sel = idx[own[idx] != k]
-                if sel.size:
-                    d[sel] = np.minimum(d[sel], to_lines(pts[sel], piece.rulings))
-            top = max(top, float(d[idx].max()))
-    return pts, d
+    """Samples of the patches (OCCT) and their exact distances to the ruled surface between the planes
+    (ruled.cone.report.to_ruled)."""
+    from ruled.cone.report import to_ruled
+    return to_ruled(res, [face_points(f, n) for f in faces])
 
 
 def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_face: bool = False) -> dict:

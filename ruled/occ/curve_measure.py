@@ -13,6 +13,8 @@ from OCP.GeomAdaptor import GeomAdaptor_Surface
 from OCP.GeomAPI import GeomAPI_ProjectPointOnCurve, GeomAPI_ProjectPointOnSurf
 from OCP.gp import gp_Pnt, gp_Vec
 
+from ruled.core.distance import _golden_min
+
 
 @dataclass(frozen=True)
 class CurveMeasure:
@@ -45,41 +47,6 @@ def _seeded(curve, ts, pts, x, iters: int = 60) -> float:
     def f(t):
         return float(np.linalg.norm(_p3(curve.Value(float(t))) - x))
     return min(_golden_min(f, a, b, iters), float(np.linalg.norm(pts[k] - x)))
-
-
-def _golden_min(f, a, b, iters: int):
-    """The smallest value golden-section search finds for f on [a, b]; elementwise when a, b are arrays
-    (f then maps arrays of parameters to arrays of values)."""
-    g = 0.5 * (np.sqrt(5) - 1)
-    if np.ndim(a) == 0 and np.ndim(b) == 0:
-        return _golden_min_scalar(f, float(a), float(b), iters, g)
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = np.asarray(f(c), float), np.asarray(f(d), float)
-    for _ in range(iters):
-        left = fc < fd
-        a, b = np.where(left, a, c), np.where(left, d, b)
-        c, d = np.where(left, b - g * (b - a), d), np.where(left, c, a + g * (b - a))
-        fn = np.asarray(f(np.where(left, c, d)), float)
-        fc, fd = np.where(left, fn, fd), np.where(left, fc, fn)
-    m = np.minimum(fc, fd)
-    return float(m) if m.ndim == 0 else m
-
-
-def _golden_min_scalar(f, a: float, b: float, iters: int, g: float) -> float:
-    """_golden_min for one interval, in plain floats (the array form's numpy calls cost 20x the search)."""
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = float(f(c)), float(f(d))
-    for _ in range(iters):
-        if fc < fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = float(f(c))
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = float(f(d))
-    return min(fc, fd)
 
 
 def _angle(a: gp_Vec, b: gp_Vec) -> float:

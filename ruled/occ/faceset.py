@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ruled.occ.curve_measure import _golden_min
+from ruled.core.distance import _golden_min, to_lines  # noqa: F401  (to_lines: its home was here)
 from ruled.occ.measure import _Projector, face_points, face_samples, screened
 
 
@@ -81,31 +81,3 @@ def sample_faces(faces, n: int) -> np.ndarray:
     return np.concatenate([face_points(f, n) for f in faces])
 
 
-def to_lines(points: np.ndarray, ends, m: int = 2049, iters: int = 40) -> np.ndarray:
-    """Distances from points to the ruled surface swept by the segments ends(v) = (A(v), B(v)), v in
-    [0, 1] (each (N, 3)): the nearest of m segments, then a golden-section search over v between its
-    neighbours, exact segment distances throughout."""
-    def seg(X, A, B):
-        D = B - A
-        s = np.clip(((X - A) * D).sum(axis=-1) / np.maximum((D * D).sum(axis=-1), 1e-300), 0, 1)
-        return np.linalg.norm(X - (A + s[..., None] * D), axis=-1)
-    vs = np.linspace(0.0, 1.0, m)
-    A, B = ends(vs)
-    size = float(np.ptp(np.vstack([A, B]), axis=0).max())
-    closed = max(np.linalg.norm(A[0] - A[-1]), np.linalg.norm(B[0] - B[-1])) <= 1e-12 * max(size, 1e-300)
-    out = np.empty(len(points))
-    for i in range(0, len(points), 256):
-        X = points[i:i + 256]
-        d = seg(X[:, None, :], A[None], B[None])
-        k = np.argmin(d, axis=1)
-
-        def f(v, X=X):
-            a, b = ends(v)
-            return seg(X, a, b)
-        best = np.minimum(d[np.arange(len(X)), k],
-                          _golden_min(f, vs[np.maximum(k - 1, 0)], vs[np.minimum(k + 1, m - 1)], iters))
-        if closed:            # v = 0 and v = 1 are one ruling: search the other side of the seam too
-            k2 = np.where(k == 0, m - 1, np.where(k == m - 1, 0, k))
-            best = np.minimum(best, _golden_min(f, vs[np.maximum(k2 - 1, 0)], vs[np.minimum(k2 + 1, m - 1)], iters))
-        out[i:i + 256] = best
-    return out

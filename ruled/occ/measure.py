@@ -20,8 +20,9 @@ from OCP.TopAbs import TopAbs_ShapeEnum, TopAbs_State
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
+from ruled.core.distance import _golden_min
 from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
-from ruled.occ.curve_measure import _golden_min, _p3
+from ruled.occ.curve_measure import _p3
 
 SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local projections
 SEEDS = 8          # the exact distance also searches locally from this many nearest seeds

@@ -135,3 +135,16 @@ def tree_item(label: str):
             tree.scrollToItem(items[0])
             return tree.viewport(), tree.visualItemRect(items[0]).center()
     return None, None
+
+
+def grab_window(path: str) -> str:
+    """The main window as the user sees it, saved to path: the screen's pixels where the window is (the 3D
+    view's OpenGL content and the navigation cube included, which a widget's grab leaves blank)."""
+    import FreeCADGui
+    from PySide import QtGui
+    mw = FreeCADGui.getMainWindow()
+    for _ in range(5):
+        FreeCADGui.updateGui()
+    g = mw.frameGeometry()
+    QtGui.QGuiApplication.primaryScreen().grabWindow(0, g.x(), g.y(), g.width(), g.height()).save(path)
+    return path

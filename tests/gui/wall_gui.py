@@ -7,7 +7,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, grab_window, run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 res = Results()
@@ -51,6 +51,27 @@ def main():
     FreeCADGui.updateGui()
     res["shot"] = os.path.join(OUT, "ruled_wall.png")
     view.saveImage(res["shot"], 1280, 1024, "White")
+    # the colour legend at three window sizes: the main window grabbed as the user sees it (the navigation
+    # cube included); where the legend's texts and bar lie, in the view's pixels
+    mw = FreeCADGui.getMainWindow()
+    mw.showNormal()
+    mw.move(0, 0)
+    res["legend_labels"] = list(viewproviders.LEGENDS[doc.Name][2])
+    res["sizes"] = []
+    for width, height in ((1280, 1024), (1600, 1000), (1920, 1080)):
+        mw.resize(width, height)
+        for _ in range(10):
+            FreeCADGui.updateGui()
+        view.fitAll()
+        FreeCADGui.updateGui()
+        path = os.path.join(OUT, f"ruled_wall_{width}x{height}.png")
+        grab_window(path)
+        res["sizes"].append({"window": [mw.width(), mw.height()], "view": list(view.getSize()), "shot": path})
+    from PySide import QtGui
+    res["bars"] = [[b.metaObject().className(), b.toolTip(), b.format()] for b in mw.findChildren(QtGui.QProgressBar)
+                   if b.isVisible()]
+    mw.resize(1280, 1024)
+    FreeCADGui.updateGui()
     # the export panel takes the wall: the G-code of 'ruled machine --wall ... --xyuv' with the same settings
     sel.addSelection(w)
     res["export_clicked"] = toolbar_run("Ruled_Export")

@@ -16,7 +16,7 @@ pytestmark = [pytest.mark.freecad, pytest.mark.gui]
 OUT = os.path.join(ROOT, "artifacts", "gui")
 
 
-def run_gui(script: str, home, **env_more):
+def run_gui(script: str, home, screen: str = "1280x1024", **env_more):
     """Run a script of tests/gui in FreeCAD's GUI under Xvfb, the repository linked into the user Mod
     folder of home (the README's install); asserts it exited 0."""
     if shutil.which("freecad") is None or shutil.which("xvfb-run") is None:
@@ -29,7 +29,7 @@ def run_gui(script: str, home, **env_more):
            "RULED_STEP": data_file("kj66_impeller.step"), "RULED_GUI_OUT": OUT,
            "RULED_GUI_LIB": os.path.join(ROOT, "tests", "gui"), **env_more}
     env.pop("QT_QPA_PLATFORM", None)
-    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
+    run = subprocess.run(["xvfb-run", "-a", "-s", f"-screen 0 {screen}x24", "freecad",
                           os.path.join(ROOT, "tests", "gui", script)],
                          capture_output=True, text=True, timeout=900, env=env)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
@@ -266,7 +266,7 @@ def test_fit_wall_in_the_gui(tmp_path):
     from ruled.occ.io import read_shape
     from ruled.occ.wall import wall_of
     ring = wall_of(read_shape(step)).ring
-    run_gui("wall_gui.py", tmp_path / "home", RULED_WALL_STEP=step,
+    run_gui("wall_gui.py", tmp_path / "home", screen="1920x1200", RULED_WALL_STEP=step,
             RULED_WALL_FACES=",".join(f"Face{i + 1}" for i in sorted(ring.faces)))
     r = json.load(open(os.path.join(OUT, "wall.json")))
     assert r["one_face"] is False and r["clicked"] and r["made"] == 1, r
@@ -276,6 +276,15 @@ def test_fit_wall_in_the_gui(tmp_path):
     assert w["hausdorff"] <= w["bound"] <= 1e-6 * 56, w             # exactly ruled: within the edge tolerance
     assert w["vp"] == "ViewProviderRuledFit" and w["legend_owner"] and w["deviation"] == 16 * 16, w
     assert os.path.getsize(r["shot"]) > 20_000
+    # the legend: its top label reads as the Hausdorff property (three digits), its title names the wall;
+    # screenshots of the window at three sizes (look at them: the legend whole, clear of the navigation cube)
+    title, *values = r["legend_labels"]
+    assert "distance to the wall" in title and len(values) == 5
+    number, unit = values[-1].split()
+    scale = {"mm": 1.0, "µm": 1e-3, "nm": 1e-6, "m": 1e3}[unit]
+    assert float(number) * scale == pytest.approx(w["hausdorff"], rel=5e-3), (values, w["hausdorff"])
+    for size in r["sizes"]:
+        assert os.path.getsize(size["shot"]) > 20_000, size
     assert r["export_clicked"] and r["export_ok"] and r["export_exists"], r["export_text"]
     assert r["after_undo"] == ["Part"]
     cli = tmp_path / "cli.ngc"

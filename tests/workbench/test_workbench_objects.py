@@ -224,3 +224,38 @@ def test_reopen_in_a_fresh_freecadcmd(made):
     for name, bound in r["saved"].items():
         assert b["bounds"][name] == pytest.approx(bound, rel=1e-9, abs=1e-15), name
     assert np.isfinite(list(b["bounds"].values())).all()
+
+
+CONE_FIGURES = """
+import FreeCAD, Part
+from ruled_workbench.features import make_ruled_fit
+from ruled_workbench.objects import make_ruled_cone_spline
+doc = FreeCAD.newDocument("C")
+imp = doc.addObject("Part::Feature", "Impeller")
+imp.Shape = Part.read(STEP)
+fit = make_ruled_fit(doc, imp, "Face7", MeasureSamples=12)
+blade = make_ruled_cone_spline(doc, fit, "", Tolerance=0.05, AllowCreases=True, MeasureSamples=10)
+cone = doc.addObject("Part::Feature", "Cone")
+cone.Shape = Part.makeCone(10, 6, 8)
+exact = make_ruled_cone_spline(doc, cone, "Face1", Tolerance=1e-3, MeasureSamples=10)
+doc.recompute()
+for key, o in (("blade", blade), ("cone", exact)):
+    out[key] = {"valid": o.isValid(), "status": o.Status, "bound": o.ErrorBound.Value, "hausdorff": o.Hausdorff.Value,
+                "fit_bound": o.FitBound.Value, "patches": o.Patches}
+out["fit_trimmed"] = fit.EndsUsed
+"""
+
+
+def test_a_cone_splines_bound_holds_its_measure(tmp_path):
+    """The figures of a cone spline agree (issue 38): its Hausdorff, measured against what its ErrorBound
+    bounds, is at most the bound, on the kj66 blade fit's cone spline (the fit trimmed by the face's edges: its
+    surface runs past the face, so the cone spline is made from the fit pinned to the face's corners) and on a
+    cone's face (exact)."""
+    from conftest import data_file, freecad_json
+    out = freecad_json(f"STEP = {data_file('kj66_impeller.step')!r}\n" + CONE_FIGURES, tmp_path)
+    for key in ("blade", "cone"):
+        o = out[key]
+        assert o["valid"] and o["status"] == "ok" and o["patches"] >= 2, (key, o)
+        assert 0 < o["hausdorff"] <= o["bound"], (key, o)
+    assert "trimmed" in out["fit_trimmed"]
+    assert out["blade"]["fit_bound"] > 0 and out["cone"]["hausdorff"] <= 1e-6
