@@ -21,9 +21,12 @@ class RuledWorkbench(FreeCADGui.Workbench):
     ToolTip = "Ruled surfaces for wire EDM, flank milling and hot-wire cutting, with a certified error"
 
     def Initialize(self):
+        import ruled_workbench
         from ruled_workbench import commands
         from ruled_workbench.exportpanel import PreferencesPage
         commands.register()
+        # the preferences page's icon: FreeCAD looks for "preferences-ruled" on its icon paths
+        FreeCADGui.addIconPath(ruled_workbench.ICONS)
         FreeCADGui.addPreferencePage(PreferencesPage, "Ruled")     # Edit > Preferences > Ruled
         self.appendToolbar("Ruled", commands.NAMES)
         self.appendMenu("Ruled", commands.NAMES)

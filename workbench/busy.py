@@ -96,3 +96,16 @@ class StatusDisplay:
         self.mw.statusBar().removeWidget(self.bar)
         self.bar.deleteLater()
         self.mw.statusBar().clearMessage()
+
+
+def show_panel(panel):
+    """A task panel in FreeCAD's combo view, the view widened (once, as a user drags its edge) so that the
+    panel is whole on first open: its widest row, the buttons and the panel's frame."""
+    FreeCADGui.Control.showDialog(panel)
+    mw = FreeCADGui.getMainWindow()
+    docks = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName() and d.isVisible()]
+    if docks:
+        need = panel.form.sizeHint().width() + 60          # (the task box's frame and the dock's margins)
+        if docks[0].width() < need:
+            mw.resizeDocks([docks[0]], [need], QtCore.Qt.Horizontal)
+    return panel

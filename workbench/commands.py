@@ -12,6 +12,12 @@ from . import icon
 LAST_MESSAGE = ""        # the last refusal, also in the report view (for scripts and tests)
 
 
+def resources(pixmap: str, menu: str, tip: str, select: str) -> dict:
+    """A command's resources; what to select is said in its tooltip, which FreeCAD also shows in the status bar
+    (the status tip), over a greyed button too."""
+    return {"Pixmap": icon(pixmap), "MenuText": menu, "ToolTip": f"{tip}. Select {select}."}
+
+
 def _say(msg: str) -> None:
     global LAST_MESSAGE
     LAST_MESSAGE = msg
@@ -41,8 +47,8 @@ class FitCommand:
     select = staticmethod(lambda: selected_face())
 
     def GetResources(self):
-        return {"Pixmap": icon("fit.svg"), "MenuText": "Fit ruled surface",
-                "ToolTip": "Fit the best ruled surface to the selected face, with a certified error (select one face)"}
+        return resources("fit.svg", "Fit ruled surface", "Fit the best ruled surface to the selected face, with a "
+                         "certified error", "one face of a part (click it in the 3D view)")
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and self.select()[0] is not None
@@ -53,25 +59,24 @@ class FitCommand:
             _say(sub)
             return
         from . import taskpanels
-        FreeCADGui.Control.showDialog(getattr(taskpanels, self.panel)(obj, sub))
+        from .busy import show_panel
+        show_panel(getattr(taskpanels, self.panel)(obj, sub))
 
 
 class SplitCommand(FitCommand):
     panel = "SplitTaskPanel"
 
     def GetResources(self):
-        return {"Pixmap": icon("split.svg"), "MenuText": "Split for ruling",
-                "ToolTip": "Find the curve that cuts the selected face in two so that each side rules best, and "
-                           "fit both sides (select one face)"}
+        return resources("split.svg", "Split for ruling", "Find the curve that cuts the selected face in two so that "
+                         "each side rules best, and fit both sides", "one face of a part")
 
 
 class PartitionCommand(FitCommand):
     panel = "PartitionTaskPanel"
 
     def GetResources(self):
-        return {"Pixmap": icon("partition.svg"), "MenuText": "Fit to tolerance",
-                "ToolTip": "Split the selected face into strips until each strip's ruled fit is within a tolerance "
-                           "(select one face)"}
+        return resources("partition.svg", "Fit to tolerance", "Split the selected face into strips until each "
+                         "strip's ruled fit is within a tolerance", "one face of a part")
 
 
 def _is_fit(obj) -> bool:
@@ -91,9 +96,8 @@ class ConeCommand(FitCommand):
     select = staticmethod(lambda: selected_fit_or_face())
 
     def GetResources(self):
-        return {"Pixmap": icon("cone.svg"), "MenuText": "Cone spline",
-                "ToolTip": "Approximate a Ruled fit (or a ruled face) by tangent-continuous developable cone and "
-                           "cylinder patches (select a Ruled fit or one face)"}
+        return resources("cone.svg", "Cone spline", "Approximate a Ruled fit (or a ruled face) by tangent-continuous "
+                         "developable cone and cylinder patches", "a Ruled fit in the tree, or one ruled face")
 
 
 def selected_face_and_sketch():
@@ -112,9 +116,8 @@ def selected_face_and_sketch():
 
 class CurveCommand:
     def GetResources(self):
-        return {"Pixmap": icon("curve.svg"), "MenuText": "Curve on face",
-                "ToolTip": "A curve lying on the selected face: through points you pick on it, or from a sketch "
-                           "mapped onto its (u, v) (select one face, and a sketch if you drew one)"}
+        return resources("curve.svg", "Curve on face", "A curve lying on the selected face: through points you pick "
+                         "on it, or from a sketch mapped onto its (u, v)", "one face, and a sketch if you drew one")
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and selected_face_and_sketch()[0] is not None
@@ -125,7 +128,8 @@ class CurveCommand:
             _say(sub)
             return
         from . import taskpanels
-        FreeCADGui.Control.showDialog(taskpanels.CurveTaskPanel(obj, sub, sketch=sketch))
+        from .busy import show_panel
+        show_panel(taskpanels.CurveTaskPanel(obj, sub, sketch=sketch))
 
 
 def selected_faces():
@@ -149,9 +153,9 @@ class FitManyCommand:
     refuses becomes an invalid object with its reason (the others are kept)."""
 
     def GetResources(self):
-        return {"Pixmap": icon("fit.svg"), "MenuText": "Fit several faces",
-                "ToolTip": "Fit a ruled surface to each selected face (default parameters, one RuledFit each; "
-                           "edit any of them afterwards by double-click)"}
+        return resources("fitmany.svg", "Fit several faces", "Fit a ruled surface to each selected face (default "
+                         "parameters, one RuledFit each; edit any of them afterwards by double-click)",
+                         "the faces (Ctrl+click adds one)")
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and selected_faces()[0] is not None
@@ -198,10 +202,9 @@ class WallCommand:
     the default parameters in one undo step (edit its properties afterwards)."""
 
     def GetResources(self):
-        return {"Pixmap": icon("wall.svg"), "MenuText": "Fit wall",
-                "ToolTip": "Fit the selected faces of a part's wall (the ring between its bottom and top contours) "
-                           "as one closed ruled surface, for one wire path round the part (select the wall's "
-                           "faces)"}
+        return resources("wall.svg", "Fit wall", "Fit the selected faces of a part's wall (the ring between its "
+                         "bottom and top contours) as one closed ruled surface, for one wire path round the part",
+                         "every face of the wall (Ctrl+click adds one)")
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and selected_wall()[0] is not None
@@ -228,9 +231,9 @@ class ReplaceCommand:
     """The selected RuledFit's result put back into its part in place of its face: a parametric RuledReplace."""
 
     def GetResources(self):
-        return {"Pixmap": icon("replace.svg"), "MenuText": "Replace in part",
-                "ToolTip": "Put the selected Ruled fit's result back into its part in place of its face, bounded by "
-                           "the face's own edges: a parametric copy of the part (select one Ruled fit)"}
+        return resources("replace.svg", "Replace in part", "Put the selected Ruled fit's result back into its part in "
+                         "place of its face, bounded by the face's own edges: a parametric copy of the part",
+                         "one Ruled fit in the tree")
 
     def IsActive(self):
         sel = FreeCADGui.Selection.getSelection()
@@ -270,16 +273,17 @@ def export_step(objects, path: str) -> None:
 
 class ExportCommand:
     def GetResources(self):
-        return {"Pixmap": icon("export.svg"), "MenuText": "Export for machining...",
-                "ToolTip": "Write the selected ruled results for machining: STEP (with or without rulings), XYUV "
-                           "G-code for a 4-axis wire, or flank-milling CL data (APT)"}
+        return resources("export.svg", "Export for machining...", "Write the selected ruled results for machining: "
+                         "STEP (with or without rulings), XYUV G-code for a 4-axis wire, or flank-milling CL data "
+                         "(APT)", "Ruled results in the tree (a Ruled fit or wall for machine data)")
 
     def IsActive(self):
         return any(hasattr(o, "Shape") for o in FreeCADGui.Selection.getSelection())
 
     def Activated(self):
+        from .busy import show_panel
         from .exportpanel import ExportTaskPanel
-        FreeCADGui.Control.showDialog(ExportTaskPanel(FreeCADGui.Selection.getSelection()))
+        show_panel(ExportTaskPanel(FreeCADGui.Selection.getSelection()))
 
 
 def export(objs, path: str, kind: str, **params) -> None:

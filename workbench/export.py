@@ -16,9 +16,9 @@ import Part
 # file-dialog filter -> what is written
 FORMATS = {
     "STEP, ruled faces (*.step *.stp)": "step",
-    "STEP with rulings as edges (*.step *.stp)": "step-rulings",
-    "XYUV G-code, 4-axis wire EDM / hot wire (*.ngc *.nc)": "xyuv",
-    "Flank milling CL data, APT (*.apt *.cls)": "flank",
+    "STEP with rulings (*.step *.stp)": "step-rulings",
+    "XYUV G-code, wire (*.ngc *.nc)": "xyuv",
+    "Flank milling, APT (*.apt *.cls)": "flank",
 }
 
 

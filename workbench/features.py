@@ -420,10 +420,16 @@ def source_edge_names(obj, edges) -> list:
     return out
 
 
+# the label of a new object, after its source face ("Ruled Face7"; FreeCAD numbers repeats)
+LABELS = {"RuledFit": "Ruled {}", "RuledSplit": "Split {}", "RuledPartition": "Strips {}",
+          "RuledConeSpline": "Cone spline {}", "RuledCurveOnFace": "Curve on {}"}
+
+
 def _make(doc, proxy, source, subname: str, properties: dict):
     obj = doc.addObject("Part::FeaturePython", proxy.__name__)
     proxy(obj)
     obj.Source = (source, [subname] if subname else [])
+    obj.Label = LABELS.get(proxy.__name__, "{}").format(subname or f"of {source.Label}")
     for k, v in properties.items():
         setattr(obj, k, v)
     return obj

@@ -153,10 +153,10 @@ class _Editable:
         """Mode 0 (double-click, Edit in the context menu): the object's own task panel."""
         if mode != 0:
             return None          # Part's transform dragger and the other modes
-        import FreeCADGui
 
+        from .busy import show_panel
         from .taskpanels import panel_for
-        FreeCADGui.Control.showDialog(panel_for(vobj.Object))
+        show_panel(panel_for(vobj.Object))
         return True
 
     def unsetEdit(self, vobj, mode=0):

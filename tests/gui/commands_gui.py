@@ -16,10 +16,12 @@ res = Results()
 
 
 def panel_width(mw, panel):
-    """[the panel's least width, the combo view's width]."""
+    """[the panel's whole width (its size hint and the task box's frame), the combo view's width]."""
+    import FreeCADGui
     from PySide import QtGui
+    FreeCADGui.updateGui()
     combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
-    return [panel.form.minimumSizeHint().width(), combo[0].width() if combo else None]
+    return [panel.form.sizeHint().width() + 40, combo[0].width() if combo else None]
 
 
 def shoot(name, obj=None):
@@ -276,8 +278,7 @@ def main():
         for key, val in settings.items():
             exportpanel._put(ep.widgets[key], val)
         enabled = {key: w.isEnabled() for key, w in ep.widgets.items()}
-        combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
-        res.setdefault("export_width", [ep.form.minimumSizeHint().width(), combo[0].width() if combo else None])
+        res.setdefault("export_width", panel_width(mw, ep))
         tips = all(w.toolTip() for w in ep.widgets.values()) and bool(ep.format.toolTip())
         shot = grab(mw, f"ruled_export_{fmt}.png")
         text = ep.result.text()

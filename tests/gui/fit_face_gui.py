@@ -57,7 +57,7 @@ def extra_checks(doc, imp, obj, res):
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     p2 = taskpanels.ACTIVE
     combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
-    res["panel_width"] = [p2.form.minimumSizeHint().width(), combo[0].width() if combo else None]
+    res["panel_width"] = [p2.form.sizeHint().width() + 40, combo[0].width() if combo else None]
     p2.method.setCurrentIndex(p2.method.findText("2d"))
     res["4d_disabled_in_2d"] = not p2.elevations.isEnabled() and not p2.step.isEnabled()
     p2.method.setCurrentIndex(p2.method.findText("4d"))
@@ -238,7 +238,8 @@ def main():
     res["object"] = {"valid": obj.isValid(), "status": obj.Status, "bound": float(obj.ErrorBound),
                      "hausdorff": float(obj.Hausdorff), "bound_unit": str(obj.ErrorBound.Unit),
                      "rulings": obj.Rulings, "lines": len(obj.RulingLines), "dev": len(obj.Deviation),
-                     "mode": obj.ViewObject.DisplayMode, "proxy": type(obj.ViewObject.Proxy).__name__}
+                     "mode": obj.ViewObject.DisplayMode, "proxy": type(obj.ViewObject.Proxy).__name__,
+                     "label": obj.Label}
     imp.ViewObject.Transparency = 70
     view = FreeCADGui.ActiveDocument.ActiveView
     # look at the result face-on (a blade face is long and thin: seen from an iso view it is a sliver)

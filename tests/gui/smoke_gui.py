@@ -37,6 +37,18 @@ def main():
         panel.reject()
     res["closed"] = taskpanels.ACTIVE is None
     res["objects"] = sorted(o.Name for o in doc.Objects)
+    # what the greyed buttons say: their tooltips and status tips name what to select
+    res["tips"] = {a.objectName(): [a.toolTip(), a.statusTip()] for a in actions}
+    # Edit > Preferences opens with the Ruled page's icon (FreeCAD prints "Cannot find icon" otherwise)
+    from PySide import QtCore
+
+    def close_prefs():
+        w = QtGui.QApplication.activeModalWidget()
+        res["prefs_dialog"] = type(w).__name__ if w is not None else None
+        if w is not None:
+            w.reject()
+    QtCore.QTimer.singleShot(2500, close_prefs)
+    FreeCADGui.runCommand("Std_DlgPreferences")
 
 
 run_and_exit(main, res, "smoke.json")

@@ -39,11 +39,16 @@ def run_gui(script: str, home, screen: str = "1280x1024", **env_more):
 def test_the_workbench_in_the_gui(tmp_path):
     """The quick GUI check (the loop while you work): the workbench activates, its toolbar holds every
     command, none enabled with nothing selected, and a click on Fit with a face selected opens its panel."""
-    run_gui("smoke_gui.py", tmp_path / "home")
+    run = run_gui("smoke_gui.py", tmp_path / "home")
     r = json.load(open(os.path.join(OUT, "smoke.json")))
     assert r["toolbar"] == r["names"] and len(r["names"]) == 9, r
     assert r["enabled_on_nothing"] == [], r
     assert r["clicked"] and r["panel"] and r["closed"] and r["objects"] == ["Impeller"], r
+    # greyed, each button says what to select, in its tooltip and in the status bar
+    for name, (tip, status) in r["tips"].items():
+        assert "Select " in tip and "Select " in status, (name, tip, status)
+    # the preferences dialog opened, the Ruled page with its icon
+    assert r["prefs_dialog"] and "Cannot find icon: preferences-ruled" not in run.stdout + run.stderr
 
 
 def needs_qttest():
@@ -70,6 +75,7 @@ def test_fit_through_the_task_panel(tmp_path):
     assert not r["accept_reran"] and not r["split_accept_reran"] and r["recompute_reran"]
     o = r["object"]
     assert o["valid"] and o["status"] == "ok" and o["proxy"] == "ViewProviderRuledFit" and o["mode"] == "Deviation"
+    assert o["label"] == "Ruled Face7"                # named after its source face
     assert "Length" in o["bound_unit"]            # the results are lengths, shown in the user's units
     # (a result trimmed by the face's edges is coloured on a grid with about 24 x 24 nodes inside them)
     m = round(o["dev"] ** 0.5)
