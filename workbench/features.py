@@ -199,6 +199,8 @@ class _Feature:
     """What the proxies share: properties added on restore, and a recompute that leaves the object
     invalid with a one-line message (report view and Status) when the engine refuses."""
 
+    capability = ""          # what its first use compiles (ruled.core.warm.NEEDS)
+
     def __init__(self, obj):
         self.add_properties(obj)
         obj.Proxy = self
@@ -212,7 +214,7 @@ class _Feature:
         say_kernels()
         face = source_face(obj)
         opts = self.options(obj)
-        return face, opts, face_to_arrays(face), _Progress(f"Ruled: {verb} {obj.Label}")
+        return face, opts, face_to_arrays(face), _Progress(f"Ruled: {verb} {obj.Label}", capability=self.capability)
 
     def execute(self, obj):
         from ruled.core.errors import RuledError
@@ -242,6 +244,8 @@ class _Feature:
 
 class RuledFit(_Feature):
     """Proxy of a RuledFit object (Part::FeaturePython)."""
+
+    capability = "fit"
 
     @staticmethod
     def add_properties(obj):
@@ -343,6 +347,8 @@ class RuledFit(_Feature):
 
 class RuledSplit(_Feature):
     """Proxy of a RuledSplit object (Part::FeaturePython)."""
+
+    capability = "split"
 
     @staticmethod
     def add_properties(obj):

@@ -43,6 +43,8 @@ from .features import (
 class RuledPartition(_Feature):
     """Proxy of a RuledPartition object (Part::FeaturePython)."""
 
+    capability = "partition"
+
     @staticmethod
     def add_properties(obj):
         group = "Partition"
@@ -221,7 +223,7 @@ class RuledConeSpline(_Feature):
             raise BadInputError(f"the Step {obj.Step:g} must be a fraction of the parameter range, 0 < step <= 1")
         say_kernels()
         S, design, fit_bound = cone_source(obj)
-        progress = _Progress(f"Ruled: cone spline of {obj.Label}")
+        progress = _Progress(f"Ruled: cone spline of {obj.Label}", capability="cone")
         try:
             if S is None:            # a RuledFit trimmed by its face's edges: its fit pinned to the face's corners
                 fit = fit_bound
@@ -271,7 +273,9 @@ class RuledCurveOnFace(_Feature):
         _add(obj, "App::PropertyLink", "Sketch", group, "a sketch whose edges (x, y) are mapped onto the face's "
              "(u, v) (see Mapping); each edge becomes a curve on the face")
         _add(obj, "App::PropertyVectorList", "Points", group, "points on the face (picked in the 3D view): the "
-             "curve runs through them, straight between them in the face's (u, v) (used without a Sketch)")
+             "curve runs through them (used without a Sketch)")
+        _add(obj, "App::PropertyBool", "Smooth", group, "through the points: a smooth cubic spline in the face's "
+             "(u, v), no corner at a point (true), or straight between them in (u, v) (false)", True)
         _enum(obj, "Mapping", group, "how a sketch's x, y become (u, v): unit square, x and y from 0 to 1 across the "
               "face's parameter range; parameters, x = u and y = v", ["unit square", "parameters"], "unit square")
         _add(obj, "App::PropertyLength", "Tolerance", group, "largest distance of the curve from the exact image of "
@@ -287,10 +291,16 @@ class RuledCurveOnFace(_Feature):
         obj.setEditorMode("Deviation", 2)
         obj.setEditorMode("RulingLines", 2)
 
+    def onDocumentRestored(self, obj):
+        before = "Smooth" not in obj.PropertiesList
+        super().onDocumentRestored(obj)
+        if before:          # saved before issue 38: its curve ran straight between the points, and stays so
+            obj.Smooth = False
+
     def domain_curves(self, obj, face, S) -> list:
         """The (u, v) curves: the sketch's edges mapped onto the face, or a polyline through the points."""
         from ruled.core.errors import BadInputError
-        from ruled.curves.domain import domain_curve_from_json, polyline_curve
+        from ruled.curves.domain import domain_curve_from_json, polyline_curve, smooth_curve
         u0, u1, v0, v1 = S.domain
         if obj.Sketch is not None:
             unit = obj.Mapping == "unit square"
@@ -316,13 +326,12 @@ class RuledCurveOnFace(_Feature):
                                     f"pick the points on the face")
             u, v = face.Surface.parameter(p)
             uv.append([u, v])
-        return [polyline_curve(uv)]
+        return [smooth_curve(uv) if getattr(obj, "Smooth", True) else polyline_curve(uv)]
 
     def compute(self, obj):
         import numpy as np
         import Part
 
-        from ruled.core.distance import to_polyline
         from ruled.curves.curve_on_surface import approximate
         from ruled.curves.domain import check_inside
 
@@ -336,7 +345,7 @@ class RuledCurveOnFace(_Feature):
         region = face_region(face, S)
         tol = value(obj.Tolerance) or 1e-5 * S.diagonal()
         curves = self.domain_curves(obj, face, S)
-        progress = _Progress(f"Ruled: curve on {obj.Label}")
+        progress = _Progress(f"Ruled: curve on {obj.Label}", capability="curve")
         results = []
         try:
             for k, D in enumerate(curves):
@@ -347,7 +356,8 @@ class RuledCurveOnFace(_Feature):
             progress.stop()
         edges = [curve_to_edge(r.curve) for r in results]
         obj.Shape = edges[0] if len(edges) == 1 else Part.makeCompound(edges)
-        obj.ErrorBound = float(max(r.error_bound for r in results))
+        # (a piece composed exactly is certified 0 off; its poles are computed in floating point: ROUND)
+        obj.ErrorBound = float(max(r.error_bound for r in results) + ROUND * S.diagonal())
         obj.Segments = int(sum(r.segments for r in results))
         n = int(obj.MeasureSamples)
         if n >= 2:
@@ -356,12 +366,13 @@ class RuledCurveOnFace(_Feature):
                 exact = _image(face, D, n)
                 pts = np.array([tuple(e.valueAt(float(x))) for x in np.linspace(*e.ParameterRange, n)])
                 on.append(distances(pts, face).max())
-                # both ways, brute force: the exact image's samples to a dense polyline of the edge, the
-                # edge's samples to a dense polyline of the exact image (the extrema of OCCT's point-to-curve
-                # projection miss the nearest point on curves with C0 joints)
-                exact_line = _image(face, D, 8 * n)
-                edge_line = np.array([tuple(p) for p in e.discretize(Number=8 * n)])
-                far.append(max(to_polyline(exact, edge_line), to_polyline(pts, exact_line)))
+                # both ways: the exact image's samples to the edge and the edge's samples to the exact image,
+                # each the nearest of 8 n samples refined by a golden-section search between its neighbours
+                # (OCCT's point-to-curve extrema miss the nearest point on curves with C0 joints)
+                def on_edge(t, e=e):
+                    return np.array([tuple(e.valueAt(float(x))) for x in np.atleast_1d(t)])
+                far.append(max(_to_curve(exact, on_edge, *e.ParameterRange, 8 * n),
+                               _to_curve(pts, lambda t, D=D: _image_at(face, D, t), *D.domain, 8 * n)))
             obj.OnFace, obj.Hausdorff = float(max(on)), float(max(far))
         else:
             obj.OnFace, obj.Hausdorff = 0.0, 0.0
@@ -424,7 +435,7 @@ class RuledWall(_Feature):
         faces, names = wall_source(obj)
         wall = Wall(faces, names)
         opts = replace(self.options(obj), samples=int(obj.Samples) * len(wall.faces)).checked()
-        progress = _Progress(f"Ruled: fitting the wall {obj.Label}")
+        progress = _Progress(f"Ruled: fitting the wall {obj.Label}", capability="wall")
         try:
             ring = progress.run(fit_ring, wall.surface, wall.breaks, wall.corners, opts, wall.size, progress)
             out = result_face(ring.results[0]) if ring.periodic else surface_to_face(ring.surface)
@@ -456,8 +467,32 @@ def make_ruled_wall(doc, source, subnames: list, **properties):
 def _image(face, D, n: int):
     """n points of the exact image S(D(t)) of a domain curve on the face (FreeCAD's evaluation)."""
     import numpy as np
-    uv = D(np.linspace(*D.domain, n))[:, :2]
+    return _image_at(face, D, np.linspace(*D.domain, n))
+
+
+def _image_at(face, D, t):
+    """The exact image S(D(t)) at the parameters t (FreeCAD's evaluation of the face's surface)."""
+    import numpy as np
+    uv = D(np.clip(np.atleast_1d(np.asarray(t, float)), *D.domain))[:, :2]
     return np.array([tuple(face.Surface.value(float(u), float(v))) for u, v in uv])
+
+
+ROUND = 1e-12            # a result composed exactly: its poles' round-off, a fraction of the face's size
+
+
+def _to_curve(X, curve, t0: float, t1: float, m: int):
+    """The largest distance from the points X to the curve t -> curve(t) on [t0, t1] (arrays of parameters to
+    (N, 3) points): the nearest of m samples, refined by a golden-section search between its neighbours."""
+    import numpy as np
+
+    from ruled.core.distance import _golden_min
+    ts = np.linspace(t0, t1, m)
+    C = curve(ts)
+    k = np.argmin(np.linalg.norm(X[:, None, :] - C[None], axis=2), axis=1)
+    best = np.linalg.norm(C[k] - X, axis=1)
+    refined = _golden_min(lambda t: np.linalg.norm(curve(t) - X, axis=1), ts[np.maximum(k - 1, 0)],
+                          ts[np.minimum(k + 1, m - 1)], 40)
+    return float(np.minimum(best, refined).max())
 
 
 def make_ruled_partition(doc, source, subname: str, **properties):

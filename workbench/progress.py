@@ -21,7 +21,7 @@ class _Progress:
     PUMP = 0.03
     STAGES = 8           # about as many stages as a fit reports (the overall bar never goes back)
 
-    def __init__(self, text: str, steps: int = 1000):
+    def __init__(self, text: str, steps: int = 1000, capability: str = ""):
         global _CANCEL
         _CANCEL = False
         self.text, self.stage, self.frac, self.steps = text, None, 0.0, steps
@@ -29,6 +29,7 @@ class _Progress:
         self.cancelled = False
         self.main = threading.get_ident()
         self.pumped = 0.0
+        self.capability = capability        # (ruled.core.warm.NEEDS: the kernels its first use compiles)
         self.bar = self.display = None
         if FreeCAD.GuiUp:
             from .busy import StatusDisplay
@@ -80,6 +81,8 @@ class _Progress:
         """fn(*args, **kwargs), the engine's work on plain arrays (no FreeCAD in it): in the GUI in a worker
         thread, the main thread showing its progress and processing events until it ends; Cancel or Esc end
         the wait at once (the worker stops at its next progress report, its result dropped)."""
+        if self.capability:
+            self.first_use()
         if self.display is None:
             return fn(*args, **kwargs)
         out: dict = {}
@@ -97,6 +100,16 @@ class _Progress:
         if "error" in out:
             raise out["error"]
         return out["value"]
+
+    def first_use(self) -> None:
+        """When numba's cache holds none of the kernels this capability runs (its first use in this
+        installation), compile them first, saying so and how long it takes, on the bar and in the report view."""
+        from ruled.core import warm
+        todo, self.capability = warm.cold(self.capability), ""
+        if todo:
+            FreeCAD.Console.PrintMessage(f"Ruled: first use: preparing the fast kernels, once (about "
+                                         f"{warm.seconds(todo)} s; later runs load them)\n")
+            self.run(warm.warm, todo, self)
 
     def stop(self) -> None:
         if self.bar is not None:

@@ -464,9 +464,13 @@ class CurveTaskPanel(_Panel):
                 cb.setHandled()
 
     def pick(self, pos) -> bool:
-        """Add the point of the source face under the view position pos (pixels, from the lower left)."""
-        info = FreeCADGui.ActiveDocument.ActiveView.getObjectInfo((int(pos[0]), int(pos[1])))
-        if not info or info.get("Object") != self.source.Name or info.get("Component") != self.subname:
+        """Add the point of the source face under the view position pos (pixels, from the lower left): the
+        face's, even where its edges or another face are drawn over it there (a thin face shows little but
+        its edges until zoomed in)."""
+        hits = FreeCADGui.ActiveDocument.ActiveView.getObjectsInfo((int(pos[0]), int(pos[1]))) or []
+        info = next((h for h in hits if h.get("Object") == self.source.Name and h.get("Component") == self.subname),
+                    None)
+        if info is None:
             return False
         self.points.append(FreeCAD.Vector(info["x"], info["y"], info["z"]))
         self._show_points()

@@ -9,6 +9,19 @@ from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Curve
 
 
+def smooth_curve(points) -> Curve:
+    """A smooth (u, v) curve through the points: the cubic B-spline interpolating them at chord-length
+    parameters (quadratic through three, a line through two; repeated points dropped), so that its image
+    on a face has no corner at a point, as a polyline's has."""
+    from scipy.interpolate import make_interp_spline
+    P = polyline_curve(points).poles
+    chords = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    t = np.concatenate([[0.0], np.cumsum(chords)]) / chords.sum()
+    k = min(3, len(P) - 1)
+    spline = make_interp_spline(t, P, k=k)
+    return Curve(np.asarray(spline.c, float), np.asarray(spline.t, float), k)
+
+
 def polyline_curve(points) -> Curve:
     """A polyline of (u, v) points as a degree-1 domain curve, parameter t = i at point i (repeated
     points are dropped)."""

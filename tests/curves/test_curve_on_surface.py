@@ -173,3 +173,41 @@ def test_whole_approximation_is_the_same_on_both_paths(monkeypatch):
         a, b = _both_paths(lambda: approximate(surf, D, 1e-3 * surf.diagonal(), 1.0), monkeypatch)
         assert a.segments == b.segments and a.error_bound == b.error_bound
         assert np.array_equal(a.curve.poles, b.curve.poles) and np.array_equal(a.curve.knots, b.curve.knots)
+
+
+def test_a_smooth_domain_curve_through_points():
+    """Picked points are joined by a C2 cubic spline (quadratic through three, a line through two): it passes
+    through every point, has no corner there (its tangent turns continuously), and repeated points are
+    dropped."""
+    import numpy as np
+
+    from ruled.curves.domain import smooth_curve
+    P = np.array([(0.1, 0.2), (0.5, 0.7), (0.5, 0.7), (0.8, 0.3), (0.9, 0.9), (0.3, 0.95)])
+    C = smooth_curve(P)
+    assert C.degree == 3
+    t = np.linspace(*C.domain, 20001)
+    X = C(t)
+    for p in np.unique(P, axis=0):
+        assert np.min(np.linalg.norm(X - p, axis=1)) <= 1e-3
+    d1 = np.diff(X, axis=0)
+    turn = np.degrees(np.arccos(np.clip((d1[:-1] * d1[1:]).sum(1) / (np.linalg.norm(d1[:-1], axis=1)
+                                                                    * np.linalg.norm(d1[1:], axis=1)), -1, 1)))
+    assert turn.max() < 0.5                     # between samples 1/20000 apart: no corner anywhere
+    assert smooth_curve(P[:2]).degree == 1 and smooth_curve(P[[0, 1, 3]]).degree == 2
+
+
+def test_a_commands_first_use_is_known_from_numbas_cache(tmp_path):
+    """ruled.core.warm: with an empty numba cache every kernel module a split needs is cold (the workbench then
+    compiles them first, saying so); the estimate is their listed seconds."""
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+    code = ("from ruled.core import warm, jit; print(warm.cold('split') if jit.enabled() else 'no numba', "
+            "warm.seconds(warm.cold('split')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120,
+                         env={**__import__("os").environ, "NUMBA_CACHE_DIR": str(tmp_path)}).stdout
+    from ruled.core import jit, warm
+    if jit.enabled():
+        assert out.split("]")[0] + "]" == "['core', 'fit', 'split', 'curves']", out
+        assert int(out.split()[-1]) == sum(warm.SECONDS[m] for m in ("core", "fit", "split", "curves"))

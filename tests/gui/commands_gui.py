@@ -3,6 +3,7 @@ spline" and "Curve on face" from their toolbar entries through their task panels
 a cone), undo, the export panel writing G-code, APT and a STEP for CAM, the preferences page; with
 RULED_GUI_PHASE=restart, a second start that reads back what the export panel remembered.  Writes
 commands.json (restart.json) and pictures to $RULED_GUI_OUT; ends with os._exit."""
+import math
 import os
 import sys
 
@@ -244,12 +245,34 @@ def main():
                 targets.append(tuple(q))
                 break
     res["picked"] = picked
+    # seen edge-on, a face shows as little more than its edges: a click there takes the face under them
+    fu0, fu1, fv0, fv1 = face7.ParameterRange
+    mid = face7.valueAt(0.5 * (fu0 + fu1), 0.5 * (fv0 + fv1))
+    du = face7.Surface.getDN(0.5 * (fu0 + fu1), 0.5 * (fv0 + fv1), 1, 0)
+    view.setViewDirection((du.x, du.y, du.z))
+    FreeCADGui.updateGui()
+    ex, ey = view.getPointOnScreen(mid)
+    snapped = [k2.pick(pos) for pos in ((ex, ey), (ex, height - ey))]
+    res["edge_pick"] = {"taken": any(snapped), "on_face": face7.distToShape(Part.Vertex(k2.points[-1]))[0]
+                        if any(snapped) else None}
+    if any(snapped):
+        k2.points.pop()
+    face_on(view, face7)
     k2.tol.setValue(0.001)
     res["points_preview"] = k2.preview()
     ko2 = k2.obj
     k2.accept()
+    def turn_at(edge, p):
+        """The angle (degrees) between the edge's tangents just before and just after its point nearest p."""
+        t = edge.Curve.parameter(p)
+        a, b = edge.ParameterRange
+        h = 1e-6 * (b - a)
+        t1, t2 = edge.tangentAt(max(a, t - h)), edge.tangentAt(min(b, t + h))
+        return math.degrees(t1.getAngle(t2))
     res["points"] = {"valid": ko2.isValid(), "status": ko2.Status, "n": len(ko2.Points),
-                     "bound": value(ko2.ErrorBound),
+                     "bound": value(ko2.ErrorBound), "hausdorff": value(ko2.Hausdorff),
+                     "angle": float(ko2.Angle), "turns": [turn_at(ko2.Shape.Edges[0], p) for p in ko2.Points]
+                     if ko2.Shape.Edges else None,
                      "near_targets": max((ko2.Shape.distToShape(Part.Vertex(FreeCAD.Vector(*t)))[0] for t in targets),
                                          default=None),
                      "on_face": max(face7.distToShape(Part.Vertex(q))[0] for q in ko2.Shape.Edges[0].discretize(

@@ -210,6 +210,11 @@ def test_commands_and_the_export_panel(tmp_path):
     pt = r["points"]
     assert len(r["picked"]) >= 3 and r["points_preview"] and pt["valid"] and pt["n"] == len(r["picked"])
     assert pt["on_face"] <= 1e-9 and pt["near_targets"] <= 0.005 * 60     # a pixel or two of the 60 mm blade
+    # ... smooth through the picks (the joint angle holds there, measured), its figures agreeing; a click on
+    # the face's edge takes the face
+    assert max(pt["turns"]) <= pt["angle"], pt
+    assert 0 < pt["bound"] and pt["hausdorff"] <= pt["bound"], pt
+    assert r["edge_pick"]["taken"] and r["edge_pick"]["on_face"] <= 0.01, r["edge_pick"]     # (on the tessellation)
     for key in ("partition_shot", "cone_shot", "curve_shot"):
         assert os.path.getsize(r[key]) > 10_000
     for width, combo in [r["export_width"]] + r["widths"]:      # every panel fits the combo view

@@ -1,0 +1,74 @@
+"""The first use of the numba kernels: which kernel modules (ruled/<package>/kernels.py) a capability needs
+that numba's on-disk cache holds nothing of yet, and one small job per module that compiles them, so that a
+front door says so and shows it ("first use: preparing the fast kernels, once, about N s") instead of a long
+silent first fit.  numba compiles a kernel on its first call and caches it on disk; later processes load it.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+
+from ruled.core import jit
+
+# the kernel modules each capability runs
+NEEDS = {"fit": ("core", "fit"), "wall": ("core", "fit"), "split": ("core", "fit", "split", "curves"),
+         "partition": ("core", "fit", "split", "curves"), "cone": ("core", "fit", "cone"),
+         "curve": ("core", "curves")}
+# seconds to compile each module's kernels with FreeCAD's numba (Debian's 0.56) on this 2-core machine, from
+# an empty cache (each module's _job, in order: core 4.6 with the fit's, split 8.0, curves 4.1, cone 1.3),
+# rounded up
+SECONDS = {"core": 4, "fit": 2, "split": 9, "curves": 5, "cone": 2}
+
+
+def _cached(module: str) -> bool:
+    """numba's cache holds compiled kernels of ruled/<module>/kernels.py (in NUMBA_CACHE_DIR when set, a folder
+    per package; else beside the sources)."""
+    import numba
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    user = getattr(numba.config, "CACHE_DIR", "") or ""
+    where = os.path.join(user, f"{module}_*") if user else os.path.join(here, module, "__pycache__")
+    return bool(glob.glob(os.path.join(where, "kernels.*.nbi")))
+
+
+def cold(capability: str) -> list:
+    """The kernel modules the capability needs that are not compiled yet (none without numba)."""
+    if not jit.enabled():
+        return []
+    return [m for m in NEEDS.get(capability, ()) if not _cached(m)]
+
+
+def seconds(modules) -> int:
+    return int(sum(SECONDS.get(m, 20) for m in modules))
+
+
+def _job(module: str) -> None:
+    """A small job that calls the module's kernels (so that numba compiles and caches them)."""
+    import ruled
+    from ruled.examples import cone_examples, elber_ex2, yang_curve, yang_surface
+    if module in ("core", "fit"):
+        ruled.fit_surface(elber_ex2(), ruled.FitOptions(samples=12))
+    elif module == "split":
+        ruled.split_face(elber_ex2(), ruled.SplitOptions(samples=8, interior=4, fit=ruled.FitOptions(samples=12)))
+    elif module == "curves":
+        ruled.approximate(yang_surface(), yang_curve(), 1e-3)
+    elif module == "cone":
+        from ruled.cone.fatarc import fit_fat_conic
+        _, b0, db0, b1, db1, tol, step, height, _ = cone_examples()[2]
+        fit_fat_conic(b0, db0, b1, db1, tol, step, h1=height)
+
+
+def warm(modules, progress=None) -> None:
+    """Compile the modules' kernels, reporting progress(stage, fraction) by their expected seconds."""
+    total, done = max(seconds(modules), 1), 0
+    stage = f"first use: preparing the fast kernels, once (about {seconds(modules)} s)"
+    for m in modules:
+        if progress is not None:
+            progress(stage, done / total)
+        _job(m)
+        done += SECONDS.get(m, 20)
+    if progress is not None:
+        progress(stage, 1.0)
+
+
+__all__ = ["cold", "warm", "seconds", "NEEDS", "SECONDS"]
