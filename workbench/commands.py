@@ -214,7 +214,7 @@ class WallCommand:
         if part is None:
             _say(subs)
             return None
-        from .objects import make_ruled_wall
+        from .walls import make_ruled_wall
         doc = part.Document
         doc.openTransaction("Fit wall")
         try:

@@ -111,7 +111,7 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
     from .adapter import Wall, surface_to_face
     from .features import value
     from .measure import distances, face_points
-    from .objects import wall_source
+    from .walls import wall_source
     if obj.Shape.isNull() or not obj.Shape.Faces:
         from ruled.core.errors import BadInputError
         raise BadInputError(f"{obj.Label} has no result yet (see its Status); recompute it first")

@@ -218,6 +218,7 @@ class _Feature:
 
     def execute(self, obj):
         from ruled.core.errors import RuledError
+        _RESTORER.restore()      # (the report's error output, off while FreeCAD reported an earlier refusal)
         t0 = time.perf_counter()
         RUNNING.append(obj.Name)
         try:

@@ -71,8 +71,7 @@ class _Panel:
         self.bar.show()
         LISTENERS.append(self._progress)
         try:
-            # the object alone: the document's recompute runs FreeCAD's progress indicator, which refuses
-            # every click (Cancel's too) and keeps the keyboard while it runs (workbench.busy)
+            # the object alone: the document's recompute runs FreeCAD's progress indicator (workbench.busy)
             if self.obj.recompute():
                 self.obj.purgeTouched()      # (the document's recompute does that; OK keeps what Preview made)
         finally:
@@ -123,11 +122,10 @@ class _Panel:
     def _close_cancelled(self):
         from .viewproviders import hide_legend
         obj = getattr(self, "obj", None)
-        if obj is not None:       # undoing the object does not delete it: its colour legend would stay in the view
-            try:
-                hide_legend(self.doc.Name, obj.Name)
-            except Exception:     # the object is gone already
-                pass
+        try:                      # undoing the object does not delete it: its colour legend would stay in the view
+            hide_legend(self.doc.Name, obj.Name)
+        except Exception:         # no object, or gone already
+            pass
         self.doc.abortTransaction()
         self._leave()
         self.doc.recompute()
@@ -464,9 +462,8 @@ class CurveTaskPanel(_Panel):
                 cb.setHandled()
 
     def pick(self, pos) -> bool:
-        """Add the point of the source face under the view position pos (pixels, from the lower left): the
-        face's, even where its edges or another face are drawn over it there (a thin face shows little but
-        its edges until zoomed in)."""
+        """Add the point of the source face under the view position pos (pixels, from the lower left), also
+        where its edges are drawn over it (a thin face shows little but its edges until zoomed in)."""
         hits = FreeCADGui.ActiveDocument.ActiveView.getObjectsInfo((int(pos[0]), int(pos[1]))) or []
         info = next((h for h in hits if h.get("Object") == self.source.Name and h.get("Component") == self.subname),
                     None)

@@ -186,10 +186,15 @@ def test_curve_on_face_from_a_sketch_and_from_points(made):
 
 
 def test_bad_input_parametric_and_undo(made):
-    _, _, r, _ = made
+    _, _, r, log = made
     (tol0, not_ruled, no_curve, outside, edge, leaves) = r["bad"]
     for valid, status in r["bad"]:
         assert not valid and status and "\n" not in status and "--" not in status, status
+        # said in one line of FreeCAD's report (its console here), "<object>: <reason>", and nothing else about
+        # it: no Python exception class line, no traceback
+        lines = [x for x in log.splitlines() if status in x]
+        assert lines and all(x.strip().endswith(": " + status) for x in lines), (status, lines)
+    assert "<class" not in log and "Traceback" not in log, log[-3000:]
     assert "Tolerance" in tol0[1]
     assert "FitFirst" in not_ruled[1] and "not ruled" in not_ruled[1]
     assert "pick at least two points" in no_curve[1]

@@ -13,7 +13,7 @@ pytestmark = pytest.mark.freecad
 BODY = """
 import FreeCAD, Part
 from ruled_workbench.adapter import Wall
-from ruled_workbench.objects import make_ruled_wall
+from ruled_workbench.walls import make_ruled_wall
 doc = FreeCAD.newDocument("W")
 for name, ids in PARTS.items():
     part = doc.addObject("Part::Feature", name)
