@@ -53,6 +53,8 @@ def main():
     view.saveImage(res["shot"], 1280, 1024, "White")
     # the colour legend at three window sizes: the main window grabbed as the user sees it (the navigation
     # cube included); where the legend's texts and bar lie, in the view's pixels
+    from PySide import QtGui
+    from ruled_workbench import taskpanels
     mw = FreeCADGui.getMainWindow()
     mw.showNormal()
     mw.move(0, 0)
@@ -66,8 +68,23 @@ def main():
         FreeCADGui.updateGui()
         path = os.path.join(OUT, f"ruled_wall_{width}x{height}.png")
         grab_window(path)
-        res["sizes"].append({"window": [mw.width(), mw.height()], "view": list(view.getSize()), "shot": path})
-    from PySide import QtGui
+        size = {"window": [mw.width(), mw.height()], "view": list(view.getSize()), "shot": path, "panels": {}}
+        # the Fit panel (on a face of the part) and the export panel (on the wall), each on first open: its
+        # whole width (size hint and the task box's frame) against the combo view's, and a picture
+        for name, select, command, module in (("fit", (part, faces[0]), "Ruled_Fit", taskpanels),
+                                              ("export", (w,), "Ruled_Export", exportpanel)):
+            sel.clearSelection()
+            sel.addSelection(*select)
+            toolbar_run(command)
+            for _ in range(10):
+                FreeCADGui.updateGui()
+            panel = module.ACTIVE
+            combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
+            shot = grab_window(os.path.join(OUT, f"ruled_{name}_panel_{width}x{height}.png"))
+            size["panels"][name] = [panel.form.sizeHint().width() + 40, combo[0].width(), shot]
+            panel.reject()
+        sel.clearSelection()
+        res["sizes"].append(size)
     res["bars"] = [[b.metaObject().className(), b.toolTip(), b.format()] for b in mw.findChildren(QtGui.QProgressBar)
                    if b.isVisible()]
     mw.resize(1280, 1024)

@@ -277,7 +277,7 @@ def test_fit_wall_in_the_gui(tmp_path):
     from ruled.occ.io import read_shape
     from ruled.occ.wall import wall_of
     ring = wall_of(read_shape(step)).ring
-    run_gui("wall_gui.py", tmp_path / "home", screen="1920x1200", RULED_WALL_STEP=step,
+    run_gui("wall_gui.py", tmp_path / "home", screen="2560x1440", RULED_WALL_STEP=step,
             RULED_WALL_FACES=",".join(f"Face{i + 1}" for i in sorted(ring.faces)))
     r = json.load(open(os.path.join(OUT, "wall.json")))
     assert r["one_face"] is False and r["clicked"] and r["made"] == 1, r
@@ -296,6 +296,8 @@ def test_fit_wall_in_the_gui(tmp_path):
     assert float(number) * scale == pytest.approx(w["hausdorff"], rel=5e-3), (values, w["hausdorff"])
     for size in r["sizes"]:
         assert os.path.getsize(size["shot"]) > 20_000, size
+        for name, (width, combo, shot) in size["panels"].items():      # whole on first open, at every size
+            assert width <= combo and os.path.getsize(shot) > 20_000, (name, size)
     assert r["export_clicked"] and r["export_ok"] and r["export_exists"], r["export_text"]
     assert r["after_undo"] == ["Part"]
     cli = tmp_path / "cli.ngc"
