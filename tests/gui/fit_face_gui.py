@@ -26,6 +26,8 @@ def extra_checks(doc, imp, obj, res):
     sel = FreeCADGui.Selection
     obj.ViewObject.Visibility = True
     res["legend"] = list(viewproviders.LEGENDS.get(doc.Name, (None, None, []))[2])
+    owner = doc.getObject(viewproviders.LEGENDS.get(doc.Name, (None,))[0] or "")
+    res["legend_hausdorff"] = float(owner.Hausdorff) if owner is not None else None
     # "Fit several faces": two blade faces and the sphere's face (refused): three objects, one invalid; at
     # quick defaults set as a user sets them (Edit > Preferences > Ruled), then the defaults again
     prefs = FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Ruled/Fit")

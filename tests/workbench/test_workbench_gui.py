@@ -104,6 +104,9 @@ def _check_everyday_use(r):
     title, *values = r["legend"]
     assert "distance to the face" in title and len(values) == 5
     assert values[0].startswith("0") and all(any(u in v for u in ("mm", "µm", "nm", "m")) for v in values)
+    number, unit = values[-1].split()           # the top reads as its object's Hausdorff property, to 3 digits
+    assert float(number) * {"mm": 1.0, "µm": 1e-3, "nm": 1e-6, "m": 1e3}[unit] == \
+        pytest.approx(r["legend_hausdorff"], rel=5e-3), (values, r["legend_hausdorff"])
     # "Fit several faces": one RuledFit per face; the refused face is an invalid object with its reason
     assert [m[:2] for m in r["many"]] == [["Face7", True], ["Face8", True], ["Face1", False]]
     assert [m[3] for m in r["many"]] == [16, 16, 16]       # the preferences' defaults
