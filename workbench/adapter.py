@@ -270,15 +270,15 @@ class Wall:
         self.size = o.size
         self.slivers = [o.slivers[k] for k in o.order]
         self.kept = [i for i, s in enumerate(self.slivers) if not s]
-        self.loops = tuple([edges[i] for i in lp] for lp in o.loops)
+        self._edges, self._curved = edges, {}
         n = len(faces)
         patches, lengths = [], []
         for i in self.kept:
             k = o.order[i]
             f = faces[k]
-            near = [None if j is None else _ring_edge(edges[j], (), False, o.size, True)
+            near = [None if j is None else self._curve(j)
                     for j in ((o.joints[i - 1], o.joints[i]) if n > 1 else (None, None))]
-            contour = [[_ring_edge(edges[j], (), False, o.size, True) for j in c] for c in (o.bottom[i], o.top[i])]
+            contour = [[self._curve(j) for j in c] for c in (o.bottom[i], o.top[i])]
             S = None if isinstance(f.Surface, Part.Plane) else _clamped_arrays(f)
             tol = max((float(edges[j].Tolerance) for j in o.bottom[i] + o.top[i]), default=0.0)
             P, L = wall_patch(names[k], S, contour[0], contour[1], near[0], near[1], o.size, tol)
@@ -293,9 +293,15 @@ class Wall:
             for f in slivers:
                 self.slack = max(self.slack, float(distances(face_points(f, 20), kept).max()))
 
+    def _curve(self, j: int):
+        """Edge j as the engine's RingEdge with its curve (read once: a joint borders two faces)."""
+        if j not in self._curved:
+            self._curved[j] = _ring_edge(self._edges[j], (), False, self.size, True)
+        return self._curved[j]
+
     def contour_edges(self, which: int) -> list:
         """The bottom (0) or top (1) contour's edges as the engine's RingEdges, with their curves."""
-        return [_ring_edge(e, (), False, self.size, True) for e in self.loops[which]]
+        return [self._curve(j) for j in self.order.loops[which]]
 
     def contour_points(self, which: int) -> np.ndarray:
         return np.concatenate([e.points for e in self.contour_edges(which)])

@@ -23,14 +23,6 @@ FLOOR = 1e-6
 LEGENDS = {}             # document name -> (object name, the legend's Coin node, its label texts, the view)
 
 
-def user_length(x: float) -> str:
-    """A length in the user's unit schema (e.g. '0.12 mm')."""
-    try:
-        return FreeCAD.Units.Quantity(float(x), FreeCAD.Units.Length).UserString
-    except Exception:
-        return f"{float(x):.4g} mm"
-
-
 def legend_labels(top: float) -> list:
     """Five values from 0 to top, three significant digits each, in the unit the user's schema gives top
     (e.g. '0 µm' ... '1.46 µm'): the top label reads as the Hausdorff property does."""

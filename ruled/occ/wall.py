@@ -82,14 +82,13 @@ def _clamped(bs):
 
 def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: float) -> tuple:
     """(the face as a four-sided patch, its contours' mean length): ruled.fit.join.wall_patch on its
-    surface (None for a plane) and its edges."""
+    surface (None for a plane) and its edges (before, after: its joints, read already by contour_edge)."""
     from ruled.fit.join import wall_patch
     from ruled.occ.convert import bspline_surface_to_container
     S = None if _planar_normal(face) is not None else bspline_surface_to_container(_clamped(face_to_bspline(face)))
     edge_tol = max((BRep_Tool.Tolerance_s(e) for e in bottom + top), default=0.0)
     ce = [[contour_edge(e, size) for e in c] for c in (bottom, top)]
-    b, a = (None if e is None else contour_edge(e, size) for e in (before, after))
-    return wall_patch(index, S, ce[0], ce[1], b, a, size, edge_tol)
+    return wall_patch(index, S, ce[0], ce[1], before, after, size, edge_tol)
 
 
 @dataclass
@@ -115,8 +114,9 @@ def joined_surface(ring: Ring, faces: tuple) -> tuple:
     from ruled.fit.join import joined
     n = len(faces)
     keep = ring.kept
-    got = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], ring.joints[k - 1] if n > 1 else None,
-                  ring.joints[k] if n > 1 else None, ring.size) for k in keep]
+    joints = [None if e is None else contour_edge(e, ring.size) for e in ring.joints]   # (each borders two faces)
+    got = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], joints[k - 1] if n > 1 else None,
+                  joints[k] if n > 1 else None, ring.size) for k in keep]
     return joined([g[0] for g in got], [g[1] for g in got], [ring.faces[k] for k in keep], ring.size)
 
 
