@@ -64,6 +64,7 @@ class RuledFit:
     hausdorff: Optional[Any]  # ruled.occ.Hausdorff measured with OCCT, or None when not asked
     result: FitResult         # everything else (pairing, candidates, timings)
     warnings: tuple = ()      # what the fit and the measure say (a hole spanned, a face far from ruled, a loose bound)
+    job: Any = None           # ruled.jobs.face.FaceFit: what the machine data and cone spline of this fit start from
 
 
 def _topods(face):
@@ -95,34 +96,21 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     of the face's outer wire (as 'ruled faces --edges' lists them) for the rulings to join.  ends:
     'auto' (default: the smaller certified bound of) 'pinned' (the end rulings at the face's corners) and
     'trimmed' (the rails run past the face, the result trimmed by its edges)."""
-    from ruled.fit.facefit import area_ratio, first_consistent, measured_warnings
+    from ruled.jobs.face import fit_job
     from ruled.occ.convert import container_to_face
-    from ruled.occ.measure import hausdorff
     from ruled.occ.region import fit_face as _fit_face
 
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric, ends=ends)
-    slack = 0.0
     if isinstance(face, Surface):
         src = container_to_face(face)
-        res = fit_surface(face, opts, progress)
+        fitted = (fit_surface(face, opts, progress), 0.0)
     else:
         src = _topods(face)
-        res, slack = _fit_face(src, opts, progress, rails)
-    from ruled.occ.io import face_area
-    area = face_area(src, 1e-6) if measure else None      # once: each candidate tried is compared with it
-
-    def built(r):
-        from ruled.occ.trimmed import built_slack, result_face
-        out = result_face(r)
-        h = hausdorff(src, out, measure_samples) if measure else None
-        size = r.patch.face_size if r.patch is not None else r.surface.diagonal()
-        ratio = None if h is None else area_ratio(r, area, face_area(out, 1e-6) if r.best.trim is not None else None)
-        bound = r.error_bound + slack + built_slack(out, r)
-        return out, h, bound, measured_warnings(r, bound, None if h is None else h.max, size, ratio)
-    res, out, h, bound, more = first_consistent(res, built)
-    warnings = (tuple(res.patch.warnings) if res.patch is not None else ()) + more
-    return RuledFit(_cq(out), res.surface, res.best.rulings, bound, h, res, warnings)
+        fitted = _fit_face(src, opts, progress, rails)
+    ff = fit_job(src, opts, progress, measure_samples=measure_samples if measure else None, fitted=fitted)
+    res = ff.fit
+    return RuledFit(_cq(ff.face), res.surface, res.best.rulings, ff.bound, ff.hausdorff, res, ff.warnings, ff)
 
 
 def fit_wall(faces, samples: int = 40, objective: str = "sum", method: str = "2d", measure: bool = True,
@@ -218,24 +206,27 @@ class ConeSplineFace:
     measure: Optional[dict]   # independent distances (OCCT), or None when not asked
     fit: Any = None           # the ruled fit when fit=True
     warnings: tuple = ()
+    bound: float = 0.0        # certified against the face: the cone spline's (eq. 9), plus the fit's when fitted
 
     def xyuv(self, **kw) -> "MachineData":
         """Its patches cut as one wire path (xyuv_patches): the report gives each patch's taper."""
         return xyuv_patches(self.faces, **kw)
 
 
-def cone_spline_face(face, tol: float, step: float = 0.1, fit: bool = False, direction: str = "auto",
+def cone_spline_face(face, tol: float, step: float = 0.1, fit=False, direction: str = "auto",
                      measure: bool = True, measure_samples: int = 24, allow_creases: bool = False,
                      progress=None) -> ConeSplineFace:
     """The cone spline of a ruled face within tol (Yang & Yang 2006); with fit=True the face is first
-    fitted by a ruled surface (fit_face's defaults) and that fit is cone-splined, in one call."""
-    from ruled.occ.conespline import check_tolerance, cone_of_face
+    fitted by a ruled surface (fit_face's defaults) and that fit is cone-splined, in one call; fit=a RuledFit
+    of this face (fit_face's result) cone-splines that fit.  A fit trimmed by the face's edges gives patches
+    trimmed by them too; .bound is the cone spline's bound plus the fit's."""
+    from ruled.jobs.cone import cone_job
 
     src = _face_of(face)
-    fc = cone_of_face(src, check_tolerance(tol), step, direction=direction, fit=fit, progress=progress,
-                      measure_samples=measure_samples if measure else None, allow_creases=allow_creases)
+    fc = cone_job(src, tol, step, direction=direction, fit=fit, progress=progress,
+                  measure_samples=measure_samples if measure else None, allow_creases=allow_creases)
     return ConeSplineFace(_cq(fc.shell, "Shape"), tuple(_cq(f) for f in fc.faces), fc.result, fc.measure, fc.fit,
-                          tuple(fc.warnings))
+                          tuple(fc.warnings), fc.bound)
 
 
 @dataclass(frozen=True)
@@ -248,20 +239,30 @@ class SplitFace:
     measured: tuple           # per side: the measured Hausdorff distance of its fit (dicts)
     result: Any               # ruled.occ.split.FaceSplit: every candidate, bounds, checks
     warnings: tuple = ()
+    kept: bool = True         # False: the face needs no split (its own fit is better): faces, fits are the face's
+    verdict: Optional[str] = None   # what is said when the split is not kept
+    bound: float = 0.0        # the result's certified bound against the face (the split's worse side, or the fit's)
 
 
 def split_face(face, dims: int = 4, samples: int = 30, interior: int = 10, objective: str = "max",
-               fit_samples: int = 40, measure_samples: int = 30, progress=None) -> SplitFace:
+               fit_samples: int = 40, measure_samples: int = 30, progress=None, fit=None) -> SplitFace:
     """Split a face in two along the curve whose two ruled fits are best (optimal M-curve, best iso and
-    middle candidates are built, fitted and measured; the lowest measured error is kept)."""
-    from ruled.occ.split import split_of_face
+    middle candidates are built, fitted and measured; the lowest measured error is kept).  The split is
+    kept only where it is better than the face's own fit (fit: a RuledFit of it, else fitted as fit_face
+    fits it); else .kept is False, .verdict says so, and .faces and .fits are the face and that fit."""
+    from ruled.jobs.split import split_job
     from ruled.split.partition import SplitOptions
     opts = SplitOptions(samples=samples, interior=interior, objective=objective, dims=dims,
                         fit=FitOptions(samples=fit_samples).checked()).checked()
-    fs = split_of_face(_face_of(face), opts, progress, measure_samples)
-    k = fs.chosen
+    src = _face_of(face)
+    job = split_job(src, opts, progress, measure_samples, fit)
+    fs, k = job.split, job.split.chosen
+    if not job.kept:
+        h = job.whole.hausdorff
+        return SplitFace((_cq(src),), (_cq(job.whole.face),), k, ({"max": None if h is None else h.max},), fs,
+                         tuple(fs.warnings), False, job.verdict, job.whole.bound)
     return SplitFace(tuple(_cq(f) for f in fs.faces[k].faces), tuple(_cq(f) for f in fs.fits[k]), k,
-                     tuple(fs.measured[k]), fs, tuple(fs.warnings))
+                     tuple(fs.measured[k]), fs, tuple(fs.warnings), True, None, job.bound)
 
 
 @dataclass(frozen=True)
@@ -310,12 +311,17 @@ def _side_sign(side: str) -> float:
 
 
 def _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress) -> MachineData:
-    from ruled.occ.machine import machine_of_face
+    """The machine data of the face's fit as fit_face returns it (fit: that RuledFit, reused), its warnings
+    also issued as Python warnings (a fallback to the corner-pinned fit names both figures)."""
+    import warnings
+
+    from ruled.jobs.machine import machine_job
     sign = _side_sign(side)
     src = _face_of(face)
-    res = fit.result if isinstance(fit, RuledFit) else fit
-    fm = machine_of_face(src, opts, FitOptions(samples=samples, method=method, ends="auto"), progress,
-                         measure_samples if measure else None, sign, res)
+    fm = machine_job(src, opts, FitOptions(samples=samples, method=method, ends="auto"), progress,
+                     measure_samples if measure else None, sign, fit)
+    if "fallback" in fm.report:
+        warnings.warn(str(fm.warnings[0]), stacklevel=3)
     return MachineData(fm.path, _cq(fm.face), fm.report, fm.fit, fm.surface, tuple(fm.warnings))
 
 

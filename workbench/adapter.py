@@ -183,12 +183,24 @@ def _loop(curves: tuple, bs):
 def result_face(fit):
     """The result of a fit (a FitResult or one of its candidates) as a Part.Face: the ruled surface trimmed
     by the face's edges mapped onto it (ruled.fit.trim.Trim) when it has them, else its natural boundary."""
-    from ruled.core.errors import FiguresError
     best = getattr(fit, "best", fit)
     trim = getattr(best, "trim", None)
-    if trim is None:
-        return surface_to_face(best.surface)
-    bs = arrays_to_surface(best.surface)
+    return surface_to_face(best.surface) if trim is None else trimmed_face(best.surface, trim)
+
+
+def trim_of(face, S: Surface = None):
+    """The boundary of a face on its own surface as a ruled.fit.trim.Trim (its loops' pcurves): what trims a
+    ruled result, read back from the result face.  S: the face's arrays, when read already."""
+    from ruled.fit.trim import Trim
+    rg = face_region(face, S)
+    return Trim(tuple(rg.loop), tuple(tuple(h) for h in rg.holes))
+
+
+def trimmed_face(S: Surface, trim):
+    """S bounded by the trim's outer loop, less its holes (ruled.fit.trim.Trim: 2D curves in S's (u, v)), as a
+    valid Part.Face (FiguresError where it cannot be built)."""
+    from ruled.core.errors import FiguresError
+    bs = arrays_to_surface(S)
     try:
         face = Part.Face(bs, _loop(trim.loop(trim.outer, True), bs))
         if trim.holes:

@@ -4,6 +4,8 @@ workbench is activated (InitGui.py)."""
 
 from __future__ import annotations
 
+from typing import Optional
+
 import FreeCAD
 import FreeCADGui
 
@@ -286,10 +288,10 @@ class ExportCommand:
         show_panel(ExportTaskPanel(FreeCADGui.Selection.getSelection()))
 
 
-def export(objs, path: str, kind: str, **params) -> None:
-    """Write the objects in the chosen format (see workbench.export.FORMATS)."""
+def export(objs, path: str, kind: str, **params) -> Optional[dict]:
+    """Write the objects in the chosen format (see workbench.export.FORMATS); machine data's report."""
     from .export import machine_export, rulings_step
-    from .features import _Progress
+    from .features import _Progress, in_our_terms
     if kind == "step":
         export_step(objs, path)
     elif kind == "step-rulings":
@@ -301,7 +303,9 @@ def export(objs, path: str, kind: str, **params) -> None:
         finally:
             bar.stop()
         for w in rep["warnings"]:
-            FreeCAD.Console.PrintWarning(f"Ruled: {w}\n")
+            FreeCAD.Console.PrintWarning(f"Ruled: {in_our_terms(w)}\n")
+        return rep
+    return None
 
 
 COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Split": SplitCommand,

@@ -33,12 +33,12 @@ def _faces(objects) -> list:
     return [f for o in objects if hasattr(o, "Shape") and not o.Shape.isNull() for f in o.Shape.Faces]
 
 
-def result_arrays(face):
-    """The ruled result of a face as arrays with its rulings along v."""
+def result_arrays(face, R=None):
+    """The ruled result of a face as arrays with its rulings along v (R: the face's arrays, when read already)."""
     from ruled.core.errors import BadInputError
 
     from .adapter import face_to_arrays
-    R = face_to_arrays(face)
+    R = face_to_arrays(face) if R is None else R
     if R.degree_v == 1:
         return R
     if R.degree_u == 1:
@@ -84,13 +84,14 @@ def _report(path: str, rep: dict) -> dict:
     return rep
 
 
-def _cam_step(R, u, cam_step) -> None:
-    """The ruled face and its rulings at the synchronized points as a STEP for CAM (``--step --rulings``)."""
+def _cam_step(R, u, cam_step, face=None) -> None:
+    """The ruled face (face: the result as it is, trimmed by its design face's edges; else R's whole face) and its
+    rulings at the synchronized points as a STEP for CAM (``--step --rulings``)."""
     from ruled.machine.paths import Lines
 
     from .adapter import surface_to_face
     A, B = Lines(R, 1.0).rulings(u)
-    write_step(Part.makeCompound([surface_to_face(R)] + [
+    write_step(Part.makeCompound([surface_to_face(R) if face is None else face] + [
         Part.LineSegment(FreeCAD.Vector(*a), FreeCAD.Vector(*b)).toShape() for a, b in zip(A, B)]), cam_step)
 
 
@@ -155,48 +156,63 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
 
 def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None,
                    taper: float = 0.0, side: str = "outside", planes=None, feed: float = 100.0, lead=None,
-                   units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None) -> dict:
+                   units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None, axis="auto") -> dict:
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
-    synchronized points, like ``ruled machine --cam-step --rulings``); returns the report."""
+    synchronized points, like ``ruled machine --cam-step --rulings``); returns the report.  The path follows
+    the fit's own result (trimmed by the face's edges where it is), or, where that cannot be machined, the
+    fit pinned to the face's corners with a warning naming both figures (the report's "fallback")."""
+    from ruled.core.errors import BadInputError
     from ruled.fit.facefit import face_patch
     from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
     from ruled.machine.output import path_report, write_machine
     from ruled.machine.paths import MachineOptions, machine_path
+    from ruled.machine.trimmed import along_tool, fallback_warning, figure, swapped, trimmed_lines
 
-    from .adapter import face_region, face_to_arrays, surface_to_face
+    from .adapter import face_region, face_to_arrays, surface_to_arrays, surface_to_face
     from .features import value
     from .measure import distances, face_points, trimmed
     if len(objects) == 1 and type(getattr(objects[0], "Proxy", None)).__name__ == "RuledWall":
+        if str(axis) != "auto":
+            raise BadInputError("a wall's machine axis is the normal of its contours: leave the machine axis empty "
+                                "(auto)")
         return wall_export(objects[0], path, kind, chord_tol, kerf, tool_radius, taper, side, planes, feed, lead,
                            units, cam_step, measure_samples, progress)
     obj, src = _one_fit(objects)
     fit_figures = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}
-    warnings = []
+    warnings: list = []
+    fallback = None
     region = face_region(src, face_to_arrays(src))
-    if trimmed(obj.Shape.Faces[0]):
-        # a result trimmed by the face's edges is not machined yet (issue 35; as ruled.occ.machine): its rulings
-        # run past the face, so the path is made from the fit pinned to the face's corners
-        from dataclasses import replace
-
-        from ruled.fit.facefit import fit_region
-        pinned = replace(obj.Proxy.options(obj), ends="pinned").checked()
-        res = fit_region(region, pinned, progress)
-        R = res.surface if res.surface.degree_v == 1 else res.surface.transposed()
-        S = res.patch.surface
-        fit_figures = {"error_bound": float(res.error_bound), "measured": float(res.error_bound)}
-        warnings.append("the machine path is made from the fit pinned to the face's corners: a result trimmed by "
-                        "the face's edges is not machined yet")
-    else:
-        R = result_arrays(obj.Shape.Faces[0])
-        S = face_patch(region).surface     # the face as bounded by its edges
+    result = obj.Shape.Faces[0]
+    A = face_to_arrays(result)
+    R, S, keep = result_arrays(result, A), face_patch(region).surface, None   # S: the face as bounded by its edges
+    if trimmed(result):
+        # the result trimmed by the face's edges (what 'ruled fit' returns): the wire or tool sweeps its rulings
+        # that cross the face, plane to plane, and what they cut of it is where they lie inside its edges
+        rg = face_region(result, A)
+        loops = ((rg.loop,) + tuple(rg.holes)) if A.degree_v == 1 else \
+            tuple(tuple(swapped(c) for c in lp) for lp in (rg.loop,) + tuple(rg.holes))   # rulings along u
+        # the whole ruled surface, rail to rail (as 'ruled machine' sweeps it), not the face's (u, v) box
+        R, keep = trimmed_lines(result_arrays(result, surface_to_arrays(result.Surface)), loops)
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
-    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed).checked()
-    mp = machine_path(R, S, opts, out_side, progress)
+    opts = MachineOptions(kind, chord_tol, planes, axis, None, kerf, tool_radius, taper, lead, feed).checked()
+    try:
+        mp = machine_path(R, S, opts, out_side, progress)
+    except BadInputError as exc:
+        if keep is None:
+            raise
+        # the trimmed result's rulings cannot be machined: the fit pinned to the face's corners, saying so
+        R, S, keep, pinned = _pinned(obj, region, progress)
+        mp = machine_path(R, S, opts, out_side, progress)
+        shown = figure(fit_figures["error_bound"], fit_figures["measured"] or None)     # (0: not measured)
+        warnings.append(fallback_warning(kind, figure(pinned), exc, shown))
+        fallback = {"followed": "pinned", "pinned_bound": pinned, "trimmed_bound": fit_figures["error_bound"],
+                    "trimmed_measured": fit_figures["measured"], "why": str(exc)}
+        fit_figures = {"error_bound": pinned, "measured": pinned}
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
     csv_path = write_machine(mp, path, title, units=units)
     if cam_step:
-        _cam_step(R, mp.u, cam_step)
+        _cam_step(R, mp.u, cam_step, result if keep is not None else None)
     rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
            "machine": path_report(mp),
            "fit": fit_figures}
@@ -207,11 +223,25 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                 target = src.makeOffsetShape(out_side * kerf, 1e-6).Faces[0]
             n = measure_samples
             to_cut = distances(face_points(target, n), surface_to_face(swept_surface(mp))).max()
-            to_design = distances(cut_points(mp, 3 * n * n), target).max()
+            to_design = distances(cut_points(mp, 3 * n * n, 11 if keep is None else 41, keep=keep), target).max()
             rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
                           "cut_to_design": float(to_design),
-                          "bound": fit_figures["measured"] + mp.stats["cut_bound_beyond_fit"]}
+                          "fit_bound": fit_figures["error_bound"],
+                          "bound": max(fit_figures["error_bound"], fit_figures["measured"])
+                          + mp.stats["cut_bound_beyond_fit"]}
     elif measure_samples:
-        rep["tool_envelope"] = tool_envelope(S, out_side, mp)
+        rep["tool_envelope"] = tool_envelope(S, out_side, mp, keep=None if keep is None else along_tool(mp, keep))
     rep["warnings"] = warnings + list(mp.warnings)
+    if fallback:
+        rep["fallback"] = fallback
     return _report(path, rep)
+
+
+def _pinned(obj, region, progress) -> tuple:
+    """(R, the face's patch, no trim, the certified bound) of the fit of obj's face pinned to its corners."""
+    from dataclasses import replace
+
+    from ruled.fit.facefit import fit_region
+    res = fit_region(region, replace(obj.Proxy.options(obj), ends="pinned").checked(), progress)
+    R = res.surface if res.surface.degree_v == 1 else res.surface.transposed()
+    return R, res.patch.surface, None, float(res.error_bound)

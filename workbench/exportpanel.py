@@ -1,7 +1,7 @@
 """Export for machining in one task panel, and the workbench's preferences page.
 
 The panel asks the format, the file and every setting of the machine data at once (units, chord
-tolerance, kerf, side, machine planes, feed, lead-in, tool radius and taper, a STEP for CAM), with
+tolerance, kerf, side, machine axis and planes, feed, lead-in, tool radius and taper, a STEP for CAM), with
 the options that do not apply to the format disabled.  Its values are kept in FreeCAD's parameters
 (User parameter:BaseApp/Preferences/Mod/Ruled/Export) when it writes, and fill it the next time, also
 after a restart; the preferences page (Edit > Preferences > Ruled) edits the same values and the
@@ -31,6 +31,8 @@ SETTINGS = [
      "below (0: none)"),
     ("Side", ("outside", "inside"), "outside", MACHINE, "Side", "the side of the face the wire offset or the tool is "
      "on (outside: the face's normal)"),
+    ("Axis", "text", "", ("xyuv",), "Machine axis", "the machine axis, normal to the guide planes: x, y, z or a "
+     "vector ax, ay, az (empty: auto, the rulings' mean direction, snapped to x, y or z within 0.5 degree)"),
     ("Planes", "text", "", ("xyuv",), "Machine planes", "the two guide plane heights a, b along the machine axis, in "
      "mm (empty: just outside the part)"),
     ("Lead", "lead", -1.0, ("xyuv",), "Lead-in", "lead-in and lead-out length (auto: 5 % of the part's size; 0: "
@@ -92,7 +94,8 @@ def machine_params(v: dict, kind: str) -> dict:
                 from None
     out = {"chord_tol": v["ChordTol"] or None, "side": v["Side"], "feed": v["Feed"], "units": v["Units"]}
     if kind == "xyuv":
-        out.update(kerf=v["Kerf"], planes=planes, lead=None if v["Lead"] < 0 else v["Lead"])
+        out.update(kerf=v["Kerf"], planes=planes, lead=None if v["Lead"] < 0 else v["Lead"],
+                   axis=v["Axis"].strip().replace(";", ",") or "auto")
     else:
         out.update(tool_radius=v["ToolRadius"], taper=v["Taper"])
     return out
@@ -248,7 +251,7 @@ class ExportTaskPanel:
             params = machine_params(v, kind)
             if kind in MACHINE and v["CamStep"]:
                 params["cam_step"] = os.path.splitext(path)[0] + "_cam.step"
-            export(self.objects, path, kind, **params)
+            rep = export(self.objects, path, kind, **params)
         except RuledError as exc:
             self.result.setText(f"Cannot export: {in_our_terms(exc)}")
             return False
@@ -258,10 +261,15 @@ class ExportTaskPanel:
         save_settings(v)
         self.written = path
         FreeCAD.Console.PrintMessage(f"Ruled: wrote {path}\n")
+        self.fallback = bool(rep and rep.get("fallback"))
+        if self.fallback:       # the path does not follow the fit shown: said here, not only in the report view
+            self.result.setText(f"Wrote {os.path.basename(path)}, but {in_our_terms(rep['warnings'][0])}. Close the "
+                                f"panel, or change the settings and write again.")
+            self.form.adjustSize()          # the whole message, not the label's first lines
         return True
 
     def accept(self):
-        if not self.write():
+        if not self.write() or self.fallback:       # (written, with a fallback: open, saying so)
             return False
         self._close()
         return True

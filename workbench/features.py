@@ -362,7 +362,8 @@ class RuledSplit(_Feature):
         _enum(obj, "Objective", group, "the largest line metric along the M-curve (the paper's) or their sum",
               ["max", "sum"], "max")
         _add(obj, "App::PropertyInteger", "FitSamples", group, "samples per boundary of each side's fit", 40)
-        _add(obj, "App::PropertyString", "Chosen", RESULT_GROUP, "the split kept: optimal, best-iso or iso-0.5",
+        _add(obj, "App::PropertyString", "Chosen", RESULT_GROUP, "the split kept: optimal, best-iso or iso-0.5 (none: "
+             "the face needs no split, its own fit is better, and is the result)",
              "", True)
         _add(obj, "App::PropertyLength", "WholeBound", RESULT_GROUP, "certified bound of one ruled fit of the whole "
              "face", 0.0, True)
@@ -386,18 +387,21 @@ class RuledSplit(_Feature):
         from .adapter import face_region
         face, opts, S, progress = self.inputs(obj, "splitting")
         try:
-            patch = face_patch(face_region(face, S))     # the face as bounded by its edges
+            region = face_region(face, S)
+            patch = face_patch(region)     # the face as bounded by its edges
             for w in patch.warnings:
                 FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
-            S = patch.surface
-            res = progress.run(split_face, S, opts, progress)
-            self.finish(obj, face, S, res, progress, float(patch.deviation))
+            res = progress.run(split_face, patch.surface, opts, progress)
+            whole = unsplit_fit(region, face, opts.fit, progress)
+            self.finish(obj, face, patch.surface, res, progress, float(patch.deviation), whole)
         finally:
             progress.stop()
 
-    def finish(self, obj, face, S, res, progress, dev: float):
+    def finish(self, obj, face, S, res, progress, dev: float, whole=None):
         """The kept split's faces, measure and rulings; the bounds against the face as bounded by its edges
-        (the split's, against the face's four-sided patch, plus the patch's deviation dev)."""
+        (the split's, against the face's four-sided patch, plus the patch's deviation dev).  whole: (the face's
+        fit unsplit as a Part.Face, its bound, its rulings' fit); where the split is not better than it, the
+        object is that fit (the face needs no split), and says so."""
         import numpy as np
         import Part
 
@@ -406,15 +410,40 @@ class RuledSplit(_Feature):
 
         from .adapter import curve_to_edge, surface_to_face
         best = res.best()
+        obj.Candidates = [f"{k}: {c.bound + dev:.6g}" for k, c in res.candidates.items()]
+        if whole is not None and not best.bound + dev < whole[1]:
+            result, bound, fit = whole
+            measure_into(obj, [result], face, lambda f: progress("measuring (distances to the source)", f))
+            obj.RulingLines = ruling_lines([fit])
+            obj.Shape, obj.Chosen, obj.ErrorBound, obj.WholeBound = result, "none", bound, bound
+            obj.SplitCurve = []
+            FreeCAD.Console.PrintMessage(f"{obj.Label}: the face needs no split: its fit is {bound:.4g} mm (the best "
+                                         f"split's worse side is {best.bound + dev:.4g} mm)\n")
+            return
         cos = approximate(S, input_curve(best.curve, res.transposed), EDGE_TOL * S.diagonal(), 10.0)
         fits = [surface_to_face(side.fit.surface) for side in best.sides]
         measure_into(obj, fits, face, lambda f: progress("measuring (distances to the source)", f))
         obj.RulingLines = ruling_lines(side.fit for side in best.sides)
         obj.Shape = Part.makeCompound(fits + [curve_to_edge(cos.curve)])
-        obj.Chosen, obj.ErrorBound, obj.WholeBound = best.name, best.bound + dev, res.whole.bound + dev
-        obj.Candidates = [f"{k}: {c.bound + dev:.6g}" for k, c in res.candidates.items()]
+        obj.Chosen, obj.ErrorBound = best.name, best.bound + dev
+        obj.WholeBound = res.whole.bound + dev if whole is None else min(res.whole.bound + dev, whole[1])
         t = np.linspace(*cos.curve.domain, 101)
         obj.SplitCurve = [FreeCAD.Vector(*map(float, p)) for p in cos.curve(t)]
+
+
+def unsplit_fit(region, face, options, progress) -> tuple:
+    """(the face's fit as 'ruled fit' fits it, built as a Part.Face; its certified bound against the face as
+    bounded by its edges; the fit): what a split must beat to be kept."""
+    from dataclasses import replace
+
+    from ruled.core.hostform import bounds_slack
+    from ruled.fit.facefit import fit_region
+
+    from .adapter import built_slack, result_face
+    res = progress.run(fit_region, region, replace(options, ends="auto").checked(), progress)
+    result = result_face(res)
+    return result, float(res.error_bound + bounds_slack(region.surface, face.ParameterRange)
+                         + built_slack(result, res)), res
 
 
 def source_edge_names(obj, edges) -> list:

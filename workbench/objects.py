@@ -106,11 +106,12 @@ class RuledPartition(_Feature):
 
 
 def cone_source(obj):
-    """(the ruled surface as arrays, the design face to measure against, the ruled fit's bound or None
-    when the source is a face) of a RuledConeSpline's Source: a RuledFit, or a face of a part."""
+    """(the ruled surface as arrays, the face's boundary on it as a ruled.fit.trim.Trim or None, the design face
+    to measure against, the ruled fit's bound or None when the source is a face) of a RuledConeSpline's Source:
+    a RuledFit (its result as it is: trimmed by the face's edges where it is), or a face of a part."""
     from ruled.core.errors import BadInputError
 
-    from .adapter import face_to_arrays
+    from .adapter import face_to_arrays, surface_to_arrays, trim_of
     link = obj.Source
     if link is None or link[0] is None:
         raise BadInputError("no source: select a Ruled fit, or one ruled face of a part, and run the command again")
@@ -120,33 +121,35 @@ def cone_source(obj):
         from .measure import trimmed
         if not src.Shape.Faces:
             raise BadInputError(f"{src.Label} has no result yet (see its Status); recompute it first")
-        if trimmed(src.Shape.Faces[0]):
-            # its ruled surface runs past the face (trimmed by the face's edges): cone patches of it would
-            # too, farther from the face than any bound says; the fit pinned to the face's corners instead
-            return None, source_face(src), src
-        return face_to_arrays(src.Shape.Faces[0]), source_face(src), value(src.ErrorBound)
+        result = src.Shape.Faces[0]
+        if not trimmed(result):
+            return face_to_arrays(result), None, source_face(src), value(src.ErrorBound)
+        A = surface_to_arrays(result.Surface)        # the whole ruled surface, rail to rail, as 'ruled cone' takes it
+        return A, trim_of(result, A), source_face(src), value(src.ErrorBound)
     face = source_face(obj)
-    return face_to_arrays(face), face, None
+    return face_to_arrays(face), None, face, None
 
 
-def pinned_fit(region, face, options, progress) -> tuple:
-    """(the ruled surface, its certified bound against the face as bounded by its edges) of the fit pinned to
-    the face's corners: its rails are the face's own sides, so that it, and a cone spline of it, ends where
-    the face does."""
+def fitted(region, face, options, progress) -> tuple:
+    """(the ruled surface, the face's boundary on it or None, its certified bound against the face as bounded by
+    its edges) of the face's fit as 'ruled fit' fits it (the smaller bound of the fit pinned to its corners and
+    the one trimmed by its edges)."""
     from dataclasses import replace
 
     from ruled.core.hostform import bounds_slack
     from ruled.fit.facefit import fit_region
-    res = progress.run(fit_region, region, replace(options, ends="pinned").checked(), progress)
-    return res.surface, float(res.error_bound + bounds_slack(region.surface, face.ParameterRange))
+    res = progress.run(fit_region, region, replace(options, ends="auto").checked(), progress)
+    return res.surface, res.best.trim, float(res.error_bound + bounds_slack(region.surface, face.ParameterRange))
 
 
-def cone_measure(obj, cone, faces, design, progress) -> None:
+def cone_measure(obj, cone, faces, design, progress, patch_of=None) -> None:
     """What the cone spline's ErrorBound bounds, measured (as ``ruled cone`` measures it): the design face's
     points to the patches (FreeCAD's BRepExtrema) and the patches' points, an n x n grid over each (also
     their colours), to the ruled surface between the planes of its end curves (exact distances to its
     ruling segments).  The patches span that surface: where the face's end curves are not planar they run
-    past the face, as far as those planes, so their distance to the face itself is not what is bounded."""
+    past the face, as far as those planes, so their distance to the face itself is not what is bounded.
+    Patches trimmed by the face's edges (patch_of: each face's patch) are measured against the face both
+    ways: their points to the face too."""
     import numpy as np
     import Part
 
@@ -157,10 +160,14 @@ def cone_measure(obj, cone, faces, design, progress) -> None:
     if n < 2:
         obj.Hausdorff, obj.Deviation = 0.0, []
         return
-    _, to_surface = to_ruled(cone, [grid(f, n) for f in faces])
+    _, to_surface = to_ruled(cone, [grid(f, n) for f in faces], patch_of)
     pts = np.concatenate([face_points(f, n) for f in design.Faces])
     to_cone = distances(pts, Part.Compound(faces), lambda f: progress("measuring (the face to the patches)", f))
-    obj.Hausdorff, obj.Deviation = float(max(to_surface.max(), to_cone.max())), list(to_surface)
+    back = 0.0
+    if patch_of is not None:
+        mine = np.concatenate([face_points(f, n) for f in faces])
+        back = float(distances(mine, design, lambda f: progress("measuring (the patches to the face)", f)).max())
+    obj.Hausdorff, obj.Deviation = float(max(to_surface.max(), to_cone.max(), back)), list(to_surface)
 
 
 class RuledConeSpline(_Feature):
@@ -218,27 +225,34 @@ class RuledConeSpline(_Feature):
         if not 0 < float(obj.Step) <= 1:
             raise BadInputError(f"the Step {obj.Step:g} must be a fraction of the parameter range, 0 < step <= 1")
         say_kernels()
-        S, design, fit_bound = cone_source(obj)
+        S, trim, design, fit_bound = cone_source(obj)
         progress = _Progress(f"Ruled: cone spline of {obj.Label}", capability="cone")
         try:
-            if S is None:            # a RuledFit trimmed by its face's edges: its fit pinned to the face's corners
-                fit = fit_bound
-                S, fit_bound = pinned_fit(face_region(design), design, fit.Proxy.options(fit), progress)
-                FreeCAD.Console.PrintMessage(f"{obj.Label}: made from {fit.Label}'s fit pinned to the face's corners "
-                                             f"(bound {fit_bound:.4g}): its result, trimmed by the face's edges, "
-                                             f"runs past them\n")
-            elif fit_bound is None:
+            if fit_bound is None:
                 region = face_region(design, S)
                 if obj.FitFirst:
-                    S, fit_bound = pinned_fit(region, design, FitOptions(direction=str(obj.Direction)).checked(),
-                                              progress)
+                    S, trim, fit_bound = fitted(region, design, FitOptions(direction=str(obj.Direction)).checked(),
+                                                progress)
                 else:
                     patch = face_patch(region)       # the face as bounded by its edges
                     S, fit_bound = patch.surface, (None if patch.identity else float(patch.deviation))
-            cone = progress.run(cone_spline_of_surface, S, tol, float(obj.Step), direction=str(obj.Direction),
+            patch_of, direction = None, str(obj.Direction)
+            if trim is not None:
+                # a fit trimmed by the face's edges: the rulings that cross the face, their patches trimmed like it
+                from ruled.cone.trim import trimmed_patches
+                from ruled.machine.trimmed import trimmed_lines
+
+                from .adapter import trimmed_face
+                S, direction = trimmed_lines(S, (trim.outer,) + tuple(trim.holes))[0], "v"
+            cone = progress.run(cone_spline_of_surface, S, tol, float(obj.Step), direction=direction,
                                 progress=progress, allow_creases=bool(obj.AllowCreases))
-            faces = [surface_to_face(p.surface) for p in cone.patches]
-            cone_measure(obj, cone, faces, design, progress)
+            if trim is None:
+                faces = [surface_to_face(p.surface) for p in cone.patches]
+            else:
+                regions = trimmed_patches(cone, S, trim)
+                faces = [trimmed_face(cone.patches[r.patch].surface, r.trim()) for r in regions]
+                patch_of = [r.patch for r in regions]
+            cone_measure(obj, cone, faces, design, progress, patch_of)
         finally:
             progress.stop()
         for note in cone.notes:

@@ -280,9 +280,9 @@ class SplitTaskPanel(_Panel):
     verb = "split"
 
     def describe(self, o) -> str:
-        return (f"kept the {o.Chosen} split: certified bound {value(o.ErrorBound):.6g} mm (one strip: "
-                f"{value(o.WholeBound):.6g} mm; " + ", ".join(o.Candidates) + f"), measured Hausdorff "
-                f"{value(o.Hausdorff):.6g} mm, in {o.Seconds:.1f} s.")
+        what = "the face needs no split: its fit is" if o.Chosen == "none" else f"kept the {o.Chosen} split: bound"
+        return (f"{what} {value(o.ErrorBound):.6g} mm (one strip: {value(o.WholeBound):.6g} mm; " + ", ".join(
+            o.Candidates) + f"), measured Hausdorff {value(o.Hausdorff):.6g} mm, in {o.Seconds:.1f} s.")
 
 
 def _spin(low: int, high: int, value: int, tip: str) -> QtGui.QSpinBox:

@@ -122,7 +122,7 @@ def run_face(job: dict) -> dict:
 
 
 def _face_job(job: dict, paths: dict) -> dict:
-    from ruled.cli.fit import run_fit
+    from ruled.jobs.face import run_fit
     from ruled.occ.io import read_faces
     faces = _FACES.get((job["input"], job["digest"]))
     if faces is None:
@@ -136,11 +136,12 @@ def _face_job(job: dict, paths: dict) -> dict:
 
 
 def _wall_job(job: dict, paths: dict) -> dict:
-    from ruled.cli.fit import run_wall
+    from ruled.jobs.wall import run_wall
     o = job["options"]
     return run_wall(job["input"], job["wall"], paths["step"], samples=o["samples"], objective=o["objective"],
                     max_error=o["max_error"], method=o["method"], measure_samples=o["measure_samples"],
-                    memory_cap_mb=job["memory_cap_mb"], quiet=True)
+                    memory_cap_mb=job["memory_cap_mb"], quiet=True, say=False,
+                    text=lambda m: batch_text(m, job["face"]))
 
 
 def _row(job: dict, status: str, reason: str = "", seconds=None) -> dict:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import os
 import sys
 
-from ruled.core.errors import RuledError, in_terms, names_from
+from ruled.core.errors import in_terms, names_from
+from ruled.core.outputs import MAX_MEASURE, check_measure_samples, check_outputs  # noqa: F401 (the commands' checks)
 
 # the engine's options in the command line's terms (see ruled.core.errors): --key-with-dashes, but for these
 CLI_NAMES = names_from({"lift_step": "--lift-step", "arc_step": "--arc-step",
@@ -55,44 +56,6 @@ def print_files(output: str, others) -> None:
     """The files written: the STEP output, then each (label, path) given."""
     print(f"STEP:   {os.path.abspath(output)}")
     print_files_only(others)
-
-
-MAX_MEASURE = 1000      # --measure-samples: n x n OCCT projections each way (1000: about 2 million)
-
-
-def check_measure_samples(n: int, least: int = 2) -> None:
-    """Refuse a measure that cannot be made (too few samples) or would run for hours, with the estimate."""
-    if n < least:
-        raise RuledError(f"--measure-samples must be at least {least}")
-    if n > MAX_MEASURE:
-        minutes = 2 * n * n * 60e-6 / 60          # about 60 microseconds per OCCT projection
-        raise RuledError(f"--measure-samples {n}: {2 * n * n:,} OCCT projections, about {minutes:,.0f} minutes; "
-                         f"use at most {MAX_MEASURE}")
-
-
-def check_outputs(*paths, inputs=()) -> None:
-    """Refuse before any work an output that is an input (however spelled), that another output names too,
-    that is a folder or a device, or whose folder does not exist or is not writable."""
-    ins = {os.path.realpath(p) for p in inputs if p}
-    seen: dict = {}
-    for path in paths:
-        if not path:
-            continue
-        real = os.path.realpath(path)
-        if real in ins:
-            raise RuledError(f"{path} is the input file: writing it would destroy the input; give another file")
-        if real in seen:
-            raise RuledError(f"{path} is given for two outputs ({seen[real]} and {path}); give each its own file")
-        seen[real] = path
-        if os.path.isdir(real):
-            raise RuledError(f"cannot write {path}: it is a folder; give a file name")
-        if os.path.exists(real) and not os.path.isfile(real):
-            raise RuledError(f"cannot write {path}: it is not a regular file (a device?); give a file name")
-        d = os.path.dirname(real)
-        if not os.path.isdir(d):
-            raise RuledError(f"cannot write {path}: folder {d} does not exist")
-        if not os.access(d, os.W_OK | os.X_OK):
-            raise RuledError(f"cannot write {path}: folder {d} is not writable")
 
 
 def with_bar(quiet: bool, face_index, work):

@@ -6,7 +6,7 @@ import os
 import time
 
 from ruled import __version__
-from ruled.cli.common import check_measure_samples, check_outputs, print_files, with_bar
+from ruled.cli.common import check_measure_samples, check_outputs, cli_text, print_files, with_bar
 
 
 def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step: float = 0.1, fit: bool = False,
@@ -16,25 +16,32 @@ def run_cone(input_path: str, face_index: int, output: str, *, tol: float, step:
     from ruled.cone.report import cone_report
     from ruled.cone.report import plot as cone_plot
     from ruled.fit.report import write_report
-    from ruled.occ.conespline import check_tolerance, cone_of_face
-    from ruled.occ.io import get_face, write_step
+    from ruled.jobs.cone import cone_job
+    from ruled.occ.conespline import check_tolerance
+    from ruled.occ.io import face_area, get_face, write_step
 
     tol = check_tolerance(tol)
     check_measure_samples(measure_samples, 4)
     check_outputs(output, report, plot, inputs=(input_path,))
     t0 = time.perf_counter()
     face = get_face(input_path, face_index)
-    fc = with_bar(quiet, face_index, lambda bar: cone_of_face(
+    fc = with_bar(quiet, face_index, lambda bar: cone_job(
         face, tol, step, direction=direction, fit=fit, progress=bar, measure_samples=measure_samples,
         search="paper" if paper_search else "longest", allow_creases=allow_creases))
     t1 = time.perf_counter()
     write_step([fc.shell], output)
+    ff = fc.fitted
     rep = {"version": __version__, "input": os.path.abspath(input_path), "face": face_index,
            **cone_report(fc.result), "measure": fc.measure,
            "hausdorff": fc.measure["hausdorff"] if fc.measure else None,
-           "fit": None if fc.fit is None else {"error_bound": fc.fit.error_bound, "direction": fc.fit.direction},
+           "fit": None if ff is None else {"error_bound": ff.bound, "measured": ff.measured,
+                                           "direction": ff.fit.direction, "trimmed": ff.trimmed},
+           "bound": fc.bound,
            "timings": {"total": time.perf_counter() - t0, **fc.timings, "write": time.perf_counter() - t1},
-           "warnings": fc.warnings}
+           "warnings": [cli_text(w) for w in fc.warnings]}
+    if ff is not None and ff.trimmed:
+        a, b = face_area(face, 1e-6), sum(face_area(f, 1e-6) for f in fc.faces)
+        rep["area"] = {"face": a, "patches": b, "ratio": b / a if a > 0 else None}
     if plot:
         cone_plot(fc.result, plot)
     if report:
@@ -55,7 +62,18 @@ def cmd_cone(args) -> int:
     m = rep["measure"]
     meas = "" if m is None else (f"   measured: design to cone {m['design_to_cone']:.6g}, cone to ruled surface "
                                  f"{m['cone_to_ruled']:.6g}")
-    print(f"error bound (eq. 9) {rep['error_bound']:.6g} (tolerance {rep['tol']:.6g}){meas}")
+    if rep["fit"] is None:
+        print(f"error bound (eq. 9) {rep['error_bound']:.6g} (tolerance {rep['tol']:.6g}){meas}")
+    else:
+        f = rep["fit"]
+        both = m is not None and m.get("cone_to_design") is not None
+        how = "trimmed by the face's edges, like the patches" if f["trimmed"] else "pinned"
+        print(f"error bound {rep['bound']:.6g}: cone (eq. 9) {rep['error_bound']:.6g} + the fit's "
+              f"{f['error_bound']:.6g} ({how})"
+              + ("" if m is None else f"   measured {m['hausdorff']:.6g} "
+                 + ("(the face and the patches, both ways)" if both else "(the face to the patches; the patches to "
+                                                                        "the fit's ruled surface)"))
+              + (f"   area {rep['area']['ratio']:.4g} x the face's" if rep.get("area") else ""))
     print_files(args.output, (("report", args.report), ("plot", args.plot)))
     print(f"to cut it: ruled machine {args.output} --face all --ruled --xyuv -o "
           f"{os.path.splitext(args.output)[0]}.ngc (all its patches as one wire path, the taper of each)")

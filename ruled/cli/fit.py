@@ -3,13 +3,22 @@
 from __future__ import annotations
 
 import os
-import sys
-import time
 
-from ruled import __version__
-from ruled.cli.common import check_measure_samples, check_outputs, cli_text, print_files_only, with_bar
+from ruled.cli.common import check_measure_samples, cli_text, print_files_only, with_bar
 from ruled.cli.split import cmd_partition
 from ruled.core.errors import RuledError, positive
+
+
+def run_fit(*args, **kw) -> dict:
+    """The face's job (ruled.jobs.face.run_fit), its warnings in the command line's terms."""
+    from ruled.jobs.face import run_fit as job
+    return job(*args, **{"text": cli_text, **kw})
+
+
+def run_wall(*args, **kw) -> dict:
+    """The wall's job (ruled.jobs.wall.run_wall), its warnings in the command line's terms."""
+    from ruled.jobs.wall import run_wall as job
+    return job(*args, **{"text": cli_text, **kw})
 
 
 def cmd_faces(args) -> int:
@@ -47,122 +56,6 @@ def cmd_faces(args) -> int:
             print(f"wall {k}: faces {','.join(map(str, r.faces))}  (bottom contour {len(r.loops[0])} edges, "
                   f"top contour {len(r.loops[1])} edges)")
     return 0
-
-
-def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
-            direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
-            elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True,
-            text=cli_text, face_timeout=None, ends="auto", replace=False) -> dict:
-    """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
-    already (the batch's workers keep the files they have read); say: print the warnings and notes
-    (the batch keeps them in the reports); text: how the warnings name options (the command's terms);
-    face_timeout: seconds the fit and the measure may take (None: no limit; the batch has its own);
-    replace: output holds the whole part, the face replaced by its result (ruled.occ.replace)."""
-    from ruled.fit.options import FitOptions
-    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
-                      refine=refine, method=method, elevations=elevations, step=step, metric=metric,
-                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20, ends=ends).checked()
-    check_outputs(output, report, plot, inputs=(input_path,))
-    check_measure_samples(measure_samples)
-    if face_timeout is not None:
-        positive("face_timeout", face_timeout, "seconds")
-    # the face before the engine: a wrong --face is answered without loading it
-    from ruled.occ.io import face_area, get_face, read_shape
-    t0 = time.perf_counter()
-    part = read_shape(input_path) if replace else None      # (read once: the face from it, then the part)
-    face = get_face(input_path, face_index, part) if face is None else face
-    t_read = time.perf_counter() - t0
-    from ruled.core.progress import Bar, TimeLimit
-    from ruled.fit.facefit import first_consistent
-    from ruled.fit.report import plot as make_plot
-    from ruled.fit.report import write_report
-    from ruled.occ.region import fit_face
-    bar = Bar(enabled=not quiet and sys.stderr.isatty())
-    limit = TimeLimit(face_timeout, bar, f"face {face_index}",
-                      "; give it more time («face_timeout»), or fewer «samples»")
-    with limit:
-        t_fit = time.perf_counter()
-        try:
-            res, slack = fit_face(face, opts, limit, rails)
-        finally:
-            bar.done()
-        t_fit = time.perf_counter() - t_fit
-        area = face_area(face, 1e-6)          # once: each candidate tried is compared with it
-        built: dict = {}
-        res, rep, more = first_consistent(res, lambda r: _built_and_measured(
-            r, slack, face, area, face_index, output, input_path, method, measure_samples, quiet, limit, text,
-            {"read": t_read, "fit": t_fit}, built))
-        if replace:
-            rep["replace"] = _replaced(part if part is not None else read_shape(input_path), face_index,
-                                       built["face"], rep["error_bound"], output)
-    warnings = [text(w) for w in res.patch.warnings]
-    for w in warnings + more if say else ():
-        print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
-    rep["warnings"] = warnings + more
-    for note in res.notes if say else ():
-        print(f"ruled: {note}", file=sys.stderr)
-    if report:
-        write_report(rep, report)
-    if plot:
-        make_plot(res, plot, rep["hausdorff"]["max"])
-    return rep
-
-
-def _built_and_measured(res, slack, face, area, face_index, output, input_path, method, measure_samples, quiet,
-                        limit, text, timings, built: dict) -> tuple:
-    """The result built, written and measured: (its report, the measure's warnings); area: the face's (OCCT's,
-    adaptive).  A result whose figures contradict each other is refused (the STEP removed), naming the face."""
-    from ruled.core.errors import FiguresError
-    from ruled.fit.facefit import area_ratio, measured_warnings
-    from ruled.fit.report import report_dict
-    from ruled.occ.io import face_area, write_step
-    from ruled.occ.measure import hausdorff
-    from ruled.occ.trimmed import built_slack, result_face
-    t1 = time.perf_counter()
-    out_face = built["face"] = result_face(res)
-    slack += built_slack(out_face, res)
-    write_step(out_face, output)
-    t_write = time.perf_counter() - t1
-    t2 = time.perf_counter()
-    if not quiet and sys.stderr.isatty():
-        print(f"  measuring the Hausdorff distance with OCCT ({measure_samples}x{measure_samples} samples per face)",
-              file=sys.stderr)
-    limit.stage = "the measure"
-    h = hausdorff(face, out_face, measure_samples)
-    t_meas = time.perf_counter() - t2
-    rep = report_dict(res, input_path=input_path, face=face_index, method=method,
-                      hausdorff={"max": h.max, "mean": h.mean, "input_to_result": h.max_a_to_b,
-                                 "result_to_input": h.max_b_to_a, "samples": h.samples,
-                                 "resolution": h.resolution},
-                      timings={**timings, "build_and_write": t_write, "measure": t_meas}, version=__version__,
-                      conversion_slack=slack)
-    result_area = face_area(out_face, 1e-6)
-    rep["area"] = {"face": area, "result": result_area, "ratio": area_ratio(res, area, result_area)}
-    if res.best.trim is not None:
-        rep["trim"] = {"ends": "trimmed", "trim_eps": res.best.trim.eps, "trim_bound": res.best.trim.added,
-                       **(res.patch.extension or {})}
-    try:
-        more = [text(w) for w in measured_warnings(res, rep["error_bound"], h.max, res.patch.face_size,
-                                                   rep["area"]["ratio"])]
-    except FiguresError as exc:
-        os.unlink(output)              # never a result that contradicts its own figures on disk
-        raise FiguresError(f"face {face_index}: {exc.template}") from None
-    return rep, more
-
-
-def _replaced(shape, index: int, face, bound: float, output: str) -> dict:
-    """The whole part (shape, as read) written to output, its face ``index`` replaced by the result face and
-    sewn; returns the report's ``replace`` section.  A part that cannot be sewn is refused (output removed)."""
-    from ruled.occ.io import faces_of, write_step
-    from ruled.occ.replace import replaced_part, sewing_tolerance
-    t0 = time.perf_counter()
-    try:
-        part = replaced_part(shape, index, face, sewing_tolerance(bound, faces_of(shape)[index], face))
-    except RuledError:
-        os.unlink(output)              # the face alone is not what was asked for
-        raise
-    write_step(part.shape, output)
-    return {**part.report(), "seconds": time.perf_counter() - t0}
 
 
 def _summary(rep: dict, output: str, report=None, plot=None) -> None:
@@ -239,45 +132,6 @@ def cmd_fit(args) -> int:
                   ends=args.ends, replace=args.replace)
     _summary(rep, args.output, args.report, args.plot)
     return 0
-
-
-def run_wall(input_path: str, wall_spec, output: str, *, samples=40, objective="sum", max_error=None,
-             refine=True, method="2d", elevations=None, step=None, metric="lsad", memory_cap_mb=None,
-             report=None, measure_samples=40, quiet=False, shape=None, per_face=False) -> dict:
-    """A wall's whole job (read, join, fit, measure, write): the report dict.  wall_spec: 'auto', 'K,L-M' or
-    a list of face indices; samples: per face; shape: the part, read already; per_face: write the result
-    in one piece per input face, sewn (ruled.occ.wallfaces), each measured against its face."""
-    from dataclasses import replace
-
-    from ruled.fit.options import FitOptions
-    from ruled.fit.report import write_report
-    from ruled.occ.io import read_shape, write_step
-    from ruled.occ.wall import fit_wall, wall_of
-    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, refine=refine, method=method,
-                      elevations=elevations, step=step, metric=metric,
-                      memory_cap=None if memory_cap_mb is None else memory_cap_mb * 2.0 ** 20).checked()
-    check_outputs(output, report, None, inputs=(input_path,))
-    check_measure_samples(measure_samples)
-    t0 = time.perf_counter()
-    wall = wall_of(read_shape(input_path) if shape is None else shape, wall_spec)
-    # samples per face: the ring's grow with its faces
-    opts = replace(opts, samples=samples * len(wall.faces)).checked()
-    wf = with_bar(quiet, "the wall", lambda bar: fit_wall(wall, opts, bar, measure_samples=measure_samples))
-    rep = {**wf.report(), "input": input_path, "samples": opts.samples, "version": __version__}
-    if per_face:
-        from ruled.occ.measure import hausdorff
-        from ruled.occ.wallfaces import per_face as pieces_of
-        pieces, shell = pieces_of(wf)
-        kept = [(wall.ring.faces[k], wall.faces[k]) for k in wall.ring.kept]
-        rep["per_face"] = [{"face": i, "measured": hausdorff(f, p, measure_samples).max}
-                           for (i, f), p in zip(kept, pieces)]
-        write_step(shell, output)
-    else:
-        write_step(wf.face, output)
-    rep["seconds"] = time.perf_counter() - t0
-    if report:
-        write_report(rep, report)
-    return rep
 
 
 def cmd_fit_wall(args) -> int:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 
 from ruled import __version__
-from ruled.cli.common import check_measure_samples, check_outputs, print_files_only, with_bar
+from ruled.cli.common import check_measure_samples, check_outputs, cli_text, print_files_only, with_bar
 from ruled.core.errors import RuledError
 
 
@@ -13,10 +13,11 @@ def run_machine(args) -> dict:
     """Read a face, fit it, make the machine path, measure it, write the G-code / APT, CSV, STEP."""
     from ruled.fit.options import FitOptions
     from ruled.fit.report import write_report
+    from ruled.jobs.machine import machine_job
     from ruled.machine.output import plot_path, write_machine
     from ruled.machine.paths import MachineOptions
     from ruled.occ.io import get_face, write_step
-    from ruled.occ.machine import cam_shapes, machine_of_face
+    from ruled.occ.machine import cam_shapes
 
     planes = None
     if args.planes is not None:
@@ -42,8 +43,8 @@ def run_machine(args) -> dict:
         fm, what, chosen = _machine_wall(args, opts, side)
     elif isinstance(args.face, int):
         face = get_face(args.input, args.face)
-        fm = with_bar(args.quiet, args.face, lambda bar: machine_of_face(
-            face, opts, fit_opts, bar, args.measure_samples, side, given=args.ruled, rails=args.rails))
+        fm = with_bar(args.quiet, args.face, lambda bar: machine_job(
+            face, opts, fit_opts, bar, args.measure_samples, side, rails=args.rails, given=args.ruled))
         what, chosen = f"face {args.face}", args.face
     else:
         fm, what, chosen = _machine_patches(args, opts, side)
@@ -53,6 +54,7 @@ def run_machine(args) -> dict:
         write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": chosen,
            "output": os.path.abspath(args.output), "csv": os.path.abspath(csv_path), **fm.report}
+    rep["warnings"] = [cli_text(w) for w in rep.get("warnings", [])]
     if args.plot:
         plot_path(fm.path, args.plot, f"{title}: {opts.mode}")
     if args.report:
@@ -146,7 +148,7 @@ def cmd_machine(args) -> int:
             c = rep["cut"]
             fillet = c.get("inside_corner_fillet") or 0.0
             print(f"what the wire cuts, against {c['against']}: {c['max']:.6g} (bound {c['bound']:.6g}: the fit's "
-                  f"{c['fit_error']:.6g} + {m['cut_bound_beyond_fit']:.6g}, the chord tolerance"
+                  f"{max(c['fit_bound'], c['fit_error']):.6g} + {m['cut_bound_beyond_fit']:.6g}, the chord tolerance"
                   f"{'' if m['cut_bound_beyond_fit'] == m['chord_tol'] else ' and the kerf offset deviation'}"
                   f"{f' + {fillet:.6g}, the round the wire leaves in inside corners' if fillet else ''})")
     else:

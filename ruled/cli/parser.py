@@ -236,10 +236,11 @@ def _machine_parser(sub) -> None:
                    help="the face is a ruled result already (from 'ruled fit', 'ruled split', 'ruled fit --tol'): "
                         "use it as it is, no fit")
     m.add_argument("--samples", type=int, default=40, help="samples per boundary of the fit (default 40)")
-    m.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="pinned",
-                   help="the fit's ends ('ruled fit --ends'): pinned (default, as the workbench's export), the end "
-                        "rulings at the face's corners; trimmed: the wire or tool sweeps the rulings that cross the "
-                        "face, plane to plane, of the result trimmed by its edges; auto: the smaller certified bound")
+    m.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
+                   help="the fit's ends, as 'ruled fit --ends' (default auto: the fit 'ruled fit' returns, the "
+                        "smaller certified bound); trimmed: the wire or tool sweeps the rulings that cross the face, "
+                        "plane to plane, of the result trimmed by its edges; pinned: the end rulings at the face's "
+                        "corners")
     m.add_argument("--rails", type=_rails, default=None, metavar="A,B",
                    help="the two opposite edges the fit's rulings join ('ruled faces INPUT --edges')")
     m.add_argument("-o", "--output", required=True,

@@ -24,8 +24,8 @@ def _split_options(args, fit_samples: int = 40, objective: str = "sum"):
 def run_split(args) -> dict:
     """Read a face, split it (optimal, best iso, middle), build, fit, measure, write."""
     from ruled.fit.report import write_report
+    from ruled.jobs.split import split_job
     from ruled.occ.io import get_face, write_step
-    from ruled.occ.split import split_of_face
     from ruled.split.report import plot_split, split_report
 
     check_measure_samples(args.measure_samples, 4)
@@ -34,14 +34,20 @@ def run_split(args) -> dict:
     check_outputs(args.output, args.report, args.plot, args.split_faces, inputs=(args.input,))
     t0 = time.perf_counter()
     face = get_face(args.input, args.face)
-    fs = with_bar(args.quiet, args.face, lambda bar: split_of_face(face, opts, bar, args.measure_samples))
-    write_step(fs.fits[fs.chosen], args.output)
+    job = with_bar(args.quiet, args.face, lambda bar: _Warned(split_job(face, opts, bar, args.measure_samples)))
+    fs, whole = job.split, job.whole
+    # the split's fits, or, where not splitting is better, the face's own fit (and the face itself unsplit)
+    write_step(fs.fits[fs.chosen] if job.kept else [whole.face], args.output)
     if args.split_faces:
-        write_step(fs.faces[fs.chosen].faces, args.split_faces)
+        write_step(fs.faces[fs.chosen].faces if job.kept else [face], args.split_faces)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": args.face, "dims": args.dims,
            "samples": opts.samples, "interior": opts.interior, "objective": opts.objective,
            **split_report(fs.result, fs.measured, fs.chosen, fs.edge_bounds()),
-           "checks": {k: check_json(c) for k, c in fs.checks.items()}}
+           "checks": {k: check_json(c) for k, c in fs.checks.items()},
+           "surface_deviation": fs.deviation, "split_bound": job.bound, "kept": job.kept,
+           "face_fit": {"error_bound": whole.bound, "measured": whole.measured, "trimmed": whole.trimmed}}
+    if not job.kept:
+        rep["verdict"] = job.verdict
     rep["timings"] = {**fs.timings, "total": time.perf_counter() - t0}
     if args.plot:
         plot_split(fs.result, args.plot, fs.measured)
@@ -50,13 +56,28 @@ def run_split(args) -> dict:
     return rep
 
 
+class _Warned:
+    """A split job with the warnings of its split (what with_bar prints)."""
+
+    def __init__(self, job):
+        self.job, self.warnings = job, job.split.warnings
+
+    def __getattr__(self, name):
+        return getattr(self.job, name)
+
+
 def cmd_split(args) -> int:
     rep = run_split(args)
-    print(f"face {rep['face']}: one ruled strip, error bound {rep['whole']['error_bound']:.6g}; split along "
-          f"{'v' if rep['direction'] == 'u' else 'u'} (rulings along {rep['direction']}):")
+    f, dev = rep["face_fit"], rep["surface_deviation"]
+    print(f"face {rep['face']}: its fit ('ruled fit'), error bound {f['error_bound']:.6g}"
+          f"{' (trimmed by its edges)' if f['trimmed'] else ''}; one ruled strip of the surface split, "
+          f"{rep['whole']['error_bound'] + dev:.6g}; split along {'v' if rep['direction'] == 'u' else 'u'} "
+          f"(rulings along {rep['direction']}):")
     for name, c in rep["candidates"].items():
         mark = "  <- chosen" if name == rep["chosen"] else ""
-        print(f"  {name:9s} error bound {c['error_bound']:.6g}   measured Hausdorff {c['hausdorff']:.6g}{mark}")
+        print(f"  {name:9s} error bound {c['error_bound'] + dev:.6g}   measured Hausdorff {c['hausdorff']:.6g}{mark}")
+    if not rep["kept"]:
+        print(f"{rep['verdict']}: written unsplit")
     print_files(args.output, (("faces", args.split_faces), ("report", args.report), ("plot", args.plot)))
     return 0
 

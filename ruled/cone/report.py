@@ -90,14 +90,16 @@ def plot(res: ConeSpline, path: str) -> None:
     plt.close(fig)
 
 
-def to_ruled(res, per: list) -> tuple:
+def to_ruled(res, per: list, patch_of=None) -> tuple:
     """(the points, their exact distances to the ruled surface between the planes): per, samples of each
-    patch of the cone spline res (a host's, of its faces); each point to its own piece's rulings, then,
+    patch of the cone spline res (a host's, of its faces; patch_of: each face's patch, when they are not the
+    patches one to one, trimmed by a face's edges); each point to its own piece's rulings, then,
     from the farthest down while above the largest distance found, to the other pieces' too (the nearest
     point may lie across a piece's end)."""
     from ruled.core.distance import to_lines
     pts = np.concatenate(per)
-    own = np.concatenate([np.full(len(c), q.piece) for c, q in zip(per, res.patches)])
+    patches = res.patches if patch_of is None else [res.patches[i] for i in patch_of]
+    own = np.concatenate([np.full(len(c), q.piece) for c, q in zip(per, patches)])
     d = np.empty(len(pts))
     for k, piece in enumerate(res.pieces):
         m = own == k

@@ -10,24 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ruled.core.errors import BadInputError
+from ruled.core.errors import BadInputError, Text
 from ruled.core.knots import clamp_segment
 from ruled.core.nurbs import Curve, Surface
 from ruled.core.region import crossings_odd
 from ruled.fit.trim import loop_polylines
 
 PER_CURVE = 129     # samples of each trim curve for its s-range and the inside test
-
-
-def trim_polygons(trim) -> list:
-    """The trim's loops as closed polylines (N, 2) in R's (s, t): the outer loop first, then the holes."""
-    return loop_polylines((trim.outer,) + tuple(trim.holes), PER_CURVE)
-
-
-def s_range(trim) -> tuple:
-    """The s-range of R's rulings that meet the face (the outer loop's extent in s)."""
-    P = trim_polygons(trim)[0]
-    return float(P[:, 0].min()), float(P[:, 0].max())
 
 
 def inside_trim(polygons: list, st: np.ndarray) -> np.ndarray:
@@ -54,4 +43,68 @@ def ruling_span(R: Surface, a: float, b: float) -> Surface:
     return Surface(np.stack([c.poles for c in rails], axis=1), rails[0].knots, R.knots_v, R.degree_u, 1, w)
 
 
-__all__ = ["inside_trim", "ruling_span", "s_range", "trim_polygons"]
+def trimmed_lines(R: Surface, loops) -> tuple:
+    """What a machine sweeps of a result trimmed by the face's edges, for every host: (R over the s-range of
+    the rulings that cross the face, keep), keep(s, f) -> bool (N,): whether the points at the ruling s and
+    the fraction f (0 to 1) between R's rails lie in the face.  loops: the face's boundary on R, in R's
+    (s, t), as loops of 2D curves (the outer loop first, then the holes: a Trim's outer and holes, or a host
+    face's pcurves on R)."""
+    polygons = loop_polylines(tuple(loops), PER_CURVE)
+    span = ruling_span(R, *s_extent(tuple(loops)[0]))
+    t0, t1 = R.domain[2:]
+
+    def keep(s, f):
+        return inside_trim(polygons, np.stack([s, t0 + np.asarray(f) * (t1 - t0)], axis=1))
+    return span, keep
+
+
+def s_extent(loop) -> tuple:
+    """The smallest and largest s of a loop of 2D curves (s, t): each curve sampled, its extreme samples refined
+    by golden-section searches between their neighbours, so that the same curves however parametrized (a
+    host's pcurves read back from its face) give the same range to round-off."""
+    from ruled.core.nearest import golden
+    lo, hi = np.inf, -np.inf
+    for c in loop:
+        a, b = c.domain
+        x = np.linspace(a, b, PER_CURVE)
+        s = c(x)[:, 0]
+        for sign, k in ((1.0, int(np.argmin(s))), (-1.0, int(np.argmax(s)))):
+            left, right = x[max(k - 1, 0)], x[min(k + 1, len(x) - 1)]
+            _, f = golden(lambda y, sign=sign: sign * c(np.clip(y, a, b))[:, 0], np.array([left]), np.array([right]),
+                          60)
+            v = min(sign * float(f[0]), float(s[k])) if sign > 0 else max(sign * float(f[0]), float(s[k]))
+            lo, hi = (min(lo, v), hi) if sign > 0 else (lo, max(hi, v))
+    return float(lo), float(hi)
+
+
+def along_tool(path, keep):
+    """keep (trimmed_lines) as the flank tool's envelope measure asks it: (s, f), f the fraction along the tool
+    from its tip (at the second rail where the path says so)."""
+    if not path.stats.get("tip_at_t1"):
+        return keep
+
+    def from_tip(s, f):
+        return keep(s, 1.0 - np.asarray(f))
+    return from_tip
+
+
+def figure(bound: float, measured=None) -> str:
+    """A fit's figures in a few words, for a warning that compares two fits."""
+    return f"bound {bound:.4g}" + ("" if measured is None else f", measured {measured:.4g}")
+
+
+def fallback_warning(mode: str, pinned: str, why, trimmed: str) -> Text:
+    """The warning of every host when a result trimmed by the face's edges cannot be machined and the path
+    follows the fit pinned to the face's corners instead: both fits' figures (see figure) and why."""
+    what = "wire" if mode == "xyuv" else "tool"
+    return Text(f"the {what} follows the corner-pinned fit ({pinned}), not the fit shown: the trimmed fit's rulings "
+                f"cannot be machined ({getattr(why, 'template', why)}); the trimmed fit is {trimmed}")
+
+
+def swapped(c: Curve) -> Curve:
+    """A 2D curve with its coordinates swapped: a pcurve in (u, v) as one in (v, u)."""
+    return Curve(c.poles[:, ::-1].copy(), c.knots, c.degree, c.weights)
+
+
+__all__ = ["along_tool", "fallback_warning", "figure", "inside_trim", "ruling_span", "s_extent", "swapped",
+           "trimmed_lines"]

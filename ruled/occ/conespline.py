@@ -30,6 +30,12 @@ class FaceCone:
     fit: Any = None                # the ruled fit (FitResult) when the face was fitted first
     warnings: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
+    fitted: Any = None             # that fit as 'ruled fit' returns it (ruled.jobs.face.FaceFit), when given
+
+    @property
+    def bound(self) -> float:
+        """The certified bound against the face: the cone spline's (eq. 9), plus the fit's when it was fitted."""
+        return float(self.result.bound) + (0.0 if self.fitted is None else float(self.fitted.bound))
 
 
 def cone_faces(res: ConeSpline) -> list:
@@ -56,14 +62,15 @@ def _ruling_points(res: ConeSpline, n: int) -> np.ndarray:
     return np.concatenate(pts)
 
 
-def _to_ruled(res: ConeSpline, faces, n: int):
+def _to_ruled(res: ConeSpline, faces, n: int, patch_of=None):
     """Samples of the patches (OCCT) and their exact distances to the ruled surface between the planes
     (ruled.cone.report.to_ruled)."""
     from ruled.cone.report import to_ruled
-    return to_ruled(res, [face_points(f, n) for f in faces])
+    return to_ruled(res, [face_points(f, n) for f in faces], patch_of)
 
 
-def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_face: bool = False) -> dict:
+def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_face: bool = False,
+                 patch_of=None) -> dict:
     """Independent distances (no fitting code is used):
     design_to_cone: samples of the design face (OCCT; the ruled surface's rulings when no face is
     given) to the nearest patch by OCCT projection; cone_to_ruled: samples of the patches to the ruled
@@ -74,7 +81,7 @@ def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_fa
     fs = FaceSet(faces)
     design = sample_faces([design_face], n) if design_face is not None else _ruling_points(res, n)
     d_dc = fs.distances(design)
-    cone_pts, d_cr = _to_ruled(res, faces, max(8, n // 2))
+    cone_pts, d_cr = _to_ruled(res, faces, max(8, n // 2), patch_of)
     out = {"design_to_cone": float(d_dc.max()), "cone_to_ruled": float(d_cr.max()), "cone_to_design": None,
            "samples": int(design.shape[0] + cone_pts.shape[0])}
     if exact_face and design_face is not None:
@@ -86,35 +93,32 @@ def measure_cone(res: ConeSpline, faces, design_face=None, n: int = 24, exact_fa
     return out
 
 
-def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto", fit: bool = False,
-                 fit_options=None, progress: Progress = None, measure_samples: Optional[int] = 24,
-                 **kw) -> FaceCone:
-    """The cone spline of a ruled face within tol; with fit, the face is first fitted by a ruled
-    surface (ruled.fit.fit2d) and the cone spline approximates that fit (its error adds to the fit's)."""
+def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto", progress: Progress = None,
+                 measure_samples: Optional[int] = 24, **kw) -> FaceCone:
+    """The cone spline of a ruled face within tol (a face that is not ruled: fit it first, and cone-spline the
+    fit: ruled.jobs.cone.cone_job, or cone_of_fit)."""
     t0 = time.perf_counter()
     S = face_to_container(face)
     warnings = []
     kind = face_surface_type(face)
     if kind != "bspline":
         warnings.append(f"the face is a {kind}; it is taken as its exact B-spline conversion")
-    fitted = None
-    if fit:
-        from ruled.fit.options import FitOptions
-        from ruled.occ.region import fit_face
-        fitted, _ = fit_face(face, fit_options or FitOptions(), progress, S=S)
-        warnings += list(fitted.patch.warnings)
-        S = fitted.surface
-    else:
-        from ruled.fit.facefit import face_patch
-        from ruled.occ.region import face_region
-        patch = face_patch(face_region(face, S))
-        if not patch.identity:
-            warnings.append(f"the face is trimmed: its own four-sided patch (within {patch.deviation:.3g} of it) "
-                            f"is cone-splined")
-            S = patch.surface
+    from ruled.fit.facefit import face_patch
+    from ruled.occ.region import face_region
+    patch = face_patch(face_region(face, S))
+    if not patch.identity:
+        warnings.append(f"the face is trimmed: its own four-sided patch (within {patch.deviation:.3g} of it) "
+                        f"is cone-splined")
+        S = patch.surface
     res = cone_spline_of_surface(S, tol, step, direction=direction, progress=progress, **kw)
+    return _built(face, res, cone_faces(res), None, warnings, progress, measure_samples, t0,
+                  all(p.planar_boundaries for p in res.pieces))
+
+
+def _built(face, res: ConeSpline, faces: list, patch_of, warnings: list, progress, measure_samples, t0: float,
+           exact: bool, fitted=None) -> FaceCone:
+    """The patches sewn and measured against the face (exact: they span it, so both ways) as a FaceCone."""
     t1 = time.perf_counter()
-    faces = cone_faces(res)
     shell, valid = sew(faces)
     if not valid:
         warnings.append("OCCT reports the sewn shell as not valid; the faces are exported as they are")
@@ -122,19 +126,49 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
     if measure_samples:
         if progress is not None:
             progress("measuring (OCCT)", 0.0)
-        exact = (not fit) and all(p.planar_boundaries for p in res.pieces)
-        meas = measure_cone(res, faces, face, measure_samples, exact_face=exact)
-    if fitted is not None:
-        warnings.append(f"the cone spline approximates the ruled fit (certified {fitted.error_bound:.4g}); "
-                        f"its distance to the design face is measured, not certified")
-    if res.notes:
-        warnings += res.notes
-    if res.max_g1_deg > 1.0:
-        warnings.append(f"neighbouring patches meet at up to {res.max_g1_deg:.3g} deg (not tangent continuous): the "
-                        f"surface twists so much that patches collapse to triangles without the §5 extension")
-    return FaceCone(res, faces, shell, meas, fitted, warnings,
+        meas = measure_cone(res, faces, face, measure_samples, exact_face=exact, patch_of=patch_of)
+    return FaceCone(res, faces, shell, meas, None if fitted is None else fitted.fit, warnings + _notes(res),
                     {"fit": res.timings["fit"], "build": time.perf_counter() - t1,
-                     "measure": meas["seconds"] if meas else 0.0, "total": time.perf_counter() - t0})
+                     "measure": meas["seconds"] if meas else 0.0, "total": time.perf_counter() - t0}, fitted)
+
+
+def _notes(res: ConeSpline) -> list:
+    """What the cone spline itself says (its notes; patches that are not tangent continuous)."""
+    out = list(res.notes)
+    if res.max_g1_deg > 1.0:
+        out.append(f"neighbouring patches meet at up to {res.max_g1_deg:.3g} deg (not tangent continuous): the "
+                   f"surface twists so much that patches collapse to triangles without the §5 extension")
+    return out
+
+
+def trimmed_cone_faces(res: ConeSpline, R, trim) -> tuple:
+    """The cone spline res of a result R trimmed by the face's edges (trim: ruled.fit.trim.Trim), each patch
+    bounded by the face's boundary carried onto it (ruled.cone.trim): (one face per region of a patch, the
+    patch of each)."""
+    from ruled.cone.trim import trimmed_patches
+    from ruled.occ.trimmed import trimmed_face
+    regions = trimmed_patches(res, R, trim)
+    return [trimmed_face(res.patches[r.patch].surface, r.trim()) for r in regions], [r.patch for r in regions]
+
+
+def cone_of_fit(face, fitted, tol: float, step: float = 0.1, *, direction: str = "auto", progress: Progress = None,
+                measure_samples: Optional[int] = 24, **kw) -> FaceCone:
+    """The cone spline of a face's fit as 'ruled fit' returns it (fitted: ruled.jobs.face.FaceFit): a result
+    trimmed by the face's edges is cone-splined between its rails over the rulings that cross the face and
+    each patch trimmed by the face's edges like the fit (trimmed_cone_faces), measured against the face
+    as bounded by its edges, both ways; an untrimmed one as it is (its patches against its rulings)."""
+    t0 = time.perf_counter()
+    res_fit = fitted.fit
+    warnings = list(fitted.warnings)
+    trim = res_fit.best.trim
+    R = res_fit.surface
+    if trim is not None:
+        from ruled.machine.trimmed import trimmed_lines
+        direction = "v"                      # a trimmed result's rulings run along v
+        R = trimmed_lines(R, (trim.outer,) + tuple(trim.holes))[0]
+    res = cone_spline_of_surface(R, tol, step, direction=direction, progress=progress, **kw)
+    faces, patch_of = (cone_faces(res), None) if trim is None else trimmed_cone_faces(res, R, trim)
+    return _built(face, res, faces, patch_of, warnings, progress, measure_samples, t0, trim is not None, fitted)
 
 
 def check_tolerance(tol) -> float:

@@ -87,6 +87,7 @@ def machine_of_patches(faces: list, names: list, opts: MachineOptions, progress=
     them) as one: one ruled surface through them all (ruled.machine.chain), one path over it, measured against
     that surface; the report adds each patch's taper and twist."""
     from ruled.machine.chain import join_patches, patch_figures
+    faces, names = _whole_patches(faces, names)
     Ss = [face_to_container(f) for f in faces]
     Rs = [given_ruled(S) for S in Ss]
     slack = max(conversion_slack(f, S) for f, S in zip(faces, Ss))
@@ -99,6 +100,33 @@ def machine_of_patches(faces: list, names: list, opts: MachineOptions, progress=
                             zip(names, patch_figures(R, fm.path.frame.axis if fm.path.frame is not None
                                                      else fm.path.axes.mean(axis=0), len(faces)))]
     return fm
+
+
+def _whole_patches(faces: list, names: list) -> tuple:
+    """Ruled patches trimmed by a face's edges (a cone spline of a fit trimmed like it: 'ruled cone --fit') as
+    their whole patches, plane to plane, each once: the wire sweeps the patch's generators, of which the
+    trimmed face is the part over the design face."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.TopoDS import TopoDS
+
+    from ruled.occ.region import rect_area_ratio
+    out_f: list = []
+    out_n: list = []
+    last = None
+    for f, nm in zip(faces, names):
+        if rect_area_ratio(f) < 1.0 - 1e-3:
+            surf = BRep_Tool.Surface_s(f)
+            poles = np.array([surf.Pole(i, j).Coord() for i in range(1, surf.NbUPoles() + 1)
+                              for j in range(1, surf.NbVPoles() + 1)]) if hasattr(surf, "NbUPoles") else None
+            if poles is not None and last is not None and poles.shape == last.shape and np.array_equal(poles, last):
+                continue                    # the same patch again (the face crosses it twice)
+            last = poles
+            u0, u1, v0, v1 = surf.Bounds()
+            f = TopoDS.Face_s(BRepBuilderAPI_MakeFace(surf, u0, u1, v0, v1, 1e-7).Face().Oriented(f.Orientation()))
+        out_f.append(f)
+        out_n.append(nm)
+    return out_f, out_n
 
 
 def measure_cut(target, path: MachinePath, n: int = 30, keep=None) -> dict:
@@ -119,15 +147,18 @@ def measure_cut(target, path: MachinePath, n: int = 30, keep=None) -> dict:
 
 def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOptions(), progress=None,
                     measure_samples: Optional[int] = 30, side: float = 1.0, fit: Optional[FitResult] = None,
-                    warnings: Optional[list] = None, given: bool = False, rails=None) -> FaceMachine:
+                    warnings: Optional[list] = None, given: bool = False, rails=None, job=None) -> FaceMachine:
     """Fit the face (unless a fit is given, or the face is a ruled result itself: given=True), make the
     machine path on the side `side` (+1: the face's outside) and measure it.  measure_samples=None
-    skips the OCCT measures."""
+    skips the OCCT measures.  job: the face's fit as ``ruled fit`` returns it (ruled.jobs.face.FaceFit: its
+    result, built face, certified bound and measure), which the path then follows (ruled.jobs.machine)."""
     opts = opts.checked()
     t0 = time.perf_counter()
     S = face_to_container(face)
     slack = conversion_slack(face, S)
-    if not given and fit is None:
+    if job is not None:
+        fit = job.fit
+    elif not given and fit is None:
         fit, slack = fit_face(face, fit_options.checked(), progress, rails, S)
     res = None if given else fit
     R = given_ruled(S) if given else res.surface
@@ -135,12 +166,8 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     keep = None
     if trim is not None:
         # the rulings that cross the face, plane to plane; what they cut of it is where they lie in the trim
-        from ruled.machine.trimmed import inside_trim, ruling_span, s_range, trim_polygons
-        R = ruling_span(R, *s_range(trim))
-        polygons = trim_polygons(trim)
-
-        def keep(s, t):
-            return inside_trim(polygons, np.stack([s, t], axis=1))
+        from ruled.machine.trimmed import trimmed_lines
+        R, keep = trimmed_lines(R, (trim.outer,) + tuple(trim.holes))
     if res is not None and res.patch is not None:
         S = res.patch.surface       # the face as bounded by its edges (its own four-sided or extended patch)
         warnings = list(warnings or []) + [w for w in res.patch.warnings if w not in (warnings or [])]
@@ -148,7 +175,8 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
     t1 = time.perf_counter()
     path = machine_path(R, S, opts, out_side, progress)
     t2 = time.perf_counter()
-    out_face = face if given else (container_to_face(R) if trim is None else result_face(res))
+    out_face = job.face if job is not None else face if given else \
+        (container_to_face(R) if trim is None else result_face(res))
     if given:
         fit_rep: dict = {"method": "given (the face is a ruled result)", "direction": "v" if S.degree_v == 1 else "u",
                    "closed": bool(R.periodic_u), "error_bound": slack, "notes": []}
@@ -158,7 +186,9 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
         if res.patch is not None:
             from ruled.fit.report import region_report
             fit_rep["region"] = region_report(res)
-        if trim is not None:
+        if job is not None:
+            fit_rep["error_bound"] = job.bound
+        elif trim is not None:
             fit_rep["error_bound"] += built_slack(out_face, res)
     rep = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
     if trim is not None:
@@ -167,7 +197,8 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
                        "trimmed by the face's edges)", "s_range": list(R.domain[:2])}
     warns = list(warnings or []) + list(path.warnings)
     if measure_samples:
-        h = hausdorff(face, out_face, measure_samples)
+        h = job.hausdorff if job is not None and job.hausdorff is not None else \
+            hausdorff(face, out_face, measure_samples)
         rep["fit"]["measured"] = h.max
         if opts.mode == "xyuv":
             target = face if opts.kerf == 0 else offset_face(face, out_side * outward(face) * opts.kerf)
@@ -179,18 +210,14 @@ def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOpt
             c = measure_cut(target, path, measure_samples, keep)
             fit_err = max(h.max, c["fit_on_the_same_lines"])
             rep["fit"].update(measured=fit_err, measured_grid=h.max)     # the grid alone can miss narrow peaks
+            # certified: the fit's bound, and what the path adds (the chords, the kerf offset's deviation)
             rep["cut"] = {"against": "the face" if opts.kerf == 0 else f"the face offset by the kerf {opts.kerf:g}",
-                          **c, "fit_error": fit_err, "bound": fit_err + path.stats["cut_bound_beyond_fit"]}
+                          **c, "fit_error": fit_err, "fit_bound": fit_rep["error_bound"],
+                          "bound": max(fit_rep["error_bound"], fit_err) + path.stats["cut_bound_beyond_fit"]}
         else:
-            along = keep
-            if keep is not None:
-                t0, t1 = R.domain[2:]
-                if path.stats.get("tip_at_t1"):
-                    t0, t1 = t1, t0
-
-                def along(s, f):        # f: the fraction along the tool from its tip
-                    return keep(s, t0 + f * (t1 - t0))
-            env = tool_envelope(S, out_side, path, progress=progress, keep=along)
+            from ruled.machine.trimmed import along_tool
+            env = tool_envelope(S, out_side, path, progress=progress,
+                                keep=None if keep is None else along_tool(path, keep))
             if keep is not None:
                 env["against"] = "the face as bounded by its edges (the tool where it lies over the face's trim)"
             env["bound_cl"] = h.max + path.offset_deviation

@@ -198,6 +198,7 @@ class FaceSplit:
     checks: dict               # name -> SplitCheck
     timings: dict
     warnings: list = field(default_factory=list)
+    deviation: float = 0.0     # how far the surface split (the face's four-sided patch) is from the face
 
     def edge_bounds(self) -> dict:
         """name -> how far its split faces' edges are from the exact split curve (certified)."""
@@ -235,7 +236,7 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
 
     from ruled.split.partition import SplitOptions, split_face
     t0 = time.perf_counter()
-    S, warnings = face_patch_surface(face)
+    S, warnings, dev = face_patch_surface(face, deviation=True)
     res = split_face(S, opts or SplitOptions(), progress)
     t1 = time.perf_counter()
     faces, fits, measured, checks = {}, {}, {}, {}
@@ -247,7 +248,7 @@ def split_of_face(face, opts=None, progress=None, measure_samples: int = 30) -> 
     chosen = min(measured, key=lambda k: max(m["max"] for m in measured[k]))
     return FaceSplit(res, chosen, faces, fits, measured, checks,
                      {**res.timings, "faces_and_measure": time.perf_counter() - t1, "total": time.perf_counter() - t0},
-                     warnings)
+                     warnings, dev)
 
 
 @dataclass
@@ -273,9 +274,10 @@ def partition_of_face(face, tol: float, opts=None, progress=None, measure_sample
     return FacePartition(p, sf, ck, fits, meas, warnings)
 
 
-def face_patch_surface(face):
+def face_patch_surface(face, deviation: bool = False):
     """The surface a split works on: the face's own surface when the face is its whole (u, v) rectangle,
-    else its four-sided patch (ruled.fit.facefit); and the warnings to show."""
+    else its four-sided patch (ruled.fit.facefit); and the warnings to show (and, with deviation, how far
+    that surface is from the face as bounded by its edges)."""
     from ruled.fit.facefit import face_patch
     from ruled.occ.convert import face_to_container
     from ruled.occ.region import face_region
@@ -285,4 +287,4 @@ def face_patch_surface(face):
     if not patch.identity:
         warnings.append(f"the face is trimmed: it is split as its own four-sided patch, a B-spline within "
                         f"{patch.deviation:.3g} of it (the split faces lie on that patch)")
-    return patch.surface, warnings
+    return (patch.surface, warnings, float(patch.deviation)) if deviation else (patch.surface, warnings)

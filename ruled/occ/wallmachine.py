@@ -98,8 +98,8 @@ def machine_of_wall(fit: WallFit, opts, side: float = 1.0, start: Optional[tuple
         rep["cut"] = measure_wall_cut(wall, path, opts.kerf, measure_samples)
         fit_err = rep["fit"].get("measured", fit.error_bound)
         fillet = path.stats["inside_corner_fillet"]
-        rep["cut"].update(fit_error=fit_err, inside_corner_fillet=fillet,
-                          bound=fit_err + path.stats["cut_bound_beyond_fit"] + fillet)
+        rep["cut"].update(fit_error=fit_err, fit_bound=fit.error_bound, inside_corner_fillet=fillet,
+                          bound=max(fit.error_bound, fit_err) + path.stats["cut_bound_beyond_fit"] + fillet)
     elif measure_samples:
         from ruled.machine.envelope import tool_envelope
         env = tool_envelope(wall.surface, sign, path, progress=progress)

@@ -159,12 +159,12 @@ def test_fit_then_cone_in_one_call():
     the face is within the fit's bound plus the cone tolerance of the patches."""
     from cases import bumped_cone
 
-    from ruled.occ.conespline import cone_of_face
+    from ruled.jobs.cone import cone_job
     from ruled.occ.convert import container_to_face
     face = container_to_face(bumped_cone())
     with pytest.raises(BadInputError, match="not ruled"):
-        cone_of_face(face, 0.01)
-    fc = cone_of_face(face, 0.01, fit=True, measure_samples=24)
+        cone_job(face, 0.01)
+    fc = cone_job(face, 0.01, fit=True, measure_samples=24)
     assert fc.fit is not None and fc.result.bound <= 0.01
     to_patches = FaceSet(fc.faces)
     d = max(to_patches.distance(x) for x in sample_faces([face], 24))
@@ -214,7 +214,7 @@ def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
     refused unless creases are allowed; then every point of the face is within the fit's bound plus
     the tolerance of the patches."""
     from ruled.examples import elber_ex2
-    from ruled.occ.conespline import cone_of_face
+    from ruled.jobs.cone import cone_job
     from ruled.occ.convert import container_to_face
     face = container_to_face(elber_ex2())
     with pytest.raises(BadInputError, match=(
@@ -224,11 +224,11 @@ def test_fit_then_cone_of_a_twisted_face_is_split_and_within_tolerance():
             r"tolerance above it that works is about [0-9.e-]+ \(tried: tol=[0-9.e-]+\)|no tolerance up to the "
             r"face's size \([0-9.]+\) gives a cone spline: split the face where the surface twists \(ruled split\))"
             r", or pass allow_creases=True to keep the creases$")) as exc:
-        cone_of_face(face, 0.05, fit=True, measure_samples=None)
+        cone_job(face, 0.05, fit=True, measure_samples=None)
     assert "--" not in str(exc.value)                  # Python's terms: no command-line flags
     from ruled.cli.common import cli_text
     assert cli_text(exc.value).endswith(", or pass --allow-creases to keep the creases")
-    fc = cone_of_face(face, 0.05, fit=True, measure_samples=None, allow_creases=True)
+    fc = cone_job(face, 0.05, fit=True, measure_samples=None, allow_creases=True)
     assert len(fc.result.pieces) >= 2 and fc.result.bound <= 0.05
     _check_patches(fc.faces, [p.piece for p in fc.result.patches])
     to_patches = FaceSet(fc.faces)
@@ -316,11 +316,13 @@ def test_kj66_blades_at_5x_the_fit_error_are_cone_splined_tangent_smooth_in_each
     extension, whose collapsed patches met at up to 180 deg.)"""
     from conftest import data_file
 
-    from ruled.occ.conespline import cone_of_face
+    from ruled.fit.options import FitOptions
+    from ruled.jobs.cone import cone_job
     from ruled.occ.io import get_face
     tol = KJ66_TOL[index]
     design = get_face(data_file("kj66_impeller.step"), index)
-    fc = cone_of_face(design, tol, fit=True, measure_samples=None)
+    # the fit pinned to the face's corners (its rails the face's sides; the trimmed one: the test below)
+    fc = cone_job(design, tol, fit=True, fit_options=FitOptions(ends="pinned"), measure_samples=None)
     res = fc.result
     assert res.bound <= tol
     assert _check_patches(fc.faces, [p.piece for p in res.patches]) <= 1e-6
@@ -361,3 +363,38 @@ def test_a_tolerance_needing_too_many_arcs_is_refused_as_soon_as_the_pace_shows_
     m = re.fullmatch(r"more than 10000 fat conic arcs would be needed within 0.0001 \(200 arcs cover ([0-9.]+)% of "
                      r"the boundaries\)", str(err.value))
     assert m and float(m.group(1)) < 100 * 200 / 15000, str(err.value)
+
+
+@pytest.mark.slow
+def test_the_cone_spline_of_a_trimmed_fit_is_trimmed_like_it(tmp_path):
+    """Issue 55: 'ruled cone --fit' on kj66 face 6 at 0.05 cone-splines the fit 'ruled fit' returns (trimmed by
+    the face's edges): the fit part of its bound is that fit's bound, its patches are trimmed by the face's
+    edges (their area within 1 % of the face's), and the face and the patches are within the bound of each
+    other both ways (OCCT here, from the STEP files).  ruled.cq with the RuledFit gives the same figures."""
+    from conftest import data_file
+
+    import ruled.cq as rcq
+    from ruled.occ.io import face_area, faces_of, get_face, read_shape
+    src = data_file("kj66_impeller.step")
+    fit_rep, cone_rep = tmp_path / "fit.json", tmp_path / "cone.json"
+    r = ruled_here("fit", src, "--face", "6", "-o", str(tmp_path / "fit.step"), "--report", str(fit_rep), "--quiet")
+    assert r.returncode == 0, r.stderr
+    out = str(tmp_path / "cone.step")
+    r = ruled_here("cone", src, "--face", "6", "--fit", "--tol", "0.05", "-o", out, "--report", str(cone_rep),
+                   "--quiet")
+    assert r.returncode == 0, r.stderr
+    fit, cone = json.loads(fit_rep.read_text()), json.loads(cone_rep.read_text())
+    assert cone["fit"]["trimmed"] and cone["fit"]["error_bound"] == pytest.approx(fit["error_bound"], rel=1e-12)
+    assert cone["bound"] == pytest.approx(cone["error_bound"] + fit["error_bound"], rel=1e-12)
+    face, patches = get_face(src, 6), faces_of(read_shape(out))
+    ratio = sum(face_area(p, 1e-6) for p in patches) / face_area(face, 1e-6)
+    assert abs(ratio - 1.0) <= 0.01, ratio
+    to_patches = float(FaceSet(patches).distances(sample_faces([face], 40)).max())
+    to_face = float(FaceSet([face]).distances(sample_faces(patches, 12)).max())
+    assert max(to_patches, to_face) <= cone["bound"], (to_patches, to_face, cone["bound"])
+    assert cone["hausdorff"] <= cone["bound"]
+    f = rcq.fit_face(face, measure_samples=12)
+    cs = rcq.cone_spline_face(face, 0.05, fit=f, measure_samples=10)
+    assert cs.bound == pytest.approx(cs.result.bound + f.error_bound, rel=1e-12) and len(cs.faces) == len(patches)
+    print(f"kj66 face 6 at 0.05: {len(patches)} trimmed patches, bound {cone['bound']:.4g} (fit "
+          f"{fit['error_bound']:.4g}), measured {to_patches:.4g} / {to_face:.4g}, area ratio {ratio:.4f}")

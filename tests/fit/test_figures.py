@@ -111,7 +111,7 @@ def test_the_measure_finds_the_boundary_where_an_edge_races_past_its_samples(tmp
     from conftest import data_file
     from scipy.spatial import cKDTree
 
-    from ruled.cli.fit import run_fit
+    from ruled.jobs.face import run_fit
     from ruled.occ.io import get_face
     from ruled.occ.measure import face_points
     path = data_file("kj66_impeller.step")
@@ -328,7 +328,7 @@ def test_a_best_fit_whose_figures_disagree_gives_way_to_the_next_candidate(tmp_p
     assert run.returncode == 0 and os.path.exists(out), run.stderr
     r = json.load(open(rep))
     assert r["direction"] == "v" and r["hausdorff"]["max"] <= r["error_bound"], r
-    assert "the fit with the lowest bound (2d along u) was not returned: face 0: the result's measured distance" \
+    assert "the fit with the lowest bound (2d along u) was not returned: the result's measured distance" \
         in run.stderr and "the next candidate (2d along v" in run.stderr, run.stderr
     fit = rcq.fit_face(face, samples=fz.SAMPLES, measure_samples=fz.SAMPLES)
     assert fit.result.direction == "v" and fit.hausdorff.max <= fit.error_bound

@@ -112,12 +112,12 @@ def test_max_objective_and_constraint(tmp_path):
 
 @pytest.mark.slow
 def test_ruled_fit_on_every_bspline_face_of_the_impeller(tmp_path):
-    """The `ruled fit` job (ruled.cli.fit.run_fit, in process) on a sample of the 48 B-spline faces (every
+    """The `ruled fit` job (ruled.jobs.face.run_fit, in process) on a sample of the 48 B-spline faces (every
     sixth, and the closed hub face 87; the nine blades repeat each other, and tests/test_trimmed.py fits
     faces 0-20 of the first ones): the bound holds against the bounded face."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
 
-    from ruled.cli.fit import run_fit
+    from ruled.jobs.face import run_fit
     path = data_file("kj66_impeller.step")
     faces = faces_of(read_shape(path))
     bspline = [i for i, f in enumerate(faces) if BRepAdaptor_Surface(f).GetType().name == "GeomAbs_BSplineSurface"]

@@ -3,6 +3,7 @@ spline" and "Curve on face" from their toolbar entries through their task panels
 a cone), undo, the export panel writing G-code, APT and a STEP for CAM, the preferences page; with
 RULED_GUI_PHASE=restart, a second start that reads back what the export panel remembered.  Writes
 commands.json (restart.json) and pictures to $RULED_GUI_OUT; ends with os._exit."""
+import json
 import math
 import os
 import sys
@@ -282,12 +283,31 @@ def main():
     sel.clearSelection()
     res["curve_shot"] = shoot("ruled_curve.png")
 
+    # Export for machining of a fit trimmed by its face's edges along an axis a ruling of it nearly lies across
+    # (and none of its pinned fit's): the panel writes the pinned fit's path and stays open, saying so with
+    # both figures (issue 55)
+    fb = make_ruled_fit(doc, imp, "Face9", MeasureSamples=0)
+    doc.recompute()
+    sel.clearSelection()
+    sel.addSelection(fb)
+    toolbar_run("Ruled_Export")
+    ep = exportpanel.ACTIVE
+    ep.format.setCurrentIndex(ep.kinds.index("xyuv"))
+    ep.path.setText(os.path.join(OUT, "fallback.ngc"))
+    exportpanel._put(ep.widgets["Axis"], "0.3864, -0.7174, 0.5798")
+    accepted = ep.accept()
+    FreeCADGui.updateGui()
+    res["fallback"] = {"ok": accepted, "text": ep.result.text(), "open": exportpanel.ACTIVE is ep,
+                       "exists": os.path.exists(os.path.join(OUT, "fallback.ngc")), "bound": value(fb.ErrorBound),
+                       "shot": grab(mw, "ruled_export_fallback.png")}
+    ep.reject()
+    doc.removeObject(fb.Name)       # (the reopened document's figures are compared below for the others)
     # Export for machining: one panel, the files the command line writes with the same settings
     mfit = make_ruled_fit(doc, imp, "Face7", MeasureSamples=0)      # the defaults: 2d, 40 samples
     doc.recompute()
     exports = {}
     for fmt, path, settings in (
-            ("xyuv", os.path.join(OUT, "panel_wire.ngc"), {"Units": "inch", "ChordTol": 0.01, "Kerf": 0.1,
+            ("xyuv", os.path.join(OUT, "panel_wire.ngc"), {"Axis": "", "Units": "inch", "ChordTol": 0.01, "Kerf": 0.1,
                                                       "Side": "outside", "Planes": "", "Lead": 2.0, "Feed": 50.0,
                                                       "CamStep": True}),
             ("flank", os.path.join(OUT, "panel_mill.apt"), {"Units": "mm", "ChordTol": 0.01, "ToolRadius": 3.0,
@@ -310,6 +330,10 @@ def main():
                         "shot": shot,
                         "exists": os.path.exists(path), "closed": exportpanel.ACTIVE is None}
     res["export"] = exports
+    # what the panel wrote follows the object's own fit (issue 55): its report's fit figure is the object's
+    with open(os.path.join(OUT, "panel_wire.json")) as fh:
+        res["export_fit"] = {"report": json.load(fh)["fit"]["error_bound"], "object": value(mfit.ErrorBound),
+                             "ends": mfit.EndsUsed}
     res["remembered"] = exportpanel.load_settings()
     page = exportpanel.PreferencesPage()
     page.loadSettings()
@@ -345,6 +369,7 @@ def main():
                      # of a saved document's shapes; see fit_face_gui.py)
                      "same": all(abs(value(o.ErrorBound) - before[o.Name]) <= 1e-5 * max(before[o.Name], 1e-12)
                                  for o in objs),
+                     "bounds": {o.Label: [before[o.Name], value(o.ErrorBound)] for o in objs},
                      "kinds": sorted({type(o.Proxy).__name__ for o in objs}),
                      "view_providers": sorted({type(o.ViewObject.Proxy).__name__ for o in objs})}
 

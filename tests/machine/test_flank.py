@@ -196,9 +196,11 @@ def test_flank_on_a_trimmed_face_reports_the_cut_of_the_face(tmp_path):
     from ruled.occ.io import faces_of, read_shape
     src = data_file("kj66_impeller.step")
     r = 0.05
-    apt, rep, _ = run_cli(tmp_path, src, 6, "--flank", "--tool-radius", str(r), "--ends", "auto", "--samples", "30")
+    apt, rep, _ = run_cli(tmp_path, src, 6, "--flank", "--tool-radius", str(r), "--samples", "30")
     assert "trimmed" in rep["machine"]                  # the rulings that cross the face, past its end edges
     e = rep["tool_envelope"]
+    # issue 55: at its CL points, the tool against the bounded face within the trimmed fit's bound + 1e-5
+    assert max(e["cl_positions"]["overcut"], e["cl_positions"]["undercut"]) <= rep["fit"]["error_bound"] + 1e-5
     assert e["against"].startswith("the face as bounded by its edges")
     tip, axis = parse_apt(apt)
     with open(apt) as fh:
@@ -210,6 +212,14 @@ def test_flank_on_a_trimmed_face_reports_the_cut_of_the_face(tmp_path):
     assert over <= e["with_moves"]["overcut"] * 1.05 + 1e-6
     assert under <= e["with_moves"]["undercut"] + chord
     assert over <= e["bound_moves"] and under <= e["bound_moves"]
+    # the same through ruled.cq from the RuledFit the user has: the tool follows that fit
+    import ruled.cq as rcq
+    face = faces_of(read_shape(src))[6]
+    fit = rcq.fit_face(face, samples=30, measure_samples=12)
+    mill = rcq.flank_face(face, r, fit=fit, measure_samples=12)
+    cl = mill.report["tool_envelope"]["cl_positions"]
+    assert mill.report["fit"]["error_bound"] == fit.error_bound and "trimmed" in mill.report["machine"]
+    assert max(cl["overcut"], cl["undercut"]) <= fit.error_bound + 1e-5, cl
 
 
 def test_the_tool_envelope_counts_only_the_circles_kept():

@@ -73,18 +73,19 @@ def test_xyuv_hyperboloid_kerf(tmp_path, hyp_file):
     assert np.all(np.hypot(lo[:, 0], lo[:, 1]) > 14.0)
 
 
-def _blade_cut(tmp_path, chord, kerf=0.0, name="out"):
-    """kj66 face 6 machined with --ends auto (its trimmed result: rulings that cross its end edges), the
-    G-code replayed through gcodeparser, what the wire cuts measured trim-aware (trim_aware_cut), and the
-    fit's own error (the CAM STEP's trimmed result against the face, both bounded)."""
+def _blade_cut(tmp_path, chord, kerf=0.0, name="out", index=6, every=1):
+    """kj66 face `index` machined at the defaults (its fit as 'ruled fit' returns it: the result trimmed by the
+    face's edges, rulings that cross its end edges), the G-code replayed through gcodeparser, what the wire
+    cuts measured trim-aware (trim_aware_cut), and the fit's own error (the CAM STEP's trimmed result against
+    the face, both bounded)."""
     path = data_file("kj66_impeller.step")
-    args = ["--xyuv", "--ends", "auto", "--chord-tol", str(chord)] + (["--kerf", str(kerf)] if kerf else [])
-    ngc, rep, cam = run_cli(tmp_path, path, 6, *args, name=name)
+    args = ["--xyuv", "--chord-tol", str(chord)] + (["--kerf", str(kerf)] if kerf else [])
+    ngc, rep, cam = run_cli(tmp_path, path, index, *args, name=name)
     parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
     cut = parsed[[k == "cut" for k in kinds]]
-    face = get_face(path, 6)
+    face = get_face(path, index)
     lo, hi = lines_3d(cut, rep)
-    to_swept, d, kept = trim_aware_cut(face, lo, hi, every=1)
+    to_swept, d, kept = trim_aware_cut(face, lo, hi, every=every)
     fit = hausdorff(face, faces_of(read_shape(cam))[0], 30).max
     return rep, cut, cam, to_swept, d, kept, fit
 
@@ -98,8 +99,10 @@ def test_xyuv_blade_sweeps_the_rulings_that_cross_its_end_edges(tmp_path):
     face at the kerf +- (fit + chord)."""
     rep, cut, cam, to_swept, d, kept, fit = _blade_cut(tmp_path, 0.002)
     assert rep["machine"]["trimmed"] and rep["fit"]["region"]["how"].endswith("trimmed by the face's edges")
-    assert fit <= rep["fit"]["error_bound"] and fit < 0.00146       # below the pinned fit's end-edge sagitta
+    assert fit <= rep["fit"]["error_bound"] <= 5e-4     # the trimmed fit's bound (the pinned fit's is 0.00229)
     assert kept > 200 and np.abs(d).max() <= fit * (1 + 1e-3) + 0.002 and to_swept <= fit * (1 + 1e-3) + 0.002
+    bound = rep["fit"]["error_bound"] + 0.002           # the certified cut: the fit's bound + the chord
+    assert rep["cut"]["bound"] == pytest.approx(bound, rel=1e-12) and max(np.abs(d).max(), to_swept) <= bound
     assert trace_deviation(cam, cut, rep) <= 0.002 * (1 + 1e-6)
     assert rep["cut"]["max"] <= rep["cut"]["bound"]
     rep, cut, cam, to_swept, d, kept, fit = _blade_cut(tmp_path, 0.005, kerf=0.005, name="kerf")
@@ -107,6 +110,46 @@ def test_xyuv_blade_sweeps_the_rulings_that_cross_its_end_edges(tmp_path):
     assert np.all(d > 0) and np.abs(d - 0.005).max() <= fit * (1 + 1e-3) + 0.005     # outside, at the kerf
     assert abs(to_swept - 0.005) <= fit * (1 + 1e-3) + 0.005
     assert rep["cut"]["max"] <= rep["cut"]["bound"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("index", [1, 8])
+def test_xyuv_of_the_other_blades_follows_their_trimmed_fits(tmp_path, index):
+    """Issue 55: kj66 faces 1 and 8 at the defaults: the wire follows the fit 'ruled fit' returns (trimmed by
+    the face's edges: bound 0.0019 and 0.0018 against 0.027 pinned), and the lines rebuilt from the G-code lie
+    within its bound + the chord of the bounded face, and the face within that of the lines."""
+    rep, cut, cam, to_swept, d, kept, fit = _blade_cut(tmp_path, 0.002, index=index, every=3)
+    bound = rep["fit"]["error_bound"]
+    assert rep["machine"]["trimmed"] and fit <= bound < 0.0025 and "fallback" not in rep
+    assert kept > 50 and np.abs(d).max() <= bound + 0.002 and to_swept <= bound + 0.002
+
+
+FALLBACK_AXIS = "0.3864,-0.7174,0.5798"   # 88 degrees from a ruling of face 8's trimmed fit, 60 from its pinned one's
+
+
+@pytest.mark.slow
+def test_a_trimmed_fit_that_cannot_be_machined_falls_back_saying_so(tmp_path, capsys):
+    """Issue 55, no silent fallback: along an axis that a ruling of kj66 face 8's trimmed fit (and none of its
+    pinned fit's) nearly lies across, the wire follows the pinned fit, and the command line (stderr and
+    report) and Python (a warning) say so with both fits' figures."""
+    import warnings
+
+    import ruled.cq as rcq
+    path = data_file("kj66_impeller.step")
+    ngc, rep, _ = run_cli(tmp_path, path, 8, "--xyuv", "--axis", FALLBACK_AXIS)
+    fb, err = rep["fallback"], capsys.readouterr().err
+    assert fb["pinned_bound"] > 10 * fb["trimmed_bound"] and rep["fit"]["error_bound"] == fb["pinned_bound"]
+    line = next(ln for ln in err.splitlines() if "corner-pinned" in ln)
+    assert line.startswith(f"ruled: warning: face 8: the wire follows the corner-pinned fit (bound "
+                           f"{fb['pinned_bound']:.4g}, measured {fb['pinned_measured']:.4g})")
+    assert line.endswith(f"the trimmed fit is bound {fb['trimmed_bound']:.4g}, measured {fb['trimmed_measured']:.4g}")
+    assert "degrees from the machine axis" in line and "--axis" in line and rep["warnings"][0] in line
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        md = rcq.xyuv_face(get_face(path, 8), axis=tuple(float(x) for x in FALLBACK_AXIS.split(",")),
+                           measure_samples=10)
+    assert md.report["fallback"]["followed"] == "pinned"
+    assert any(str(w.message).startswith("the wire follows the corner-pinned fit") for w in got)
 
 
 @pytest.mark.slow

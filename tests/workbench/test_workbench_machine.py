@@ -80,3 +80,69 @@ def test_export_for_machining_in_freecadcmd(tmp_path):
     assert os.path.exists(tmp_path / "mill.csv")
     env = json.loads((tmp_path / "mill.json").read_text())["tool_envelope"]["cl_positions"]
     assert 0 < env["overcut"] < 0.3 and 0 < env["undercut"] < 0.3     # the twisted hyperboloid: reported
+
+
+BLADE = """
+import FreeCAD, Part
+from ruled_workbench.features import make_ruled_fit
+from ruled_workbench.commands import export
+doc = FreeCAD.newDocument("B")
+imp = doc.addObject("Part::Feature", "Impeller")
+imp.Shape = Part.read(STEP)
+fit = make_ruled_fit(doc, imp, "Face7", MeasureSamples=12)
+doc.recompute()
+out["fit"] = {"valid": fit.isValid(), "bound": float(fit.ErrorBound), "hausdorff": float(fit.Hausdorff),
+              "trimmed_result": fit.Shape.Faces[0].Area < 0.999 * fit.Shape.Faces[0].Surface.toShape().Area}
+export([fit], os.path.join(TMP, "blade.ngc"), "xyuv", chord_tol=0.002)
+export([fit], os.path.join(TMP, "mill.apt"), "flank", tool_radius=0.05)
+"""
+
+
+def test_export_for_machining_of_a_trimmed_fit_follows_that_fit(tmp_path):
+    """Issue 55: Export for machining of the RuledFit of kj66's Face7 (its result trimmed by the face's edges, as
+    'ruled fit' returns it) follows that result, not the fit pinned to the face's corners: the report's fit is
+    the object's own bound (<= 0.0005, against the pinned fit's 0.0023) with no warning; the G-code, replayed
+    through gcodeparser, sweeps lines within bound + chord of the bounded face and the face within that of the
+    lines (trim-aware, measured with OCCT here); the flank tool's over- and undercut at its CL points against
+    the bounded face are within the bound + 1e-5."""
+    from conftest import data_file, freecad_json
+    from machine_helpers import check_sync, lines_3d, trim_aware_cut
+
+    from ruled.occ.io import get_face
+    step = data_file("kj66_impeller.step")
+    out = freecad_json(f"STEP, TMP = {step!r}, {str(tmp_path)!r}\n" + BLADE, tmp_path, 1200)
+    fit = out["fit"]
+    assert fit["valid"] and fit["trimmed_result"] and 0 < fit["hausdorff"] <= fit["bound"] <= 5e-4, fit
+    rep = json.loads((tmp_path / "blade.json").read_text())
+    assert rep["fit"]["error_bound"] == pytest.approx(fit["bound"], rel=1e-12) and not rep["warnings"], rep
+    parsed, kinds = check_sync(str(tmp_path / "blade.ngc"), str(tmp_path / "blade.csv"))
+    lo, hi = lines_3d(parsed[[k == "cut" for k in kinds]], rep)
+    to_swept, d, kept = trim_aware_cut(get_face(step, 6), lo, hi, every=2)
+    assert kept > 100 and np.abs(d).max() <= fit["bound"] + 0.002 and to_swept <= fit["bound"] + 0.002
+    assert rep["cut"]["max"] <= rep["cut"]["bound"] == pytest.approx(fit["bound"] + 0.002, rel=1e-9)
+    env = json.loads((tmp_path / "mill.json").read_text())
+    cl = env["tool_envelope"]["cl_positions"]
+    assert env["fit"]["error_bound"] == rep["fit"]["error_bound"] and not env["warnings"]
+    assert max(cl["overcut"], cl["undercut"]) <= fit["bound"] + 1e-5, cl
+
+
+FALLBACK_AXIS = "0.3864,-0.7174,0.5798"     # 88 degrees from a ruling of face 8's trimmed fit, 60 from its pinned one's
+
+
+def test_a_trimmed_fit_that_cannot_be_machined_falls_back_saying_so_in_freecad(tmp_path):
+    """Issue 55, no silent fallback: along an axis that a ruling of kj66 Face9's trimmed fit (and none of its
+    pinned fit's) nearly lies across, Export for machining follows the pinned fit, and its warning gives both
+    figures (the report's "warnings" and "fallback")."""
+    from conftest import data_file, freecad_json
+    step = data_file("kj66_impeller.step")
+    body = BLADE.replace('"Face7"', '"Face9"').replace(
+        'export([fit], os.path.join(TMP, "blade.ngc"), "xyuv", chord_tol=0.002)',
+        f'export([fit], os.path.join(TMP, "blade.ngc"), "xyuv", axis={FALLBACK_AXIS!r})').replace(
+        'export([fit], os.path.join(TMP, "mill.apt"), "flank", tool_radius=0.05)', "")
+    out = freecad_json(f"STEP, TMP = {step!r}, {str(tmp_path)!r}\n" + body, tmp_path, 1200)
+    rep = json.loads((tmp_path / "blade.json").read_text())
+    fb, w = rep["fallback"], rep["warnings"][0]
+    assert fb["trimmed_bound"] == pytest.approx(out["fit"]["bound"]) and fb["pinned_bound"] > 5 * fb["trimmed_bound"]
+    assert w.startswith("the wire follows the corner-pinned fit (bound ") and "degrees from the machine axis" in w
+    assert f"the trimmed fit is bound {out['fit']['bound']:.4g}, measured {out['fit']['hausdorff']:.4g}" in w, w
+    assert rep["fit"]["error_bound"] == fb["pinned_bound"]

@@ -248,14 +248,17 @@ for key, o in (("blade", blade), ("cone", exact)):
     out[key] = {"valid": o.isValid(), "status": o.Status, "bound": o.ErrorBound.Value, "hausdorff": o.Hausdorff.Value,
                 "fit_bound": o.FitBound.Value, "patches": o.Patches}
 out["fit_trimmed"] = fit.EndsUsed
+out["fit_bound"] = fit.ErrorBound.Value
+out["area_ratio"] = blade.Shape.Area / imp.Shape.getElement("Face7").Area
 """
 
 
 def test_a_cone_splines_bound_holds_its_measure(tmp_path):
     """The figures of a cone spline agree (issue 38): its Hausdorff, measured against what its ErrorBound
-    bounds, is at most the bound, on the kj66 blade fit's cone spline (the fit trimmed by the face's edges: its
-    surface runs past the face, so the cone spline is made from the fit pinned to the face's corners) and on a
-    cone's face (exact)."""
+    bounds, is at most the bound, on the kj66 blade fit's cone spline and on a cone's face (exact).  Issue 55:
+    the blade's cone spline is made from the RuledFit's own result (trimmed by the face's edges), its patches
+    trimmed like it: its FitBound is the object's ErrorBound, its patches cover the face's area within 1 %, and
+    its Hausdorff is measured against the face both ways."""
     from conftest import data_file, freecad_json
     out = freecad_json(f"STEP = {data_file('kj66_impeller.step')!r}\n" + CONE_FIGURES, tmp_path)
     for key in ("blade", "cone"):
@@ -263,4 +266,6 @@ def test_a_cone_splines_bound_holds_its_measure(tmp_path):
         assert o["valid"] and o["status"] == "ok" and o["patches"] >= 2, (key, o)
         assert 0 < o["hausdorff"] <= o["bound"], (key, o)
     assert "trimmed" in out["fit_trimmed"]
-    assert out["blade"]["fit_bound"] > 0 and out["cone"]["hausdorff"] <= 1e-6
+    assert out["blade"]["fit_bound"] == pytest.approx(out["fit_bound"], rel=1e-12) and out["fit_bound"] < 5e-4
+    assert abs(out["area_ratio"] - 1.0) <= 0.01, out["area_ratio"]
+    assert out["cone"]["hausdorff"] <= 1e-6
