@@ -125,29 +125,36 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     opts = options.checked()
     if patch is not None or opts.ends == Ends.PINNED or opts.method != Method.D2:
         return fit_pinned(region, opts, progress, rails, patch)
-    pinned = why = None
+    lazy = why = None
     if opts.ends == Ends.AUTO:
         try:
-            pinned = fit_pinned(region, opts, progress, rails)
+            lazy = _Pinned(region, opts, progress, rails)
         except BadInputError as exc:        # (no four-sided patch: raised again if nothing else fits)
             why = exc
+    # the pinned fit's figures before its rails are compacted (a lower bound of its final bound: compacting
+    # only raises it) decide where they can; its final, compacted fit is made where it is the result or the
+    # decision needs its final bound
+    pinned = None if lazy is None else lazy.lower
     own = own_patch(region, region_size(region)) if rails is None else None
     if own is not None:
         got, _ = fit_patch(own, opts, progress)
         # within the file's own edge tolerance both are as exact as the file allows: the own surface needs no map
         file_tol = max(region.tolerances, default=0.0)
+        if got is not None and lazy is not None and got.error_bound > max(pinned.error_bound, file_tol):
+            pinned = lazy.final()
         if got is not None and (pinned is None or got.error_bound <= max(pinned.error_bound, file_tol)):
             vs = "" if pinned is None else f" (pinned {pinned.error_bound:.4g})"
             note = (f"the face's own surface is ruled along its iso lines: the result is that surface trimmed by "
                     f"the face's edges, bound {got.error_bound:.4g}{vs}")
             return replace(got, notes=tuple(got.notes) + (note,))
-    if opts.ends == Ends.AUTO and region.holes and pinned is not None:
+    if opts.ends == Ends.AUTO and region.holes and lazy is not None:
         # a trimmed result with holes built an invalid face on a fuzz face (issue 35): asked for only
+        pinned = lazy.final()
         return replace(pinned, notes=tuple(pinned.notes) + (
             "the rulings are pinned to the face's corners: a face with holes is trimmed only when asked "
             "(«ends=trimmed»)",))
     if any(region.seams) or (pinned is not None and pinned.best.closed):
-        return pinned if pinned is not None else fit_pinned(region, opts, progress, rails)    # closed: no ends
+        return lazy.final() if lazy is not None else fit_pinned(region, opts, progress, rails)  # closed: no ends
     # both pairs of opposite sides as rails: the pinned fit's choice is made by the curved end edges'
     # sagitta, which the trimmed result no longer has
     trimmed, reason = fit_trimmed(region, opts, progress, rails, None,
@@ -157,15 +164,20 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
             boxed = fit_box(region, opts, progress, why or reason)
             if boxed is not None:
                 return boxed
-        if pinned is None:
+        if lazy is None:
             if why is not None:
                 raise why
             pinned = fit_pinned(region, opts, progress, rails)
+        else:
+            pinned = lazy.final()
         note = f"the rulings are pinned to the face's corners: {reason}"
         return replace(pinned, notes=tuple(pinned.notes) + (note,))
-    if pinned is None:
+    if lazy is None:
         return trimmed
-    tb, pb = trimmed.error_bound, pinned.error_bound
+    tb = trimmed.error_bound
+    if not tb < pinned.error_bound:         # (below the lower bound, the trimmed fit wins whatever the final)
+        pinned = lazy.final()
+    pb = pinned.error_bound
     won, how = (trimmed, "the rails run past the face, trimmed by its edges") if tb < pb else \
         (pinned, "the rulings are pinned to the face's corners")
     note = f"{how}: bound {min(tb, pb):.4g} (trimmed {tb:.4g}, pinned {pb:.4g})"
@@ -193,17 +205,39 @@ def fit_pinned(region: Region, opts: FitOptions, progress: Progress = None, rail
     """The fit with its end rulings pinned to the face's corners: fit_surface on the face's patch (its own
     surface when it is its whole (u, v) rectangle, else its Coons patch); the result's ``patch`` tells
     the rails, and its bound includes the patch's deviation."""
-    if progress is not None:
-        progress("the face's own parametrization", 0.0)
-    patch = face_patch(region, rails) if patch is None else patch
-    if progress is not None:
-        progress("the face's own parametrization", 1.0)
-    if patch.direction is not None:
-        opts = replace(opts, direction=Direction(patch.direction))
-    res = with_iso(fit_surface(patch.surface, opts, progress), progress)
-    if not patch.identity:          # an untrimmed face keeps today's exact path
-        res = _area_checked(res, patch)
-    return replace(with_deviation(res, patch.deviation), patch=patch)
+    return _Pinned(region, opts, progress, rails, patch, compact=True).lower
+
+
+class _Pinned:
+    """The pinned fit made once, finished twice at most: .lower, from the 2D fit before its rails are compacted
+    (its bounds a lower bound of the final's: compacting raises a bound, by COMPACT of it at most), and
+    .final(), the fit fit_pinned returns (compacted, as fit_surface compacts it), made when asked."""
+
+    def __init__(self, region: Region, opts: FitOptions, progress: Progress = None, rails: Optional[tuple] = None,
+                 patch: Optional[FacePatch] = None, compact: bool = False):
+        if progress is not None:
+            progress("the face's own parametrization", 0.0)
+        self.patch = face_patch(region, rails) if patch is None else patch
+        if progress is not None:
+            progress("the face's own parametrization", 1.0)
+        if self.patch.direction is not None:
+            opts = replace(opts, direction=Direction(self.patch.direction))
+        self.progress = progress
+        self.raw = fit_surface(self.patch.surface, opts, progress, compact=compact)
+        self.lower = self._finished(self.raw)
+        self._final = self.lower if compact or opts.method != Method.D2 else None
+
+    def _finished(self, raw: FitResult) -> FitResult:
+        res = with_iso(raw, self.progress)
+        if not self.patch.identity:          # an untrimmed face keeps today's exact path
+            res = _area_checked(res, self.patch)
+        return replace(with_deviation(res, self.patch.deviation), patch=self.patch)
+
+    def final(self) -> FitResult:
+        if self._final is None:
+            from ruled.fit.fit2d import compacted
+            self._final = self._finished(compacted(self.raw))
+        return self._final
 
 
 FAR = 0.1      # a best ruled surface farther than this fraction of the face's size is no use to a line cut

@@ -392,11 +392,12 @@ def recertify(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf
 
 @one_thread
 def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Progress = None,
-                   cutoff: float = np.inf) -> FitResult:
+                   cutoff: float = np.inf, compact: bool = True) -> FitResult:
     """Globally optimal ruled fit over the sampled boundary points (2D-DP), refined and certified.
     cutoff: a bound some other candidate already has; a fit sampled at or above it is certified from one
-    side only (its bound stays valid, only less tight: it cannot win).  ruled.fit.surface.fit_surface
-    chooses between this and the 4D fit."""
+    side only (its bound stays valid, only less tight: it cannot win).  compact=False: the best's rails are
+    not compacted (compacted(result) does it later, the same way, where the fit is the one returned).
+    ruled.fit.surface.fit_surface chooses between this and the 4D fit."""
     opts = options.checked()
     t0 = time.perf_counter()
     if zero_area(S):
@@ -436,7 +437,14 @@ def fit_surface_2d(S: Surface, options: FitOptions = FitOptions(), progress: Pro
                 ok[d] = cands[d] = recertify(c, GRID_FINE, best.error_bound)
         best = min(ok.values(), key=lambda c: c.error_bound)
         _stage(progress, f"certify ({best.direction})", 1.0)
-    if face_mask(S) is None:        # (not a face's extended patch: its trim and flank paths follow the map)
-        best = cands[best.direction] = compact_fit(best, COMPACT * best.error_bound)
-    return FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
+    res = FitResult(best, cands, opts, {"total": time.perf_counter() - t0})
+    # (not a face's extended patch: its trim and flank paths follow the map)
+    return compacted(res) if compact and face_mask(S) is None else res
+
+
+def compacted(res: FitResult) -> FitResult:
+    """A 2D fit with its best's rails compacted (ruled.fit.rails.compact_fit, within COMPACT of its bound): what
+    fit_surface_2d does last, unless asked not to (compact=False) or the fit is of a face's extended patch."""
+    best = compact_fit(res.best, COMPACT * res.best.error_bound)
+    return replace(res, best=best, candidates={**res.candidates, best.direction: best})
 
