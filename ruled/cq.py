@@ -278,7 +278,7 @@ class MachineData:
 
     def write_gcode(self, filename: str, title: str = "", units: str = "mm") -> str:
         from ruled.machine.output import write_gcode
-        write_gcode(self.path, filename, title, units)
+        write_gcode(self.path, filename, title, units, self.report.get("side"))
         return filename
 
     def write_apt(self, filename: str, title: str = "", units: str = "mm") -> str:

@@ -132,7 +132,7 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
         opts = replace(opts, axis=wall_axis(wall.contour_points(0), wall.contour_points(1)))
     mp = machine_path(R, wall.surface, opts.checked(), sign, progress)
     title = f"{obj.Label} ({obj.Source[0].Label}: {', '.join(wall.names)})"
-    csv_path = write_machine(mp, path, title, units=units)
+    csv_path = write_machine(mp, path, title, units=units, side=side)
     if cam_step:
         _cam_step(R, mp.u, cam_step)
     fit = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff), "closed": True}
@@ -210,7 +210,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                     "trimmed_measured": fit_figures["measured"], "why": str(exc)}
         fit_figures = {"error_bound": pinned, "measured": pinned}
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
-    csv_path = write_machine(mp, path, title, units=units)
+    csv_path = write_machine(mp, path, title, units=units, side=side)
     if cam_step:
         _cam_step(R, mp.u, cam_step, result if keep is not None else None)
     rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,

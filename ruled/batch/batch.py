@@ -89,6 +89,9 @@ def job_key(digest: str, face, options: dict) -> str:
     return hashlib.sha256(json.dumps([digest, face, options], sort_keys=True).encode()).hexdigest()[:24]
 
 
+NO_WALL = "no wall"     # the row of a file 'ruled batch --walls' finds no wall in
+
+
 def face_paths(folder: str, face) -> dict:
     """A face's outputs (face_<k>.*), or a wall's (face "wall <k>": wall_<k>.*)."""
     base = os.path.join(folder, f"face_{face}" if isinstance(face, int) else str(face).replace(" ", "_"))
@@ -110,6 +113,8 @@ def run_face(job: dict) -> dict:
         if not job["options"].get("plots", True):    # no thumbnail of an earlier run beside this run's figures
             with contextlib.suppress(OSError):
                 os.unlink(paths["png"])
+        if job.get("refusal"):
+            raise BadInputError(job["refusal"])
         rep = (_wall_job if job.get("wall") is not None else _face_job)(job, paths)
         row.update(error_bound=rep["error_bound"], hausdorff=rep["hausdorff"]["max"],
                    warnings="; ".join(rep.get("warnings", [])))
@@ -416,11 +421,14 @@ def plan(inputs: list, outdir: str, spec, fraction: float, options: dict, memory
         if options.get("walls"):
             from ruled.occ.io import read_shape
             from ruled.occ.ring import find_walls
-            for k, ring in enumerate(find_walls(read_shape(path))):
-                faces = list(ring.faces)
-                name = f"wall {k}"
+            rings = [(f"wall {k}", list(r.faces), f"wall of {len(r.faces)} faces", None)
+                     for k, r in enumerate(find_walls(read_shape(path)))]
+            # a file with no wall is a row of the summary all the same: it says why nothing was cut
+            for name, faces, kind, refusal in rings or [(NO_WALL, None, NO_WALL, "the part has no wall (no ring of "
+                                                         "faces between two planar caps); give a wall's faces with "
+                                                         "'ruled fit INPUT --wall K,L-M'")]:
                 out_jobs.append({"input": path, "file": os.path.basename(path), "face": name, "wall": faces,
-                                 "type": f"wall of {len(faces)} faces", "trimmed_pct": None,
+                                 "type": kind, "trimmed_pct": None, "refusal": refusal,
                                  "folder": os.path.join(out, stem), "digest": digest, "options": options,
                                  "key": job_key(digest, name, options), "memory_cap_mb": cap / max(1, jobs)})
             continue

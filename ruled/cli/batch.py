@@ -28,10 +28,14 @@ def main_batch(args) -> int:
                         face_timeout=args.face_timeout, memory_cap_mb=args.memory_cap, progress=bar)
     finally:
         bar.done()
-    rows = out["rows"]
+    from ruled.batch.batch import NO_WALL
+    bare = sorted(r["file"] for r in out["rows"] if r["face"] == NO_WALL)
+    rows = [r for r in out["rows"] if r["face"] != NO_WALL]
     n = {s: sum(r["status"] == s for r in rows) for s in ("ok", "refused", "failed")}
     what = "walls" if args.walls else "faces"
-    print(f"{len(rows)} of {out['total']} {what}: {n['ok']} fitted, {n['refused']} refused, {n['failed']} failed")
+    print(f"{len(rows)} of {out['total'] - len(bare)} {what}: {n['ok']} fitted, {n['refused']} refused, "
+          f"{n['failed']} failed" + (f"; {len(bare)} file{'s' if len(bare) > 1 else ''} with no wall: "
+                                     + ", ".join(bare) if bare else ""))
     worst = [r for r in rows if r["status"] == "ok"][:3]
     for r in worst:
         name = r["face"] if args.walls else f"face {r['face']}"

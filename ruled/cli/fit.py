@@ -140,6 +140,9 @@ def cmd_fit_wall(args) -> int:
                         ("--split-faces", args.split_faces), ("--plot", args.plot)):
         if given:
             raise RuledError(f"{flag} is for one face; a wall (--wall) is fitted whole: drop {flag}")
+    if args.ends != "auto":
+        raise RuledError(f"--ends {args.ends} is for one face: a wall's rulings run round the ring, which has no ends "
+                         f"to pin or run past; drop --ends")
     rep = run_wall(args.input, args.wall, args.output, samples=args.samples, objective=args.objective,
                    max_error=args.max_error, refine=not args.no_refine, method=args.method,
                    elevations=args.elevations, step=args.step, metric=args.metric, memory_cap_mb=args.memory_cap,

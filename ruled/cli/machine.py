@@ -49,7 +49,7 @@ def run_machine(args) -> dict:
     else:
         fm, what, chosen = _machine_patches(args, opts, side)
     title = f"{what} of {os.path.basename(args.input)}"
-    write_machine(fm.path, args.output, title, csv_path, args.units)
+    write_machine(fm.path, args.output, title, csv_path, args.units, args.side)
     if args.step:
         write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": chosen,

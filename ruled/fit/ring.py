@@ -65,6 +65,29 @@ def _names(indices) -> str:
     return ",".join(str(i) for i in indices)
 
 
+def _unsewn(free: list, edges: list, size: float):
+    """Two faces (their positions) with free edges that lie on each other (the same ends, either way round, and
+    the same points between): faces that touch but are not joined (an unsewn part), or None."""
+    tol = 1e-6 * size
+    for x, i in enumerate(free):
+        a = edges[i]
+        for j in free[x + 1:]:
+            b = edges[j]
+            if set(a.owners) == set(b.owners):
+                continue
+            same = (np.linalg.norm(a.start - b.start) <= tol and np.linalg.norm(a.end - b.end) <= tol) or \
+                (np.linalg.norm(a.start - b.end) <= tol and np.linalg.norm(a.end - b.start) <= tol)
+            if same and _on(a.points, b.points, 1e-4 * size):
+                return a.owners[0], b.owners[0]
+    return None
+
+
+def _on(P: np.ndarray, Q: np.ndarray, tol: float) -> bool:
+    """The points P lie within tol of the polyline Q."""
+    from ruled.core.distance import to_polyline
+    return to_polyline(P, Q) <= tol
+
+
 def _loops(free: list, edges: list, size: float) -> list:
     """The free edges chained into closed loops by their end points."""
     tol = 1e-6 * size
@@ -120,6 +143,11 @@ def order_ring(names: list, edges: list, face_edges: list, holed: list, areas: l
             raise BadInputError(f"an edge of the wall borders {len(e.owners)} of its faces "
                                 f"({_names(names[k] for k in e.owners)}); a wall is a band of faces, each joined to "
                                 f"two others")
+    unsewn = _unsewn(free, edges, size)
+    if unsewn is not None:
+        a, b = sorted(names[k] for k in unsewn)
+        raise BadInputError(f"faces {a} and {b} share no edge: an edge of each lies on the other's, but the part does "
+                            f"not join them; sew the part first (e.g. sewing in your CAD system)")
     if any(holed):
         raise BadInputError(f"face {names[holed.index(True)]} of the wall has a hole in it (an inner loop of edges); a "
                             f"wall is a band of faces between two contours: fill the hole first, or fit the face "

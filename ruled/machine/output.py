@@ -29,10 +29,12 @@ def _scale(units: str) -> float:
     return UNITS[units]
 
 
-def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = "mm") -> None:
+def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = "mm",
+                side: Optional[str] = None) -> None:
     """LinuxCNC-style XYUV G-code: G21 (mm) or G20 (inch) G90, a rapid to the lead-in, then one G1 with
     X Y U V and F per synchronized move (the lower guide in XY, the upper in UV); coordinates in the
-    output units (the model's are mm), the feed as given (output units per minute)."""
+    output units (the model's are mm), the feed as given (output units per minute).  side: the side the wire
+    runs on (outside, inside), said in the header beside the kerf."""
     k = _scale(units)
     if path.mode != "xyuv":
         raise BadInputError("G-code is written for XYUV contours; flank paths are written as CL data (.apt/.csv)")
@@ -42,7 +44,8 @@ def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = 
              f"along the axis {_vec(fr.axis)})",
              f"(X = p . {_vec(fr.e1)}, Y = p . {_vec(fr.e2)}; U, V the same on the upper plane)",
              f"(synchronized points {path.stats['sync_points']}, chord tolerance {path.chord_tol:.6g}, "
-             f"kerf {path.radius:.6g}, {'closed' if path.closed else 'open'} contour, in the model's mm)",
+             f"kerf {path.radius:.6g}{f' on the {side}' if side else ''}, {'closed' if path.closed else 'open'} "
+             f"contour, in the model's mm)",
              ("G21" if units == "mm" else "G20") + " G90 G94"]
     m = path.moves * k
     lines.append("G0 " + _xyuv(m[0]))
@@ -106,10 +109,13 @@ def write_apt(path: MachinePath, filename: str, title: str = "", units: str = "m
 
 
 def write_machine(path: MachinePath, filename: str, title: str = "", csv_path: Optional[str] = None,
-                  units: str = "mm") -> str:
+                  units: str = "mm", side: Optional[str] = None) -> str:
     """The path's own file (G-code for XYUV, APT for flank) and its CSV (default: beside it, .csv), in
-    the output units (mm or inch); returns the CSV's name."""
-    (write_gcode if path.mode == "xyuv" else write_apt)(path, filename, title, units)
+    the output units (mm or inch); returns the CSV's name.  side: said in the G-code's header."""
+    if path.mode == "xyuv":
+        write_gcode(path, filename, title, units, side)
+    else:
+        write_apt(path, filename, title, units)
     csv_path = csv_path or os.path.splitext(filename)[0] + ".csv"
     write_csv(path, csv_path, units)
     return csv_path

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ruled.core.errors import BadInputError
+from ruled.core.errors import BadInputError, RuledError
 from ruled.core.nurbs import Curve
 from ruled.occ.ring import _edge_points, _ends
 from ruled.occ.wall import WallFit
@@ -87,7 +87,12 @@ def per_face(fit: WallFit) -> tuple:
         if right[0, 0] <= left[0, 0]:
             right[:, 0] += L
         loop = (_line(left[0], right[0]), _polyline(right), _line(right[-1], left[-1]), _polyline(left[::-1]))
-        face = trimmed_face(R, Trim(loop), surf)
+        try:
+            face = trimmed_face(R, Trim(loop), surf)
+        except RuledError as exc:       # (its advice is a face's: a wall has no ends to pin)
+            k = fit.wall.ring.faces[fit.wall.ring.kept[i]] if i < len(fit.wall.ring.kept) else i
+            raise type(exc)(f"the wall's piece over its face {k} is not a valid face ({exc.problem}); write the "
+                            f"wall whole (drop «per_face»)") from None
         pieces.append(face)
     sew = BRepBuilderAPI_Sewing(1e-6 * fit.wall.size)
     for f in pieces:

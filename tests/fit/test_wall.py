@@ -241,8 +241,15 @@ def test_bad_rings_are_refused_in_one_line(tmp_path):
     write_step(box_with_a_hole().wrapped, str(holed))
     crossed = tmp_path / "crossed.step"
     write_step(crossed_extrusion().wrapped, str(crossed))
+    import cadquery as cq
+    unsewn = tmp_path / "unsewn.step"          # a box's faces, each with edges of its own (issue 56)
+    write_step(cq.Compound.makeCompound([f.copy() for f in cq.Workplane().box(20, 30, 10).val().Faces()]).wrapped,
+               str(unsewn))
     out = str(tmp_path / "out.step")
     cases = [
+        (("fit", unsewn, "--wall", "0,1,2,3", "-o", out),
+         "ruled: error: faces 0 and 2 share no edge: an edge of each lies on the other's, but the part does not join "
+         "them; sew the part first (e.g. sewing in your CAD system)"),
         (("fit", crossed, "--wall", "0,2,4,7", "-o", out),
          "ruled: error: the wall's contours cross at (10, 10, 10): more than two of its free edges meet there, and a "
          "wire cannot follow a contour through its own crossing; fit each loop of the part as a wall of its own, or "
@@ -263,6 +270,9 @@ def test_bad_rings_are_refused_in_one_line(tmp_path):
         (("fit", part, "--wall", "x", "-o", out), "ruled: error: --wall 'x': use auto or indices like 0,3-7"),
         (("fit", part, "--wall", "auto", "--tol", "0.1", "-o", out),
          "ruled: error: --tol is for one face; a wall (--wall) is fitted whole: drop --tol"),
+        (("fit", part, "--wall", "auto", "--per-face", "--ends", "pinned", "-o", out),
+         "ruled: error: --ends pinned is for one face: a wall's rulings run round the ring, which has no ends to pin "
+         "or run past; drop --ends"),
     ]
     for args, line in cases:
         r = ruled_here(*args)
@@ -306,24 +316,30 @@ def test_cadquery_fit_wall_takes_a_part_or_its_faces_in_any_order():
 
 @pytest.mark.slow
 def test_batch_walls_fits_every_wall_of_many_parts_as_ruled_fit_wall_does(tmp_path):
-    """'ruled batch --walls' over two parts: one row per wall, its figures those of 'ruled fit --wall' on it."""
+    """'ruled batch --walls' over two parts: one row per wall, its figures those of 'ruled fit --wall' on it; a
+    part with no wall (a sphere) is a row of the summary saying so, and the command line names it (issue 56)."""
     import json
+
+    import cadquery as cq
 
     from ruled.occ.io import write_step
     from tests.conftest import ruled_here, ruled_process
     from tests.wall_parts import airfoil_loft
     parts = []
-    for name, build in (("tapered", tapered_extrusion), ("airfoil", airfoil_loft)):
+    for name, build in (("tapered", tapered_extrusion), ("airfoil", airfoil_loft),
+                        ("ball", lambda: cq.Workplane().sphere(10).val())):
         parts.append(tmp_path / f"{name}.step")
         write_step(build().wrapped, str(parts[-1]))
     r = ruled_process("batch", *parts, "--walls", "--jobs", "1", "--samples", "20", "--measure-samples", "20",
                       "-o", tmp_path / "out")
     assert r.returncode == 0, r.stderr
-    assert "2 of 2 walls: 2 fitted, 0 refused, 0 failed" in r.stdout
+    assert "2 of 2 walls: 2 fitted, 0 refused, 0 failed; 1 file with no wall: ball.step" in r.stdout, r.stdout
     rows = json.loads((tmp_path / "out" / "summary.json").read_text())["rows"]
-    assert sorted((row["file"], row["face"]) for row in rows) == [("airfoil.step", "wall 0"),
+    assert sorted((row["file"], row["face"]) for row in rows) == [("airfoil.step", "wall 0"), ("ball.step", "no wall"),
                                                                   ("tapered.step", "wall 0")]
-    for row in rows:
+    ball = next(row for row in rows if row["file"] == "ball.step")
+    assert ball["status"] == "refused" and ball["reason"].startswith("the part has no wall"), ball
+    for row in (row for row in rows if row["file"] != "ball.step"):
         single = tmp_path / f"single-{row['file']}.json"
         assert ruled_here("fit", tmp_path / row["file"], "--wall", "auto", "--samples", "20", "--measure-samples", "20",
                           "--quiet", "-o", tmp_path / "single.step", "--report", single).returncode == 0

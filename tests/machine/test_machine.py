@@ -107,6 +107,7 @@ def test_xyuv_blade_sweeps_the_rulings_that_cross_its_end_edges(tmp_path):
     assert rep["cut"]["max"] <= rep["cut"]["bound"]
     rep, cut, cam, to_swept, d, kept, fit = _blade_cut(tmp_path, 0.005, kerf=0.005, name="kerf")
     assert rep["machine"]["offset_deviation"] < 0.5 * 0.005 and kept > 100
+    assert "kerf 0.005 on the outside," in (tmp_path / "kerf.ngc").read_text()      # the header says the side
     assert np.all(d > 0) and np.abs(d - 0.005).max() <= fit * (1 + 1e-3) + 0.005     # outside, at the kerf
     assert abs(to_swept - 0.005) <= fit * (1 + 1e-3) + 0.005
     assert rep["cut"]["max"] <= rep["cut"]["bound"]
