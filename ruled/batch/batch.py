@@ -421,7 +421,7 @@ def plan(inputs: list, outdir: str, spec, fraction: float, options: dict, memory
         if options.get("walls"):
             from ruled.occ.io import read_shape
             from ruled.occ.ring import find_walls
-            rings = [(f"wall {k}", list(r.faces), f"wall of {len(r.faces)} faces", None)
+            rings: list = [(f"wall {k}", list(r.faces), f"wall of {len(r.faces)} faces", None)
                      for k, r in enumerate(find_walls(read_shape(path)))]
             # a file with no wall is a row of the summary all the same: it says why nothing was cut
             for name, faces, kind, refusal in rings or [(NO_WALL, None, NO_WALL, "the part has no wall (no ring of "
