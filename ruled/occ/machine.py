@@ -14,14 +14,11 @@ import numpy as np
 from OCP.TopAbs import TopAbs_REVERSED
 
 from ruled.fit.fit2d import FitResult
-from ruled.fit.options import FitOptions
 from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
 from ruled.machine.output import path_report
 from ruled.machine.paths import Lines, MachineOptions, MachinePath, machine_path
 from ruled.occ.convert import container_to_face, conversion_slack, face_to_container, segment_edge
 from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
-from ruled.occ.region import fit_face
-from ruled.occ.trimmed import built_slack, result_face
 
 
 @dataclass
@@ -145,51 +142,45 @@ def measure_cut(target, path: MachinePath, n: int = 30, keep=None) -> dict:
             "fit_on_the_same_lines": float(exact.max())}
 
 
-def machine_of_face(face, opts: MachineOptions, fit_options: FitOptions = FitOptions(), progress=None,
-                    measure_samples: Optional[int] = 30, side: float = 1.0, fit: Optional[FitResult] = None,
-                    warnings: Optional[list] = None, given: bool = False, rails=None, job=None) -> FaceMachine:
-    """Fit the face (unless a fit is given, or the face is a ruled result itself: given=True), make the
-    machine path on the side `side` (+1: the face's outside) and measure it.  measure_samples=None
-    skips the OCCT measures.  job: the face's fit as ``ruled fit`` returns it (ruled.jobs.face.FaceFit: its
-    result, built face, certified bound and measure), which the path then follows (ruled.jobs.machine)."""
+def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: Optional[int] = 30,
+                    side: float = 1.0, warnings: Optional[list] = None, given: bool = False,
+                    job=None) -> FaceMachine:
+    """The machine path of the face's fit on the side `side` (+1: the face's outside), measured: job, the face's
+    fit as ``ruled fit`` returns it (ruled.jobs.face.FaceFit: its result, built face, certified bound and
+    measure; ruled.jobs.machine makes it), or given=True: the face is a ruled result itself.
+    measure_samples=None skips the OCCT measures."""
     opts = opts.checked()
     t0 = time.perf_counter()
-    S = face_to_container(face)
-    slack = conversion_slack(face, S)
-    if job is not None:
-        fit = job.fit
-    elif not given and fit is None:
-        fit, slack = fit_face(face, fit_options.checked(), progress, rails, S)
-    res = None if given else fit
-    R = given_ruled(S) if given else res.surface
+    if given:
+        S = face_to_container(face)
+        slack, res, R = conversion_slack(face, S), None, given_ruled(S)
+    else:
+        res, R = job.fit, job.fit.surface
+        if res.patch is None:               # (a surface fitted as it is: ruled.cq with a Surface)
+            S = face_to_container(face)
+        else:                               # the face as bounded by its edges (its own or extended patch)
+            S = res.patch.surface
+            warnings = list(warnings or []) + [w for w in res.patch.warnings if w not in (warnings or [])]
     trim = None if res is None else res.best.trim
     keep = None
     if trim is not None:
         # the rulings that cross the face, plane to plane; what they cut of it is where they lie in the trim
         from ruled.machine.trimmed import trimmed_lines
         R, keep = trimmed_lines(R, (trim.outer,) + tuple(trim.holes))
-    if res is not None and res.patch is not None:
-        S = res.patch.surface       # the face as bounded by its edges (its own four-sided or extended patch)
-        warnings = list(warnings or []) + [w for w in res.patch.warnings if w not in (warnings or [])]
     out_side = outward(face) * (1.0 if side >= 0 else -1.0)
     t1 = time.perf_counter()
     path = machine_path(R, S, opts, out_side, progress)
     t2 = time.perf_counter()
-    out_face = job.face if job is not None else face if given else \
-        (container_to_face(R) if trim is None else result_face(res))
+    out_face = face if given else job.face
     if given:
         fit_rep: dict = {"method": "given (the face is a ruled result)", "direction": "v" if S.degree_v == 1 else "u",
                    "closed": bool(R.periodic_u), "error_bound": slack, "notes": []}
     else:
+        from ruled.fit.report import region_report
         fit_rep = {"method": res.best.method, "direction": res.direction, "closed": res.best.closed,
-                   "error_bound": res.error_bound + slack, "notes": list(res.notes)}
+                   "error_bound": job.bound, "notes": list(res.notes)}
         if res.patch is not None:
-            from ruled.fit.report import region_report
             fit_rep["region"] = region_report(res)
-        if job is not None:
-            fit_rep["error_bound"] = job.bound
-        elif trim is not None:
-            fit_rep["error_bound"] += built_slack(out_face, res)
     rep = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
     if trim is not None:
         rep["machine"]["trimmed"] = {
