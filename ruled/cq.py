@@ -114,9 +114,10 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
 
 
 def fit_wall(faces, samples: int = 40, objective: str = "sum", method: str = "2d", measure: bool = True,
-             measure_samples: int = 40, progress: Progress = None):
+             measure_samples: int = 40, progress: Progress = None, wall: str = "auto"):
     """A part's wall as one closed ruled surface (ruled.occ.wall): faces is a part (a solid; its wall is found:
-    the ring of faces between two planar caps) or the wall's faces (a list, of one part, in any order).
+    the ring of faces between two planar caps; wall: which, 'auto' (its only one), 'outer', 'hole', 'hole:K')
+    or the wall's faces (a list, of one part, in any order).
     samples: per face.  Returns ruled.occ.wall.WallFit: .face (the closed ruled face), .error_bound
     (certified), .hausdorff (measured against the wall's faces, both ways), .report()."""
     from dataclasses import replace
@@ -125,11 +126,11 @@ def fit_wall(faces, samples: int = 40, objective: str = "sum", method: str = "2d
     from ruled.occ.wall import wall_of
     if isinstance(faces, (list, tuple)):
         topo = [_topods(f) for f in faces]
-        wall = wall_of(None, list(range(len(topo))), topo)
+        wall_ = wall_of(None, list(range(len(topo))), topo)
     else:
-        wall = wall_of(getattr(faces, "wrapped", faces))
-    opts = FitOptions(samples=samples * len(wall.faces), objective=objective, method=method).checked()
-    fit = _fit_wall(wall, opts, progress, measure, measure_samples)
+        wall_ = wall_of(getattr(faces, "wrapped", faces), wall)
+    opts = FitOptions(samples=samples * len(wall_.faces), objective=objective, method=method).checked()
+    fit = _fit_wall(wall_, opts, progress, measure, measure_samples)
     return replace(fit, face=_cq(fit.face))
 
 
@@ -354,20 +355,21 @@ def xyuv_patches(faces, chord_tol: Optional[float] = None, planes=None, axis="au
 
 
 def xyuv_wall(faces, chord_tol: Optional[float] = None, planes=None, axis="auto", kerf: float = 0.0,
-              lead: Optional[float] = None, feed: float = 100.0, side: str = "outside", start=None,
+              lead: Optional[float] = None, feed: float = 100.0, side: Optional[str] = None, start=None,
               method: str = "2d", samples: int = 40, fit=None, measure: bool = True, measure_samples: int = 30,
-              progress=None) -> MachineData:
-    """One closed XYUV loop round a part's wall (fit_wall: a part, or its wall's faces): a single lead-in and
-    lead-out at start (X, Y on the bottom contour; default the middle of its longest straight stretch), the
-    kerf round the whole loop on side 'outside' (a punch) or 'inside' (a die), the machine's axis the
-    contours' normal.  fit: a WallFit of the same wall reuses it.  The report's "cut" is what the wire sweeps
-    against the wall's faces, each distance less the kerf."""
+              progress=None, wall: str = "auto") -> MachineData:
+    """One closed XYUV loop round a part's wall (fit_wall: a part and which wall, or its wall's faces): a
+    single lead-in and lead-out at start (X, Y on the bottom contour; default the middle of its longest
+    straight stretch), the kerf round the whole loop on side 'outside' or 'inside' the wall's contour
+    (default: off the material, outside a punch, inside a hole: ruled.machine.wall.wall_side), the machine's
+    axis the contours' normal.  fit: a WallFit of the same wall reuses it.  The report's "cut" is what the
+    wire sweeps against the wall's faces, each distance less the kerf."""
     from ruled.machine.paths import MachineOptions
     from ruled.occ.wallmachine import machine_of_wall
     wf = fit if fit is not None else fit_wall(faces, samples, method=method, measure=measure,
-                                              measure_samples=measure_samples, progress=progress)
+                                              measure_samples=measure_samples, progress=progress, wall=wall)
     opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
-    fm = machine_of_wall(wf, opts, _side_sign(side), start, measure_samples if measure else None, progress)
+    fm = machine_of_wall(wf, opts, side, start, measure_samples if measure else None, progress)
     return MachineData(fm.path, _cq(fm.face), fm.report, None, fm.surface, tuple(fm.warnings))
 
 

@@ -84,3 +84,49 @@ def hexagon_to_circles():
     import cadquery as cq
     return (cq.Workplane("XY").polygon(6, 40).workplane(offset=15).circle(18).workplane(offset=15).circle(13)
             .loft(ruled=False).val())
+
+
+# --------------------------------------------------------------------------------- punches and dies (issue 56)
+def line_arc_punch():
+    """A punch whose profile's lines meet its arcs at sharp corners, drafted 6 degrees: the drafted planes meet
+    the cones along curves, so the wall is not exactly ruled at those corners.  Height 12."""
+    import cadquery as cq
+    return (cq.Workplane("XY").moveTo(0, 0).lineTo(30, 0).threePointArc((36, 10), (30, 20)).lineTo(0, 20)
+            .threePointArc((5, 10), (0, 0)).close().extrude(12, taper=6)).val()
+
+
+def _star(n: int, r1: float, r2: float, k: float = 1.0) -> list:
+    return [((r1 if i % 2 == 0 else r2) * k * math.cos(math.pi / 2 + i * math.pi / n),
+             (r1 if i % 2 == 0 else r2) * k * math.sin(math.pi / 2 + i * math.pi / n)) for i in range(2 * n)]
+
+
+def polygon_star():
+    """A five-pointed star drafted 5 degrees, height 10: sharp concave corners at the bottom, where OCCT's draft
+    puts small fan cones (an apex on the bottom contour, an arc on the top one)."""
+    import cadquery as cq
+    return cq.Workplane("XY").polyline(_star(5, 20, 9)).close().extrude(10, taper=5).val()
+
+
+def lofted_star():
+    """The star as a ruled loft to a smaller copy 10 up: sharp concave corners on both contours (creases)."""
+    import cadquery as cq
+    return (cq.Workplane("XY").polyline(_star(5, 20, 9)).close().workplane(offset=10)
+            .polyline(_star(5, 20, 9, 0.85)).close().loft(ruled=True)).val()
+
+
+def die_block():
+    """A block 60 x 40 x 15 with a hole of two lines and two arcs drafted 4 degrees (narrowing upwards): one arc
+    meets the lines tangentially, the other at sharp corners."""
+    import cadquery as cq
+    block = cq.Workplane("XY").box(60, 40, 15).translate((0, 0, 7.5))
+    hole = (cq.Workplane("XY").moveTo(-10, -6).lineTo(10, -6).threePointArc((14, 0), (10, 6)).lineTo(-10, 6)
+            .threePointArc((-16, 0), (-10, -6)).close().extrude(15, taper=4))
+    return block.cut(hole).val()
+
+
+def d_hole():
+    """A block 50 x 40 x 10 with a straight D-shaped hole (a line and a half circle)."""
+    import cadquery as cq
+    block = cq.Workplane("XY").box(50, 40, 10).translate((0, 0, 5))
+    return block.cut(cq.Workplane("XY").moveTo(-8, -10).lineTo(-8, 10).threePointArc((2, 0), (-8, -10)).close()
+                     .extrude(10)).val()

@@ -196,11 +196,11 @@ def trim_of(face, S: Surface = None):
     return Trim(tuple(rg.loop), tuple(tuple(h) for h in rg.holes))
 
 
-def trimmed_face(S: Surface, trim):
+def trimmed_face(S: Surface, trim, bs=None):
     """S bounded by the trim's outer loop, less its holes (ruled.fit.trim.Trim: 2D curves in S's (u, v)), as a
-    valid Part.Face (FiguresError where it cannot be built)."""
+    valid Part.Face (FiguresError where it cannot be built); bs: S as a Part surface already."""
     from ruled.core.errors import FiguresError
-    bs = arrays_to_surface(S)
+    bs = arrays_to_surface(S) if bs is None else bs
     try:
         face = Part.Face(bs, _loop(trim.loop(trim.outer, True), bs))
         if trim.holes:
@@ -284,7 +284,7 @@ class Wall:
         self.kept = [i for i, s in enumerate(self.slivers) if not s]
         self._edges, self._curved = edges, {}
         n = len(faces)
-        patches, lengths = [], []
+        patches, lengths, devs = [], [], []
         for i in self.kept:
             k = o.order[i]
             f = faces[k]
@@ -293,11 +293,15 @@ class Wall:
             contour = [[self._curve(j) for j in c] for c in (o.bottom[i], o.top[i])]
             S = None if isinstance(f.Surface, Part.Plane) else _clamped_arrays(f)
             tol = max((float(edges[j].Tolerance) for j in o.bottom[i] + o.top[i]), default=0.0)
-            P, L = wall_patch(names[k], S, contour[0], contour[1], near[0], near[1], o.size, tol)
+            P, L, dev = wall_patch(names[k], S, contour[0], contour[1], near[0], near[1], o.size, tol,
+                                   self._loose(f, [edges[j] for j in o.bottom[i]], [edges[j] for j in o.top[i]],
+                                               names[k]))
             patches.append(P)
             lengths.append(L)
-        self.surface, self.breaks, self.corners = joined(patches, lengths, [self.names[i] for i in self.kept], o.size)
-        self.slack = max((float(e.Tolerance) for e in edges), default=0.0)
+            devs.append(dev)
+        self.surface, self.breaks, self.corners, slack = joined(patches, lengths, [self.names[i] for i in self.kept],
+                                                                o.size, devs)
+        self.slack = max((float(e.Tolerance) for e in edges), default=0.0) + slack
         slivers = [f for f, s in zip(self.faces, self.slivers) if s]
         if slivers:       # a sliver's distance from the faces kept, measured (as ruled.occ.wall._slack)
             from .measure import distances, face_points
@@ -305,11 +309,46 @@ class Wall:
             for f in slivers:
                 self.slack = max(self.slack, float(distances(face_points(f, 20), kept).max()))
 
+    @staticmethod
+    def _loose(face, bottom: list, top: list, name):
+        """The face's Coons patch from its contour edges (ruled.fit.wallpatch), as a callable."""
+        def patch():
+            from ruled.fit.wallpatch import contour_patch
+            loop = outer_edges(face)
+            ids = [[k for k, g in enumerate(loop) if any(g.isSame(e) for e in c)] for c in (bottom, top)]
+            return contour_patch(face_region(face), ids[0], ids[1], name)
+        return patch
+
     def _curve(self, j: int):
         """Edge j as the engine's RingEdge with its curve (read once: a joint borders two faces)."""
         if j not in self._curved:
             self._curved[j] = _ring_edge(self._edges[j], (), False, self.size, True)
         return self._curved[j]
+
+    def pieces(self, R: Surface) -> list:
+        """The closed ruled result R in one piece per face kept (ring order), cut along the faces' joints
+        (ruled.fit.wallpieces), each a Part.Face."""
+        from ruled.fit.wallpieces import JOINT_SAMPLES, piece_trims
+        keep, n = self.kept, len(self.faces)
+        joints = []
+        for i in range(len(keep)):
+            e = self._edges[self.order.joints[(keep[(i + 1) % len(keep)] - 1) % n]]
+            a, b = e.ParameterRange
+            joints.append(np.array([tuple(e.valueAt(float(t))) for t in np.linspace(a, b, JOINT_SAMPLES)]))
+        bs = arrays_to_surface(R)
+        if not bs.isUPeriodic():
+            bs.setUPeriodic()
+        return [trimmed_face(R, trim, bs) for trim in piece_trims(R, joints)]
+
+    def role_of(self, outward) -> str:
+        """'hole' where the opening is inside the bottom contour (ruled.fit.ring.role_of), else 'outer';
+        outward(x): the part's outward normal of the first face kept at (near) the point x."""
+        from ruled.fit.ring import loop_polygon, role_of
+        k = next((k for k in self.kept if self.order.bottom[k]), None)
+        if k is None:
+            return "outer"
+        x = self._curve(self.order.bottom[k][0]).points[RING_SAMPLES // 2]
+        return role_of(loop_polygon([e.points for e in self.contour_edges(0)]), x, outward(x))
 
     def contour_edges(self, which: int) -> list:
         """The bottom (0) or top (1) contour's edges as the engine's RingEdges, with their curves."""

@@ -200,8 +200,8 @@ def selected_wall():
 
 
 class WallCommand:
-    """The selected faces (a part's wall) as one closed ruled surface: a parametric RuledWall, recomputed with
-    the default parameters in one undo step (edit its properties afterwards)."""
+    """The selected faces (a part's wall) as one closed ruled surface: the Fit wall panel (a parametric RuledWall
+    made in one undo step), or the panel saying why the faces are no side wall."""
 
     def GetResources(self):
         return resources("wall.svg", "Fit wall", "Fit the selected faces of a part's wall (the ring between its "
@@ -216,17 +216,11 @@ class WallCommand:
         if part is None:
             _say(subs)
             return None
-        from .walls import make_ruled_wall
-        doc = part.Document
-        doc.openTransaction("Fit wall")
-        try:
-            obj = _recomputed(make_ruled_wall(doc, part, subs))
-        finally:
-            doc.commitTransaction()
-        if obj.isValid() and obj.Status == "ok":
-            FreeCAD.Console.PrintMessage(f"Ruled: {obj.Label}: within {obj.ErrorBound.Value:.4g} mm (certified), "
-                                         f"{obj.Hausdorff.Value:.4g} mm measured\n")
-        return obj
+        from .busy import show_panel
+        from .wallpanel import WallRefusal, WallTaskPanel, wall_refusal
+        why = wall_refusal(part, subs)       # (faces that are no side wall: said in the panel, no object made)
+        show_panel(WallRefusal(why) if why else WallTaskPanel(part, subs))
+        return None
 
 
 class ReplaceCommand:

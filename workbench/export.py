@@ -96,18 +96,19 @@ def _cam_step(R, u, cam_step, face=None) -> None:
 
 
 def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None, taper: float = 0.0,
-                side: str = "outside", planes=None, feed: float = 100.0, lead=None, units: str = "mm", cam_step=None,
+                side: str = "auto", planes=None, feed: float = 100.0, lead=None, units: str = "mm", cam_step=None,
                 measure_samples: int = 20, progress=None, start=None) -> dict:
     """A RuledWall's one closed path, as ``ruled machine --wall`` makes it (ruled.machine.wall): its closed
     result started on the bottom contour (start (X, Y), or the middle of its longest straight edge), one XYUV
-    loop (axis: the wall's) or one flank CL path, the kerf round the whole loop on the chosen side (outside: a
-    punch; inside: a die); what the wire sweeps measured against the wall's faces, each distance less the kerf."""
+    loop (axis: the wall's) or one flank CL path, the kerf round the whole loop on the chosen side (outside or
+    inside the wall's contour; auto: off the material, ruled.machine.wall.wall_side); what the wire sweeps
+    measured against the wall's faces, each distance less the kerf."""
     from dataclasses import replace
 
     from ruled.machine.envelope import cut_points, swept_surface
     from ruled.machine.output import path_report, write_machine
     from ruled.machine.paths import MachineOptions, machine_path
-    from ruled.machine.wall import outside_sign, start_parameter, started, wall_axis
+    from ruled.machine.wall import outside_sign, start_parameter, started, wall_axis, wall_side
 
     from .adapter import Wall, surface_to_face
     from .features import value
@@ -126,18 +127,19 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
         u, v = first.Surface.parameter(FreeCAD.Vector(*map(float, x)))
         n = first.Surface.normal(u, v)
         return np.array([n.x, n.y, n.z]) * (-1.0 if first.Orientation == "Reversed" else 1.0)
-    sign = outside_sign(wall.surface, wall.breaks, 0, outward) * (1.0 if side == "outside" else -1.0)
+    off, where = wall_side(wall.role_of(outward), None if side == "auto" else side)
+    sign = outside_sign(wall.surface, wall.breaks, 0, outward) * off
     opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed)
     if kind == "xyuv":
         opts = replace(opts, axis=wall_axis(wall.contour_points(0), wall.contour_points(1)))
     mp = machine_path(R, wall.surface, opts.checked(), sign, progress)
     title = f"{obj.Label} ({obj.Source[0].Label}: {', '.join(wall.names)})"
-    csv_path = write_machine(mp, path, title, units=units, side=side)
+    csv_path = write_machine(mp, path, title, units=units, side=where)
     if cam_step:
         _cam_step(R, mp.u, cam_step)
     fit = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff), "closed": True}
     rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
-           "machine": path_report(mp), "fit": fit, "side": side,
+           "machine": path_report(mp), "fit": fit, "side": where,
            "wall": {"faces": wall.names, "start": [float(x) for x in R(np.array([R.domain[0]]),
                                                                         np.array([R.domain[2]]))[0]]}}
     if kind == "xyuv" and measure_samples:
@@ -155,7 +157,7 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
 
 
 def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None,
-                   taper: float = 0.0, side: str = "outside", planes=None, feed: float = 100.0, lead=None,
+                   taper: float = 0.0, side: str = "auto", planes=None, feed: float = 100.0, lead=None,
                    units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None, axis="auto") -> dict:
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
@@ -194,6 +196,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
             tuple(tuple(swapped(c) for c in lp) for lp in (rg.loop,) + tuple(rg.holes))   # rulings along u
         # the whole ruled surface, rail to rail (as 'ruled machine' sweeps it), not the face's (u, v) box
         R, keep = trimmed_lines(result_arrays(result, surface_to_arrays(result.Surface)), loops)
+    side = "outside" if side == "auto" else side        # (a face's: its normal's side)
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
     opts = MachineOptions(kind, chord_tol, planes, axis, None, kerf, tool_radius, taper, lead, feed).checked()
     try:

@@ -29,8 +29,9 @@ SETTINGS = [
      "move and the contours (auto: 1e-4 of the part's size)"),
     ("Kerf", "length", 0.0, ("xyuv",), "Kerf", "wire radius plus spark gap: the wire runs offset by it to the side "
      "below (0: none)"),
-    ("Side", ("outside", "inside"), "outside", MACHINE, "Side", "the side of the face the wire offset or the tool is "
-     "on (outside: the face's normal)"),
+    ("Side", ("auto", "outside", "inside"), "auto", MACHINE, "Side", "the side the wire's kerf or the tool is on: "
+     "of a face, outside is its normal's side (auto: outside); of a wall, outside or inside its contour (auto: off "
+     "the material, outside a punch, inside a hole)"),
     ("Axis", "text", "", ("xyuv",), "Machine axis", "the machine axis, normal to the guide planes: x, y, z or a "
      "vector ax, ay, az (empty: auto, the rulings' mean direction, snapped to x, y or z within 0.5 degree)"),
     ("Planes", "text", "", ("xyuv",), "Machine planes", "the two guide plane heights a, b along the machine axis, in "

@@ -156,15 +156,16 @@ def add_results(obj, what: str) -> None:
     _add(obj, "App::PropertyString", "Status", RESULT_GROUP, "ok, or what went wrong", "", True)
 
 
-def measure_into(obj, results: list, design, progress=None) -> None:
+def measure_into(obj, results: list, design, progress=None, parts=None) -> None:
     """Measure the result faces against the design face into obj.Hausdorff and obj.Deviation (skipped,
-    0 and empty, when obj.MeasureSamples < 2)."""
+    0 and empty, when obj.MeasureSamples < 2); parts: the results' smooth parts (faces) to measure the
+    design's points against, where a result has creases."""
     from .measure import hausdorff
     n = int(obj.MeasureSamples)
     if n < 2 or not results:
         obj.Hausdorff, obj.Deviation = 0.0, []
         return
-    h = hausdorff(results, design, n, progress)
+    h = hausdorff(results, design, n, progress, parts)
     obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
 
 
@@ -181,7 +182,9 @@ PROPERTIES = {"samples": "Samples", "max_error": "MaxError", "tol": "Tolerance",
               "method": "Method", "metric": "Metric", "rails": "Rails", "allow_creases": "AllowCreases",
               "fit_first": "cone-spline a Ruled fit of it, or set FitFirst",
               "keep_creases": "set AllowCreases to keep the creases", "fit_help": "the object's properties",
-              "edges_listing": "the face's outer-wire edges in order", "partition": "a Ruled split with a Tolerance"}
+              "edges_listing": "the face's outer-wire edges in order", "partition": "a Ruled split with a Tolerance",
+              "walls_listing": "select the faces of one side wall (the ring of faces between the part's bottom and "
+                               "top contours)", "one_face": "Fit ruled surface on it"}
 
 
 def _camel(key: str) -> str:

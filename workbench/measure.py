@@ -131,12 +131,13 @@ def _result_side(f, design, n: int, progress) -> tuple:
     return _filled(full, keep, m), d
 
 
-def hausdorff(results: list, design, n: int = 24, progress=None) -> Hausdorff:
+def hausdorff(results: list, design, n: int = 24, progress=None, parts=None) -> Hausdorff:
     """Several result faces (strips, sides, patches) against the face they replace together (or a wall's
     faces, a compound of them, against its closed result): each
     result's n x n grid to the bounded design face (kept per face, in order, for colouring; a result
     trimmed by the design's edges measured inside its edges and along them), and the design face's points
-    to the nearest result (one compound, so the distance is to their union)."""
+    to the nearest result (one compound, so the distance is to their union; of parts, the results' smooth
+    parts, where given: OCCT's distance search does not cross a crease)."""
     total = len(results) * n * n
     colours, dab, done = [], [], 0
     for f in results:
@@ -147,7 +148,8 @@ def hausdorff(results: list, design, n: int = 24, progress=None) -> Hausdorff:
         done += n * n
     dab = np.concatenate(dab) if dab else np.zeros(0)
     pb = np.concatenate([face_points(f, n) for f in design.Faces])      # (a face, or a wall's faces)
-    dba = distances(pb, Part.Compound(results), None if progress is None else (lambda x: progress(0.5 + 0.5 * x)))
+    dba = distances(pb, Part.Compound(parts or results),
+                    None if progress is None else (lambda x: progress(0.5 + 0.5 * x)))
     alld = np.concatenate([dab, dba])
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size),
                      tuple(np.concatenate(colours)) if colours else ())

@@ -53,6 +53,16 @@ class _Panel:
         self.bar.hide()
         lay.addRow(self.bar)
 
+    def _rows(self, lay, rows, *extra) -> None:
+        """The parameter rows (label, widget), the extra rows (check boxes), Preview, the progress bar and the
+        outcome."""
+        for label, w in rows:
+            lay.addRow(label, w)
+        for w in extra + (self.preview_button,):
+            lay.addRow(w)
+        self._progress_bar(lay)
+        lay.addRow(self.result)
+
     @staticmethod
     def _tip(widget, text: str):
         widget.setToolTip(text)
@@ -189,15 +199,10 @@ class FitTaskPanel(_Panel):
                                   "(Cancel stops a fit that runs)")
         self.result = QtGui.QLabel("Preview fits the face with these parameters.")
         self.result.setWordWrap(True)
-        for label, w in (("Method", self.method), ("Samples per side", self.samples),
+        self._rows(lay, (("Method", self.method), ("Samples per side", self.samples),
                          ("Objective", self.objective), ("Max error", self.max_error), ("Direction", self.direction),
                          ("4d elevations", self.elevations), ("4d step", self.step), ("4d metric", self.metric),
-                         ("Measure samples", self.measure)):
-            lay.addRow(label, w)
-        lay.addRow(self.rulings)
-        lay.addRow(self.preview_button)
-        self._progress_bar(lay)
-        lay.addRow(self.result)
+                         ("Measure samples", self.measure)), self.rulings)
         if self.editing:
             o = self.obj
             self.method.setCurrentIndex(self.method.findText(o.Method))
@@ -257,13 +262,9 @@ class SplitTaskPanel(_Panel):
                                   "(Cancel stops a split that runs)")
         self.result = QtGui.QLabel("Preview finds the split curve and fits both sides.")
         self.result.setWordWrap(True)
-        for label, w in (("Samples (P, Q, M columns)", self.samples), ("Interior M-rows", self.interior),
+        self._rows(lay, (("Samples (P, Q, M columns)", self.samples), ("Interior M-rows", self.interior),
                          ("Split DP dimension", self.dims), ("Objective", self.objective),
-                         ("Samples per side fit", self.fit_samples)):
-            lay.addRow(label, w)
-        lay.addRow(self.preview_button)
-        self._progress_bar(lay)
-        lay.addRow(self.result)
+                         ("Samples per side fit", self.fit_samples)))
         if self.editing:
             o = self.obj
             self.samples.setValue(o.Samples)
@@ -314,13 +315,9 @@ class PartitionTaskPanel(_Panel):
         self.result = QtGui.QLabel("Preview splits the face into strips until each strip's ruled fit is within the "
                                    "tolerance.")
         self.result.setWordWrap(True)
-        for label, w in (("Tolerance", self.tol), ("Max strips", self.max_strips), ("Split samples", self.samples),
+        self._rows(lay, (("Tolerance", self.tol), ("Max strips", self.max_strips), ("Split samples", self.samples),
                          ("Split rows", self.interior), ("Fit samples", self.fit_samples),
-                         ("Measure samples", self.measure)):
-            lay.addRow(label, w)
-        lay.addRow(self.preview_button)
-        self._progress_bar(lay)
-        lay.addRow(self.result)
+                         ("Measure samples", self.measure)))
         self.preview_button.clicked.connect(self.preview)
 
     def _apply(self):
@@ -367,14 +364,8 @@ class ConeTaskPanel(_Panel):
         self.preview_button = self._tip(QtGui.QPushButton("Preview"), "build the cone spline and show its patches")
         self.result = QtGui.QLabel("Preview approximates the ruled surface by developable cone and cylinder patches.")
         self.result.setWordWrap(True)
-        for label, w in (("Tolerance", self.tol), ("First arc step", self.step), ("Rulings along", self.direction),
-                         ("Measure samples", self.measure)):
-            lay.addRow(label, w)
-        lay.addRow(self.fit_first)
-        lay.addRow(self.creases)
-        lay.addRow(self.preview_button)
-        self._progress_bar(lay)
-        lay.addRow(self.result)
+        self._rows(lay, (("Tolerance", self.tol), ("First arc step", self.step), ("Rulings along", self.direction),
+                         ("Measure samples", self.measure)), self.fit_first, self.creases)
         self.preview_button.clicked.connect(self.preview)
 
     def _apply(self):

@@ -57,6 +57,8 @@ class RuledWall(_Feature):
               "sum")
         _add(obj, "App::PropertyInteger", "MeasureSamples", group, "n x n samples per face for the measured "
              "Hausdorff distance and the colours (0: do not measure)", 16)
+        _add(obj, "App::PropertyBool", "PerFace", group, "the closed ruled surface in one piece per face of the wall "
+             "(cut along the faces' joints), sewn into one shell", False)
         _add(obj, "App::PropertyStringList", "Faces", RESULT_GROUP, "the wall's faces round the ring", None, True)
         _add(obj, "App::PropertyInteger", "Pieces", RESULT_GROUP, "pieces fitted between the corners both contours "
              "have (1: one periodic fit)", 0, True)
@@ -72,7 +74,7 @@ class RuledWall(_Feature):
         import Part
 
         from ruled.fit.facefit import measured_warnings
-        from ruled.fit.wallfit import fit_ring
+        from ruled.fit.wallfit import fit_ring, smooth_parts
 
         from .adapter import Wall, built_slack, result_face, surface_to_face
         say_kernels()
@@ -85,9 +87,19 @@ class RuledWall(_Feature):
             out = result_face(ring.results[0]) if ring.periodic else surface_to_face(ring.surface)
             bound = ring.bound + wall.slack + (built_slack(out, ring.results[0]) if ring.periodic else 0.0)
             design = Part.Compound(wall.faces)
-            measure_into(obj, [out], design, lambda f: progress("measuring (distances to the wall)", f))
+            parts = [surface_to_face(p) for p in smooth_parts(ring.surface)]
+            measure_into(obj, [out], design, lambda f: progress("measuring (distances to the wall)", f), parts)
         finally:
             progress.stop()
+        if obj.PerFace and len(wall.kept) > 1:
+            from ruled.core.errors import RuledError
+            try:
+                shell = Part.Shell(wall.pieces(ring.surface))
+                shell.sewShape()
+            except RuledError as exc:
+                raise type(exc)(f"the wall's pieces per face could not be built ({exc.problem}); write the wall "
+                                f"whole (PerFace = False)") from None
+            out = shell
         obj.Shape = out
         obj.ErrorBound, obj.Faces, obj.Pieces = float(bound), wall.names, len(ring.results)
         obj.RulingLines = ruling_lines(ring.results)

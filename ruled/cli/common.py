@@ -14,7 +14,10 @@ CLI_NAMES = names_from({"lift_step": "--lift-step", "arc_step": "--arc-step",
                         "keep_creases": "pass --allow-creases to keep the creases",
                         "split_elevations": "--elevations",
                         "edges_listing": "'ruled faces INPUT --edges'", "fit_help": "'ruled fit --help'",
-                        "partition": "ruled fit --tol T"},
+                        "partition": "ruled fit --tol T",
+                        "walls_listing": "pick the ring of faces between the bottom and the top contour (see 'ruled "
+                                         "faces INPUT --walls')",
+                        "one_face": "--face"},
                        lambda key: "--" + key.replace("_", "-"), " ", ("True",))
 
 

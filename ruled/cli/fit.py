@@ -53,8 +53,11 @@ def cmd_faces(args) -> int:
         if not walls:
             print("walls: none (no ring of faces between two planar caps); give a wall's faces with --wall K,L-M")
         for k, r in enumerate(walls):
-            print(f"wall {k}: faces {','.join(map(str, r.faces))}  (bottom contour {len(r.loops[0])} edges, "
-                  f"top contour {len(r.loops[1])} edges)")
+            holes = sum(w.role == "hole" for w in walls)
+            role = ("outer wall" if r.role == "outer" else
+                    f"inner wall, a hole's: --wall {r.name.replace(' ', ':') if holes > 1 else 'hole'}")
+            print(f"wall {k}: {r.name}  faces {','.join(map(str, r.faces))}  ({role}; bottom contour {len(r.loops[0])} "
+                  f"edges, top contour {len(r.loops[1])} edges)")
     return 0
 
 

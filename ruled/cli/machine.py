@@ -36,11 +36,11 @@ def run_machine(args) -> dict:
     fit_opts = FitOptions(samples=args.samples, method=args.method, ends=args.ends).checked()
     csv_path = args.csv or os.path.splitext(args.output)[0] + ".csv"
     check_outputs(args.output, csv_path, args.step, args.report, args.plot, inputs=(args.input,))
-    side = 1.0 if args.side == "outside" else -1.0
+    side = 1.0 if args.side in (None, "outside") else -1.0
     if args.start is not None and args.wall is None:
         raise RuledError("--start places a wall's loop (--wall); a face's path starts at its own end")
     if args.wall is not None:
-        fm, what, chosen = _machine_wall(args, opts, side)
+        fm, what, chosen = _machine_wall(args, opts)
     elif isinstance(args.face, int):
         face = get_face(args.input, args.face)
         fm = with_bar(args.quiet, args.face, lambda bar: machine_job(
@@ -49,7 +49,7 @@ def run_machine(args) -> dict:
     else:
         fm, what, chosen = _machine_patches(args, opts, side)
     title = f"{what} of {os.path.basename(args.input)}"
-    write_machine(fm.path, args.output, title, csv_path, args.units, args.side)
+    write_machine(fm.path, args.output, title, csv_path, args.units, fm.report.get("side"))
     if args.step:
         write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": chosen,
@@ -62,7 +62,7 @@ def run_machine(args) -> dict:
     return rep
 
 
-def _machine_wall(args, opts, side):
+def _machine_wall(args, opts):
     """'ruled machine --wall auto|K,L-M': the wall fitted as one closed ruled surface, one closed path."""
     from dataclasses import replace
 
@@ -78,7 +78,7 @@ def _machine_wall(args, opts, side):
 
     def work(bar):
         fit = fit_wall(wall, fit_opts.checked(), bar, measure_samples=args.measure_samples)
-        return machine_of_wall(fit, opts, side, args.start, args.measure_samples, bar)
+        return machine_of_wall(fit, opts, args.side, args.start, args.measure_samples, bar)
     fm = with_bar(args.quiet, "the wall", work)
     what = f"the wall (faces {_face_text(list(wall.ring.faces))})"
     return fm, what, list(wall.ring.faces)

@@ -223,8 +223,10 @@ def _machine_parser(sub) -> None:
     m.add_argument("--tip", choices=["auto", "first", "second"], default="auto",
                    help="flank: the tool tip at the rulings' first or second end (the fit's boundaries), or auto: "
                         "the end lower in z (default)")
-    m.add_argument("--side", choices=["outside", "inside"], default="outside",
-                   help="the side of the face the wire offset or the tool is on (outside: the face's normal)")
+    m.add_argument("--side", choices=["outside", "inside"], default=None,
+                   help="the side the wire's kerf or the tool is on: of a face, outside is its normal's side "
+                        "(the default); of a wall, outside or inside its contour (default: off the material, "
+                        "outside a punch, inside a hole)")
     m.add_argument("--chord-tol", type=float, default=None,
                    help="largest distance between a straight move and the contours (default 1e-4 of the diagonal)")
     m.add_argument("--feed", type=float, default=100.0,

@@ -24,7 +24,10 @@ PYTHON_NAMES = {"lift_step": "step", "arc_step": "step",
                 "keep_creases": "pass allow_creases=True to keep the creases", "taper": "taper_deg",
                 "split_elevations": "levels", "fit_help": "help(ruled.FitOptions)",
                 "edges_listing": "the edge indices 'ruled faces INPUT --edges' lists",
-                "partition": "ruled.partition(surface, tol=T)"}
+                "partition": "ruled.partition(surface, tol=T)",
+                "walls_listing": "pick the ring of faces between the bottom and the top contour (ruled.cq.fit_wall "
+                                 "finds it in a part)",
+                "one_face": "ruled.cq.fit_face"}
 
 
 def opt(key: str, value: Any = None) -> str:

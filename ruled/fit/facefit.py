@@ -69,6 +69,15 @@ def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:
         return FacePatch(region, region.surface, region.rect_slack(gaps=False) + gap, True, None, direction,
                          face_size=size, warnings=tuple(warnings), edge_gap=gap)
     sides, m = _choose_sides(region, rails, size)
+    return sided_patch(region, sides, m, size, None if rails is None else "v", tuple(warnings), span)
+
+
+def sided_patch(region: Region, sides, m=None, size: Optional[float] = None, direction: Optional[str] = None,
+                warnings: tuple = (), span: float = 0.0) -> FacePatch:
+    """The face as the four-sided patch S o Omega of the Coons map m of the given sides (ruled.core.region.Sides;
+    m built when not given), sampled into a bicubic B-spline, with its deviation from the bounded face."""
+    size = region_size(region) if size is None else size
+    m = coons_map(region, sides) if m is None else m
     tol = PATCH_TOL * max(size, 1e-300)
     side = side_surface(region.surface, m, tol, PATCH_MAX_SPANS, PATCH_ACCEPT * size)
     x = np.linspace(0.0, 1.0, 41)
@@ -78,7 +87,7 @@ def face_patch(region: Region, rails: Optional[tuple] = None) -> FacePatch:
     # both sampled: EDGE_MARGIN for what the samples miss
     gap = EDGE_MARGIN * ((0.0 if off is None else float(np.linalg.norm(off, axis=1).max())) + region.max_gap())
     return FacePatch(region, side.surface, float(side.deviation) + gap + span, False, sides,
-                     None if rails is None else "v", side.spans, size, tuple(warnings), gap, span)
+                     direction, side.spans, size, warnings, gap, span)
 
 
 def _choose_sides(region: Region, rails, size: float):

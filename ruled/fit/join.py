@@ -186,14 +186,54 @@ def _cw(c: Curve) -> np.ndarray:
     return c.weights if c.weights is not None else np.ones(len(c.poles))
 
 
-def wall_patch(name, S, bottom: list, top: list, before, after, size: float, edge_tol: float) -> tuple:
+def wall_patch(name, S, bottom: list, top: list, before, after, size: float, edge_tol: float,
+               loose=None) -> tuple:
     """(a wall's face as a four-sided patch: u along the ring, from its joint ``before`` to ``after``, v from its
-    bottom contour edges to its top ones; its contours' mean length).  S: the face's surface (clamped, not
-    periodic), or None for a planar face, whose patch is the ruled surface between its chained contour
-    curves (exact where its joints are straight).  bottom, top, before, after: ruled.fit.ring.RingEdge (with
-    their curves where S is None); edge_tol: the face's contour edges' tolerance (an edge that close to the
-    surface lies on it)."""
+    bottom contour edges to its top ones; its contours' mean length; its deviation from the face, 0 where
+    exact).  S: the face's surface (clamped, not periodic), or None for a planar face, whose patch is the ruled
+    surface between its chained contour curves (exact where its joints are straight).  bottom, top, before,
+    after: ruled.fit.ring.RingEdge (with their curves where S is None); edge_tol: the face's contour edges'
+    tolerance (an edge that close to the surface lies on it).  loose: where the face is no exact patch (its
+    contour edges are not opposite sides of its surface; a plane with curved joints), a callable giving its
+    Coons patch (ruled.fit.wallpatch.contour_patch), whose deviation is then the third figure; without it
+    such a face is refused."""
     length = max(0.5 * (sum(e.length for e in bottom) + sum(e.length for e in top)), 1e-12 * size)
+    b, t = (np.concatenate([e.points for e in c]) if c else None for c in (bottom, top))
+    jb, ja = (None if e is None else e.points for e in (before, after))
+    try:
+        return _exact_patch(name, S, bottom, top, before, after, size, edge_tol), length, 0.0
+    except BadInputError:
+        if loose is None or b is None or t is None:
+            raise
+    fp = loose()
+    dev = float(fp.deviation)
+    return oriented(fp.surface, b, t, jb, ja, name, size, max(1e-3 * size, 1.5 * edge_tol + dev)), length, dev
+
+
+def _covers(S: Surface, side: int, cloud: np.ndarray, tol: float) -> bool:
+    """Side ``side`` of S lies along the points cloud (its edges' samples), end to end within tol."""
+    from ruled.core.distance import to_polyline
+    u0, u1, v0, v1 = S.domain
+    x = np.linspace(0.0, 1.0, 65)
+    v = v0 if side == 0 else v1
+    return to_polyline(S(u0 + (u1 - u0) * x, np.full(x.size, v)), cloud) <= tol
+
+
+def _dense(edges: list) -> np.ndarray:
+    """Points along the edges, dense enough for a polyline through them to follow them (their curves at 257
+    points each, where known; else their samples)."""
+    out = []
+    for e in edges:
+        if e.curve is None:
+            out.append(e.points)
+        else:
+            a, b = e.curve.domain
+            out.append(e.curve(np.linspace(a, b, 257)))
+    return np.concatenate(out)
+
+
+def _exact_patch(name, S, bottom: list, top: list, before, after, size: float, edge_tol: float) -> Surface:
+    """wall_patch's exact patch, or BadInputError."""
     if S is None:
         sides = [e for e in (before, after) if e is not None]
         if before is None or not bottom or not top or not all(e.straight for e in sides):
@@ -204,10 +244,17 @@ def wall_patch(name, S, bottom: list, top: list, before, after, size: float, edg
         start_b, start_t = (before.start, before.end) if near[0] <= near[1] else (before.end, before.start)
         tol = 1e-6 * size
         return ruled_patch(chained([e.curve for e in bottom], start_b, tol),
-                           chained([e.curve for e in top], start_t, tol)), length
+                           chained([e.curve for e in top], start_t, tol))
     b, t = (np.concatenate([e.points for e in c]) if c else None for c in (bottom, top))
     jb, ja = (None if e is None else e.points for e in (before, after))
-    return oriented(S, b, t, jb, ja, name, size, max(1e-3 * size, 1.5 * edge_tol)), length
+    tol = max(1e-3 * size, 1.5 * edge_tol)
+    P = oriented(S, b, t, jb, ja, name, size, tol)
+    # the contour edges cover the sides end to end (a face trimmed by curved joints has sides longer than them)
+    for side, c in ((0, bottom), (1, top)):
+        if c and not _covers(P, 2 * side, _dense(c), tol):
+            raise BadInputError(f"face {name} of the wall: its contour edges are only part of its surface's sides "
+                                f"(a face trimmed by its joints); walls of such faces are not supported yet")
+    return P
 
 
 def end_to_end(ps: list) -> tuple:
@@ -237,11 +284,15 @@ def end_to_end(ps: list) -> tuple:
     return Surface(P, np.asarray(knots), ps[0].knots_v, p, ps[0].degree_v, W if rational else None), offs, spreads
 
 
-def joined(patches: list, lengths, names: list, size: float) -> tuple:
-    """(Surface, breaks, corners): the patches (u round the ring, v bottom to top) joined (see the module);
+def joined(patches: list, lengths, names: list, size: float, deviations=None) -> tuple:
+    """(Surface, breaks, corners, slack): the patches (u round the ring, v bottom to top) joined (see the module);
     breaks: the faces' joints in u; corners: the joints (indices into breaks, 0 the seam) where both
-    contours turn by more than CORNER_DEG."""
+    contours turn by more than CORNER_DEG; slack: how far the joined surface can be from the faces beyond
+    their edges' tolerances: the sampled patches' deviations (deviations, per patch; 0 for an exact one) and
+    half the distance between the two end columns at a joint of a sampled patch, which are replaced by their
+    mean (a pole moved moves the surface by at most as much)."""
     lengths = np.asarray(lengths, float)
+    deviations = [0.0] * len(patches) if deviations is None else [float(d) for d in deviations]
     breaks = np.concatenate([[0.0], np.cumsum(lengths) / lengths.sum()])
     du = max(S.degree_u for S in patches)
     dv = max(S.degree_v for S in patches)
@@ -259,16 +310,20 @@ def joined(patches: list, lengths, names: list, size: float) -> tuple:
     ps = [_along_v(S, lambda c: with_knots(c, inner)) for S in ps]
     S, offs, spreads = end_to_end(ps)
     tol = 1e-6 * size
-    for k in range(1, len(ps)):
-        if offs[k - 1] > tol or spreads[k - 1] > 1e-9:
-            raise BadInputError(f"faces {names[k - 1]} and {names[k]} of the wall parametrize the edge they share "
-                                f"differently ({offs[k - 1]:.3g} apart); walls of such faces are not supported yet")
-    if offs[-1] > tol:
-        raise BadInputError(f"the wall's faces {names[-1]} and {names[0]} do not meet along one edge parametrized "
-                            f"alike ({offs[-1]:.3g} apart); walls of such faces are not supported yet")
+    n, moved = len(ps), 0.0
+    for k in range(n if n > 1 else 0):
+        a, b = (k - 1) % n, k                    # joint k: between patch k - 1 and k (0: the closing one)
+        off, spread = offs[k - 1], spreads[k - 1] if k else 0.0
+        if off <= tol and spread <= 1e-9:
+            continue
+        if (deviations[a] > 0 or deviations[b] > 0) and spread <= 1e-9:
+            moved = max(moved, 0.5 * off)
+            continue
+        raise BadInputError(f"faces {names[a]} and {names[b]} of the wall parametrize the edge they share "
+                            f"differently ({off:.3g} apart); walls of such faces are not supported yet")
     corners = [k for k in range(len(ps)) if all(turn(ps[k - 1].poles[:, row], ps[k].poles[:, row]) > CORNER_DEG
                                                 for row in (0, -1))]
-    return S, breaks, corners
+    return S, breaks, corners, max(deviations) + moved
 
 
 __all__ = ["CORNER_DEG", "turn", "joined", "chained", "wall_patch", "end_to_end", "elevated_u", "along_u",

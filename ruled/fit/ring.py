@@ -97,7 +97,7 @@ def _loops(free: list, edges: list, size: float) -> list:
             raise BadInputError(f"the wall's contours cross at ({p[0]:.4g}, {p[1]:.4g}, {p[2]:.4g}): more than two "
                                 f"of its free edges meet there, and a wire cannot follow a contour through its own "
                                 f"crossing; fit each loop of the part as a wall of its own, or the faces one by one "
-                                f"(--face)")
+                                f"(«one_face»)")
     left = list(free)
     loops = []
     while left:
@@ -151,14 +151,13 @@ def order_ring(names: list, edges: list, face_edges: list, holed: list, areas: l
     if any(holed):
         raise BadInputError(f"face {names[holed.index(True)]} of the wall has a hole in it (an inner loop of edges); a "
                             f"wall is a band of faces between two contours: fill the hole first, or fit the face "
-                            f"alone (--face)")
+                            f"alone («one_face»)")
     loops = _loops(free, edges, size)
     if len(loops) != 2:
         what = ("no free contour (the faces close on themselves)" if not loops else
                 "one free contour (the faces do not close into a band round the part)" if len(loops) == 1 else
                 f"{len(loops)} free contours (a band has two: a hole in the ring, or faces that are not one band?)")
-        raise BadInputError(f"faces {_names(names)} are not a wall: their free edges make {what}; pick the ring "
-                            f"of faces between the bottom and the top contour (see 'ruled faces INPUT --walls')")
+        raise BadInputError(f"faces {_names(names)} are not a wall: their free edges make {what}; «walls_listing»")
     n = len(face_edges)
     nb: dict = {k: [] for k in range(n)}
     for (a, b), es in shared.items():
@@ -168,8 +167,8 @@ def order_ring(names: list, edges: list, face_edges: list, holed: list, areas: l
     if n > 1:
         wrong = [names[k] for k, v in nb.items() if len(v) != 2]
         if wrong:
-            raise BadInputError(f"faces {_names(wrong)} of the wall do not each meet two others of it edge to edge; "
-                                f"a wall is a ring of faces between two contours")
+            raise BadInputError(f"faces {_names(wrong)} of the wall do not each meet two others of it edge to edge "
+                                f"(a wall is a ring of faces between two contours); «walls_listing»")
     order, joints = [0], []
     while len(order) < n:
         nxt = [(k, e) for k, e in nb[order[-1]] if k not in order]
@@ -195,6 +194,97 @@ def order_ring(names: list, edges: list, face_edges: list, holed: list, areas: l
     return RingOrder(order, bottom, top, joints, (loops[0], loops[1]), size, slivers)
 
 
+def loop_polygon(pieces: list) -> np.ndarray:
+    """A contour's edges' samples (each end to end, in loop order, either way round) as one polygon."""
+    out = [np.asarray(pieces[0], float)]
+    if len(pieces) > 1 and min(np.linalg.norm(out[0][0] - q) for q in (pieces[1][0], pieces[1][-1])) < \
+            min(np.linalg.norm(out[0][-1] - q) for q in (pieces[1][0], pieces[1][-1])):
+        out[0] = out[0][::-1]
+    for P in pieces[1:]:
+        P = np.asarray(P, float)
+        out.append(P if np.linalg.norm(P[0] - out[-1][-1]) <= np.linalg.norm(P[-1] - out[-1][-1]) else P[::-1])
+    return np.concatenate(out)
+
+
+def wall_roles(bottoms: list) -> list:
+    """Per wall (its bottom contour as a polygon, loop_polygon), 'outer' or 'hole': a hole's contour lies
+    inside an odd number of the other walls' contours, seen along the normal of the largest one's plane."""
+    from ruled.core.region import crossings_odd
+    if len(bottoms) < 2:
+        return ["outer"] * len(bottoms)
+    big = max(bottoms, key=lambda P: float(np.linalg.norm(np.ptp(P, axis=0))))
+    c = big.mean(axis=0)
+    frame = np.linalg.svd(big - c)[2]            # rows: two in-plane directions, then the normal
+    flat = [(P - c) @ frame[:2].T for P in bottoms]
+    roles = []
+    for i, P in enumerate(flat):
+        inside = sum(bool(crossings_odd(Q, P[:1])[0]) for j, Q in enumerate(flat) if j != i)
+        roles.append("hole" if inside % 2 else "outer")
+    return roles
+
+
+def role_of(bottom: np.ndarray, point: np.ndarray, outward: np.ndarray) -> str:
+    """A wall's role from its own faces: 'hole' where the part's outward normal at a point of its bottom
+    contour (bottom: the contour as a polygon) points into the contour (the opening is inside it), else
+    'outer'."""
+    from ruled.core.region import crossings_odd
+    c = bottom.mean(axis=0)
+    frame = np.linalg.svd(bottom - c)[2][:2]
+    n = frame @ np.asarray(outward, float)
+    if not np.linalg.norm(n) > 0:
+        return "outer"
+    step = 1e-4 * float(np.linalg.norm(np.ptp(bottom, axis=0)))
+    q = (np.asarray(point, float) - c) @ frame.T + step * n / np.linalg.norm(n)
+    return "hole" if bool(crossings_odd((bottom - c) @ frame.T, q[None])[0]) else "outer"
+
+
+def role_names(roles: list) -> list:
+    """The walls' names by role: 'outer' (numbered 'outer 1', ... where a part has more than one outside)
+    and 'hole 1', 'hole 2', ... in the walls' order."""
+    out, count = [], {r: 0 for r in roles}
+    total = {r: roles.count(r) for r in roles}
+    for r in roles:
+        count[r] += 1
+        out.append(r if r == "outer" and total[r] == 1 else f"{r} {count[r]}")
+    return out
+
+
+WALL_WORDS = ("auto", "outer", "hole")
+
+
+def pick_wall(spec: str, names: list, roles: list, faces: list) -> int:
+    """Which of a part's walls (their names and roles, role_names / wall_roles, and face lists) the user's
+    «wall» word picks: 'auto' (the only wall), 'outer', 'hole' (the only one of that role), 'hole:K' or
+    'outer:K' (the K-th, from 1).  Refused in one line listing the walls where the choice is not one."""
+    listing = "; ".join(f"{n} (faces {_names(f)})" for n, f in zip(names, faces))
+    how = ("choose one with «wall=outer», «wall=hole»" + (", «wall=hole:2»" if roles.count("hole") > 1 else "")
+           + " or its faces «wall=K,L-M»")
+    if spec == "auto":
+        if len(names) == 1:
+            return 0
+        raise BadInputError(f"the part has {len(names)} walls: {listing}; {how}")
+    role, _, k = spec.partition(":")
+    mine = [i for i, r in enumerate(roles) if r == role]
+    if not k:
+        if len(mine) == 1:
+            return mine[0]
+        what = f"no {role} wall" if not mine else f"{len(mine)} {role} walls"
+        raise BadInputError(f"«wall={spec}»: the part has {what}: {listing}; "
+                            f"{'name one with «wall=' + role + ':1»' if mine else how}")
+    if not k.isdigit() or not 1 <= int(k) <= len(mine):
+        raise BadInputError(f"«wall={spec}»: the part has {len(mine)} {role} wall{'s' if len(mine) != 1 else ''}: "
+                            f"{listing}; {how}")
+    return mine[int(k) - 1]
+
+
+def is_wall_word(spec) -> bool:
+    """spec names a wall by a word (auto, outer, hole, outer:K, hole:K) rather than by faces."""
+    if not isinstance(spec, str):
+        return False
+    role, colon, k = spec.partition(":")
+    return spec in WALL_WORDS or (role in ("outer", "hole") and colon == ":" and k.isdigit())
+
+
 def connected(face_edges: list) -> list:
     """The faces (positions) in groups connected edge to edge (face_edges: each face's edge positions)."""
     parent = list(range(len(face_edges)))
@@ -217,4 +307,5 @@ def connected(face_edges: list) -> list:
     return sorted(groups.values(), key=lambda g: g[0])
 
 
-__all__ = ["RingEdge", "RingOrder", "order_ring", "connected", "is_straight", "SLIVER"]
+__all__ = ["RingEdge", "RingOrder", "order_ring", "connected", "is_straight", "SLIVER", "loop_polygon", "wall_roles",
+           "role_names", "role_of", "pick_wall", "is_wall_word", "WALL_WORDS"]

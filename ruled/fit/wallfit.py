@@ -42,6 +42,27 @@ def piece(S: Surface, a: float, b: float) -> Surface:
                    W if S.weights is not None else None)
 
 
+def clamped_u(R: Surface) -> Surface:
+    """R clamped along u on its domain (a periodic surface stored unwrapped, as a host's periodic form reads,
+    made ordinary: the same geometry on [u0, u1]); R itself when clamped already."""
+    from ruled.core.knots import clamp_segment
+    from ruled.fit.join import along_u
+    k, p = R.knots_u, R.degree_u
+    if np.ptp(k[:p + 1]) == 0 and np.ptp(k[-p - 1:]) == 0:
+        return R
+    u0, u1 = R.domain[:2]
+    return along_u(R, lambda c: clamp_segment(c, u0, u1))
+
+
+def smooth_parts(R: Surface) -> list:
+    """R cut at its creases along u (C0 rulings) into its smooth parts, each clamped: a closed wall result
+    measured part by part (a global distance search does not cross a crease)."""
+    R = clamped_u(R)
+    u0, u1 = R.domain[:2]
+    cuts = [u0, *[float(c) for c in R.creases(0)], u1]
+    return [piece(R, a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
+
+
 def stacked(surfaces: list, ranges: list, size: float) -> tuple:
     """(Surface, gap): ruled surfaces (v of degree 1), each reparametrized onto its u range, joined end to end
     with full-multiplicity knots (C0) into one, their u degrees raised to the largest (exactly) and each
@@ -126,4 +147,4 @@ def fit_ring(S: Surface, breaks, corners, options, size: float, progress=None) -
     return RingFit(results, surface, bound, False)
 
 
-__all__ = ["RingFit", "fit_ring", "piece", "stacked", "own_net"]
+__all__ = ["RingFit", "fit_ring", "piece", "stacked", "own_net", "clamped_u", "smooth_parts"]

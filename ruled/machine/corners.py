@@ -10,6 +10,23 @@ import numpy as np
 SAMPLES = 9        # samples along a ruling for its normals on either side of a crease
 
 
+def ruling_normals(c: np.ndarray) -> np.ndarray:
+    """Unit normals along each ruling from Su x Sv ((k, m, 3)), where that all but vanishes (a singular point:
+    a cone's apex, where it is round-off) taken from the nearest sample of the same ruling that has one (a
+    developable's normal is constant along a ruling)."""
+    ln = np.linalg.norm(c, axis=2)
+    zero = ln <= 1e-9 * ln.max(axis=1, keepdims=True)
+    n = c / np.where(zero, 1.0, ln)[..., None]
+    if not zero.any():
+        return n
+    n[zero] = 0.0
+    for k, j in zip(*np.nonzero(zero)):
+        good = np.nonzero(~zero[k])[0]
+        if good.size:
+            n[k, j] = n[k, good[np.argmin(np.abs(good - j))]]
+    return n
+
+
 def round_corners(lines, us: np.ndarray, a: np.ndarray, b: np.ndarray, tol: float) -> tuple:
     """(us, a, b, the inside corners' normal turns) of the offset lines (lines: ruled.machine.paths.Lines) round each
     crease of R (a C0 ruling: a corner both contours share). Convex on the offset side: the ruling moved by the
@@ -28,7 +45,7 @@ def round_corners(lines, us: np.ndarray, a: np.ndarray, b: np.ndarray, tol: floa
         side = []
         for x in (c - eps, c + eps):
             D = R.evaluate(np.full(ts.size, x), ts, 1)
-            n = lines.sign * D.normals().mean(axis=0)
+            n = lines.sign * ruling_normals(np.cross(D.Su, D.Sv)[None])[0].mean(axis=0)
             side.append(n / max(float(np.linalg.norm(n)), 1e-300))
         n0, n1 = side
         A, B = lines.rulings(np.array([c]))
@@ -40,17 +57,8 @@ def round_corners(lines, us: np.ndarray, a: np.ndarray, b: np.ndarray, tol: floa
             continue
         i = int(np.searchsorted(us, c - eps))
         if float(n0 @ travel) > 0:
-            # concave: the two offsets cross; the wire stops on their meeting line (the mitre), and the offset
-            # lines past it on either side, which would cut into the other face, are left out
-            mitre = k * (n0 + n1) / (1.0 + float(n0 @ n1))
-            speed = float(np.linalg.norm(R.evaluate(np.array([c - eps, c + eps]), np.full(2, lines.t[0]), 1).Su,
-                                         axis=1).min())
-            reach = 1.2 * k * math.tan(0.5 * ang) / max(speed, 1e-300)
-            keep = np.abs(us - c) > reach
-            lo_part, hi_part = keep & (us < c), keep & (us > c)
-            us = np.concatenate([us[lo_part], [c], us[hi_part]])
-            a = np.concatenate([a[lo_part], [A + mitre], a[hi_part]])
-            b = np.concatenate([b[lo_part], [B + mitre], b[hi_part]])
+            # concave: the two offsets cross; each guide is held where they meet (the mitre, found with the
+            # lines' other loops: ruled.machine.loops), so nothing to add here but the corner's turn
             turns.append(ang)
             continue
         step = 2.0 * math.acos(max(-1.0, 1.0 - tol / k)) if tol < 2 * k else math.pi
@@ -64,4 +72,4 @@ def round_corners(lines, us: np.ndarray, a: np.ndarray, b: np.ndarray, tol: floa
     return us, a, b, turns
 
 
-__all__ = ["round_corners"]
+__all__ = ["round_corners", "ruling_normals"]

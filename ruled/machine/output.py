@@ -44,7 +44,7 @@ def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = 
              f"along the axis {_vec(fr.axis)})",
              f"(X = p . {_vec(fr.e1)}, Y = p . {_vec(fr.e2)}; U, V the same on the upper plane)",
              f"(synchronized points {path.stats['sync_points']}, chord tolerance {path.chord_tol:.6g}, "
-             f"kerf {path.radius:.6g}{f' on the {side}' if side else ''}, {'closed' if path.closed else 'open'} "
+             f"kerf {path.radius:.6g}{_side(side)}, {'closed' if path.closed else 'open'} "
              f"contour, in the model's mm)",
              ("G21" if units == "mm" else "G20") + " G90 G94"]
     m = path.moves * k
@@ -55,6 +55,11 @@ def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = 
     write_text(filename, "\n".join(lines) + "\n")
 
 
+def _side(side: Optional[str]) -> str:
+    """The side beside the kerf: ' on the outside' (a face's normal), ' inside the hole (off the material)'."""
+    return "" if not side else f" {side}" if " " in side else f" on the {side}"
+
+
 def _vec(v) -> str:
     return "(" + ", ".join(f"{x:.12g}" for x in v) + ")"
 
@@ -63,16 +68,17 @@ def _xyuv(r) -> str:
     return " ".join(f"{k}{_fmt(x)}" for k, x in zip("XYUV", r))
 
 
-def write_csv(path: MachinePath, filename: str, units: str = "mm") -> None:
+def write_csv(path: MachinePath, filename: str, units: str = "mm", side: Optional[str] = None) -> None:
     """xyuv: one row per move (kind, X, Y, U, V, the two 3D points, u, the wire's taper: its angle from the
-    machine axis, degrees); flank: one row per CL point (u, tip x y z, axis i j k); lengths in the output
-    units."""
+    machine axis, degrees, the kerf and the side it is on, as the G-code's header says them); flank: one row
+    per CL point (u, tip x y z, axis i j k); lengths in the output units."""
     k = _scale(units)
     with atomic(filename) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         if path.mode == "xyuv":
             w.writerow(["kind", "X", "Y", "U", "V", "lower_x", "lower_y", "lower_z", "upper_x", "upper_y",
-                        "upper_z", "u", "taper_deg"])
+                        "upper_z", "u", "taper_deg", "kerf", "side"])
+            where = _side(side).strip()
             (h0, h1), fr = path.planes, path.frame
             i = 0
             for kind, row in zip(path.kinds, path.moves):
@@ -83,7 +89,7 @@ def write_csv(path: MachinePath, filename: str, units: str = "mm") -> None:
                 taper = np.degrees(np.arccos(min(1.0, abs(float(d @ fr.axis)) / max(float(np.linalg.norm(d)),
                                                                                      1e-300))))
                 w.writerow([kind, *map(_fmt, row * k), *map(_fmt, lo), *map(_fmt, hi),
-                            uu if uu == "" else f"{uu:.12g}", f"{taper:.4f}"])
+                            uu if uu == "" else f"{uu:.12g}", f"{taper:.4f}", _fmt(path.radius * k), where])
         else:
             w.writerow(["u", "x", "y", "z", "i", "j", "k"])
             for uu, p, a in zip(path.u, path.lower, path.axes):
@@ -117,7 +123,7 @@ def write_machine(path: MachinePath, filename: str, title: str = "", csv_path: O
     else:
         write_apt(path, filename, title, units)
     csv_path = csv_path or os.path.splitext(filename)[0] + ".csv"
-    write_csv(path, csv_path, units)
+    write_csv(path, csv_path, units, side)
     return csv_path
 
 

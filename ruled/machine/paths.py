@@ -37,7 +37,10 @@ import numpy as np
 from ruled.core.errors import BadInputError, positive, whole
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
-from ruled.machine.corners import round_corners
+from ruled.machine.corners import round_corners, ruling_normals
+from ruled.machine.leads import with_leads
+from ruled.machine.loops import held_ends, one_sided, smooth_pieces, trimmed_guides
+from ruled.machine.loops import held_fillet as held_fillet_of
 from ruled.machine.sync import _seeds, sync_params
 
 _LINE_SAMPLES = 9          # samples along a ruling for its offset line
@@ -151,7 +154,7 @@ class Lines:
         U = np.repeat(u, m)
         D = self.R.evaluate(U, np.tile(ts, u.size), 1)
         P = D.P.reshape(u.size, m, 3)
-        n = self.sign * D.normals().reshape(u.size, m, 3)
+        n = self.sign * ruling_normals(np.cross(D.Su, D.Sv).reshape(u.size, m, 3))
         ab = B - A
         L = np.linalg.norm(ab, axis=1)
         b = ab / np.where(L > 0, L, 1.0)[:, None]
@@ -384,17 +387,27 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
             absorbed = False
         else:
             budget = tol - off_dev
-    us = sync_params(on_planes, u0, u1, budget, _seed_params(R, lines), opts.max_points, progress)
+    pieces, L = smooth_pieces(R, u0, u1), u1 - u0
+    f, held_fillet = on_planes, 0.0
+    if lines.offset:
+        f, dense = trimmed_guides(on_planes, pieces, L, fr.xy, lines.closed)
+        held_fillet = held_fillet_of(f, dense, lines, opts.kerf)
+    seeds = _seed_params(R, lines)
+    us = np.concatenate([sync_params(lambda u, a=a, b=b: f(one_sided(u, a, b, L)), a, b, budget,
+                                     seeds[(seeds > a) & (seeds < b)], opts.max_points, progress)
+                         for a, b in pieces])
+    us = np.concatenate([one_sided(us[(us >= a) & (us <= b)], a, b, L) for a, b in pieces])
     if us.size < 2:
         raise BadInputError("the machine path is empty: the ruled result has no extent along its rulings")
     a, b, _ = lines.ends(us)
     inside_turns: list = []
     if lines.offset:
+        a, b = held_ends(f, us, a, b, d)
         us, a, b, inside_turns = round_corners(lines, us, a, b, budget)
     E = to_planes(a, b, d, planes)
     lower, upper = E[:, 0], E[:, 1]
     part = np.stack([a, b], axis=1)
-    moves, kinds = _with_leads(lower, upper, lines, us, sign, fr, opts, R)
+    moves, kinds = with_leads(lower, upper, lines, us, sign, fr, opts, R)
     taper = np.degrees(np.arccos(np.clip(cosang, 0.0, 1.0)))
     it = int(np.argmax(taper))
     if taper[it] > 30.0:
@@ -406,8 +419,8 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
              "plane_heights": list(planes), "axis": d.tolist(),
              "cut_bound_beyond_fit": tol + (0.0 if absorbed else off_dev),
              # a wire of radius k leaves an inside corner (the normal turning by g) round: k (1 / cos(g / 2) - 1)
-             "inside_corner_fillet": max((opts.kerf * (1.0 / math.cos(0.5 * g) - 1.0) for g in inside_turns),
-                                         default=0.0)}
+             "inside_corner_fillet": max([held_fillet] + [opts.kerf * (1.0 / math.cos(0.5 * g) - 1.0)
+                                                          for g in inside_turns])}
     return MachinePath("xyuv", us, lower, upper, part, lines.closed, tol, off_dev, fr, planes, moves, kinds,
                        opts.kerf, 0.0, opts.feed, stats, tuple(warnings), on_planes)
 
@@ -420,33 +433,6 @@ def to_planes(a: np.ndarray, b: np.ndarray, d: np.ndarray, planes) -> np.ndarray
 
 def _length(P: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(P, axis=0), axis=-1).sum())
-
-
-def _with_leads(lower: np.ndarray, upper: np.ndarray, lines: Lines, us: np.ndarray, sign: float, fr: Frame,
-                opts: MachineOptions, R: Surface):
-    """The moves (X, Y, U, V) with a lead-in to the first pair and a lead-out from the last: each guide
-    leaves its contour square to it, on the outside, i.e. along the in-plane part of the normal of the
-    line surface at that guide (sign (d contour / du) x (its ruling, from t0 to t1)); both together."""
-    xy, uv = fr.xy(lower), fr.xy(upper)
-    lead = opts.lead if opts.lead is not None else 0.05 * R.diagonal()
-    body = np.concatenate([xy, uv], axis=1)
-    if lead <= 0:
-        return body, ("cut",) * len(body)
-    a, b, _ = lines.ends(us[[0, -1]])
-    out = []
-    for k, (i, j) in enumerate(((0, 1), (-1, -2))):
-        ruling = b[k] - a[k]                                   # from the t0 end to the t1 end
-        lead_pts = []
-        for C3 in (lower, upper):
-            tan = (C3[j] - C3[i]) * (1.0 if k == 0 else -1.0)    # along increasing u
-            m = fr.xy(sign * np.cross(tan, ruling))
-            ln = np.linalg.norm(m)
-            if ln == 0:
-                m = np.zeros(2)
-            lead_pts.append(fr.xy(C3[i]) + lead * (m / ln if ln > 0 else m))
-        out.append(np.concatenate(lead_pts))
-    moves = np.concatenate([out[0][None], body, out[1][None]])
-    return moves, ("lead-in",) + ("cut",) * len(body) + ("lead-out",)
 
 
 # ----------------------------------------------------------------------------------------------- flank

@@ -10,6 +10,7 @@ from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 
 _SEG_SAMPLES = 15          # samples inside a move for the chord test
+_CHUNK = 20000             # parameters evaluated at once
 
 
 def _seeds(S: Surface, X: np.ndarray, n: int = 64) -> np.ndarray:
@@ -26,7 +27,10 @@ def _samples(f, a: np.ndarray, b: np.ndarray, k: int) -> tuple[np.ndarray, np.nd
     """k parameters evenly inside each move [a, b] ((n, k)) and the curves there ((n, k, m, 3))."""
     s = np.arange(1, k + 1) / (k + 1)
     uu = a[:, None] + (b - a)[:, None] * s
-    return uu, f(uu.ravel()).reshape(a.size, k, -1, 3)
+    flat = uu.ravel()
+    # in chunks: an evaluation's temporaries are many times its result (the offset lines' samples)
+    parts = [f(flat[i:i + _CHUNK]) for i in range(0, flat.size, _CHUNK)]
+    return uu, np.concatenate(parts).reshape(a.size, k, -1, 3)
 
 
 def _off_chord(X: np.ndarray, uu: np.ndarray, a, b, fa: np.ndarray, fb: np.ndarray) -> np.ndarray:

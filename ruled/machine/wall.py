@@ -23,6 +23,8 @@ def started(R: Surface, s0: float) -> Surface:
     """The closed ruled surface R (rulings along v) running round from s = s0 (a knot of full multiplicity
     inserted there, the geometry unchanged), flagged closed."""
     from ruled.fit.join import along_u, with_knots
+    from ruled.fit.wallfit import clamped_u
+    R = clamped_u(R)            # (stored unwrapped: a host's periodic form)
     u0, u1 = R.domain[:2]
     if min(abs(s0 - u0), abs(s0 - u1)) <= 1e-12 * (u1 - u0):
         return R
@@ -65,6 +67,23 @@ def wall_axis(bottom: np.ndarray, top: np.ndarray) -> tuple:
     return tuple(float(x) for x in n)
 
 
+def wall_side(role: str, side=None) -> tuple:
+    """(+1 where the wire runs off the material, -1 in it; the side in words, as the G-code's header, the CSV and
+    the report say it) of a wall of role 'outer' or 'hole' (ruled.fit.ring.wall_roles) for the user's side:
+    None (off the material: outside a punch, inside a hole), 'outside' or 'inside' the wall's contour, or a
+    number (its sign: off the material or in it)."""
+    hole = role == "hole"
+    if side is None:
+        side = "inside" if hole else "outside"
+    elif not isinstance(side, str):
+        side = ("inside" if hole else "outside") if float(side) >= 0 else ("outside" if hole else "inside")
+    if side not in ("outside", "inside"):
+        raise BadInputError(f"«side={side}»: use outside or inside (of the wall's contour)")
+    off = (side == "outside") != hole
+    where = f"{side} the {'hole' if hole else 'part'}"
+    return (1.0, f"{where} (off the material)") if off else (-1.0, f"{where} (in the material)")
+
+
 def outside_sign(S: Surface, breaks, first: int, outward: Callable) -> float:
     """+1 when the joined surface S's normal Su x Sv points out of the part: compared at the middle of the
     face ``first`` (an index into breaks) with outward(point), that face's outward normal there."""
@@ -73,4 +92,4 @@ def outside_sign(S: Surface, breaks, first: int, outward: Callable) -> float:
     return 1.0 if float(D.normals()[0] @ np.asarray(outward(D.P[0]), float)) >= 0 else -1.0
 
 
-__all__ = ["started", "start_parameter", "wall_axis", "outside_sign", "START_TOL"]
+__all__ = ["started", "start_parameter", "wall_axis", "outside_sign", "wall_side", "START_TOL"]

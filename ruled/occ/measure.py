@@ -295,12 +295,34 @@ class _Projector:
             ok = np.isfinite(dist)
             ok[ok] = self.inside.points(feet[ok])
             ub[ok] = np.minimum(ub[ok], dist[ok])
+            self._piece_upper(X, ub)
         if etree is not None:
             de, ke = etree.query(X)
             ub = np.minimum(ub, de)
             for i in np.nonzero(de - self.edge_reach[ke] < ub)[0]:
                 ub[i] = min(ub[i], self._edge_refine(X[i], ke[i]))
         return ub
+
+    def _piece_upper(self, X: np.ndarray, ub: np.ndarray) -> None:
+        """ub lowered by local searches in the two smooth pieces (between creases) whose seeds are nearest each
+        point, from their nearest seed: a search from the whole face's seeds does not cross a crease, and on a
+        surface of many narrow pieces (a wall's faces joined) the nearest seed is often on the wrong one."""
+        pieces = self._pieces()
+        if len(pieces) < 2:
+            return
+        q = [tree.query(X) for _, tree, _ in pieces]
+        dist = np.stack([d for d, _ in q])
+        near = np.argsort(dist, axis=0)[:2]
+        for i, x in enumerate(X):
+            P = gp_Pnt(*map(float, x))
+            for j in near[:, i]:
+                loc, _, uv = pieces[j]
+                s = uv[q[j][1][i]]
+                loc.Perform(P, float(s[0]), float(s[1]), False)
+                if loc.IsDone():
+                    d = float(np.sqrt(loc.SquareDistance()))
+                    if d < ub[i] and self.inside(*loc.Point().Parameter()):
+                        ub[i] = d
 
     def distances(self, X: np.ndarray) -> np.ndarray:
         """Distances from the points X to the bounded face: exact (``distance``) wherever a point can

@@ -50,6 +50,8 @@ class Ring:
     loops: tuple                   # (bottom loop, top loop): each a tuple of edges
     size: float = 0.0
     slivers: tuple = ()            # per face: a sliver (a draft's crease: its topology only, ruled.fit.ring.SLIVER)
+    role: str = "outer"            # 'outer' (the part's outside) or 'hole' (a hole's wall: the opening is inside it)
+    name: str = ""                 # as the walls' listing names it: 'outer', 'hole 1', ... (find_walls)
 
     @property
     def kept(self) -> list:
@@ -163,8 +165,43 @@ def find_walls(shape) -> list:
             except BadInputError:
                 continue
         if walls:
-            return walls
+            return _named(walls)
     return []
+
+
+def outward_at(face, x) -> np.ndarray:
+    """The part's outward normal of the face at (near) the point x."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+    from OCP.gp import gp_Pnt, gp_Vec
+
+    from ruled.occ.machine import outward
+    proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*map(float, x)), BRep_Tool.Surface_s(face))
+    a, b = proj.LowerDistanceParameters()
+    p, du, dv = gp_Pnt(), gp_Vec(), gp_Vec()
+    BRepAdaptor_Surface(face, False).D1(a, b, p, du, dv)
+    n = du.Crossed(dv)
+    return np.array([n.X(), n.Y(), n.Z()]) * outward(face)
+
+
+def ring_role(ring: Ring, faces: list) -> str:
+    """A ring's role from its faces (ruled.fit.ring.role_of): 'hole' where the opening is inside its bottom
+    contour.  faces: the part's."""
+    from ruled.fit.ring import loop_polygon, role_of
+    k = next((k for k in ring.kept if ring.bottom[k]), None)
+    if k is None:
+        return "outer"
+    x = _edge_points(ring.bottom[k][0])[EDGE_SAMPLES // 2]
+    return role_of(loop_polygon([_edge_points(e) for e in ring.loops[0]]), x, outward_at(faces[ring.faces[k]], x))
+
+
+def _named(walls: list) -> list:
+    """The walls with their roles (outer, hole) and names ('outer', 'hole 1', ...)."""
+    from dataclasses import replace
+
+    from ruled.fit.ring import loop_polygon, role_names, wall_roles
+    roles = wall_roles([loop_polygon([_edge_points(e) for e in r.loops[0]]) for r in walls])
+    return [replace(r, role=ro, name=nm) for r, ro, nm in zip(walls, roles, role_names(roles))]
 
 
 def _connected(faces: list, indices: list) -> list:
@@ -176,4 +213,4 @@ def _connected(faces: list, indices: list) -> list:
                                                          for f in sub])]
 
 
-__all__ = ["Ring", "ring_of", "find_walls"]
+__all__ = ["Ring", "ring_of", "find_walls", "ring_role", "outward_at"]

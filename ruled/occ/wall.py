@@ -81,14 +81,22 @@ def _clamped(bs):
 
 
 def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: float) -> tuple:
-    """(the face as a four-sided patch, its contours' mean length): ruled.fit.join.wall_patch on its
-    surface (None for a plane) and its edges (before, after: its joints, read already by contour_edge)."""
+    """(the face as a four-sided patch, its contours' mean length, its deviation): ruled.fit.join.wall_patch on
+    its surface (None for a plane) and its edges (before, after: its joints, read already by contour_edge),
+    with its Coons patch (ruled.fit.wallpatch) where it is no exact one."""
     from ruled.fit.join import wall_patch
     from ruled.occ.convert import bspline_surface_to_container
     S = None if _planar_normal(face) is not None else bspline_surface_to_container(_clamped(face_to_bspline(face)))
     edge_tol = max((BRep_Tool.Tolerance_s(e) for e in bottom + top), default=0.0)
     ce = [[contour_edge(e, size) for e in c] for c in (bottom, top)]
-    return wall_patch(index, S, ce[0], ce[1], before, after, size, edge_tol)
+
+    def loose():
+        from ruled.fit.wallpatch import contour_patch
+        from ruled.occ.region import face_region, outer_edges
+        loop = outer_edges(face)
+        ids = [[k for k, g in enumerate(loop) if any(g.IsSame(e) for e in c)] for c in (bottom, top)]
+        return contour_patch(face_region(face), ids[0], ids[1], index)
+    return wall_patch(index, S, ce[0], ce[1], before, after, size, edge_tol, loose)
 
 
 @dataclass
@@ -109,7 +117,7 @@ class Wall:
 
 
 def joined_surface(ring: Ring, faces: tuple) -> tuple:
-    """(Surface, breaks, corners): the ring's faces (slivers left out) as one B-spline surface closed round
+    """(Surface, breaks, corners, slack): the ring's faces (slivers left out) as one B-spline surface closed round
     the ring (ruled.fit.join.joined)."""
     from ruled.fit.join import joined
     n = len(faces)
@@ -117,29 +125,36 @@ def joined_surface(ring: Ring, faces: tuple) -> tuple:
     joints = [None if e is None else contour_edge(e, ring.size) for e in ring.joints]   # (each borders two faces)
     got = [_patch(faces[k], ring.faces[k], ring.bottom[k], ring.top[k], joints[k - 1] if n > 1 else None,
                   joints[k] if n > 1 else None, ring.size) for k in keep]
-    return joined([g[0] for g in got], [g[1] for g in got], [ring.faces[k] for k in keep], ring.size)
+    return joined([g[0] for g in got], [g[1] for g in got], [ring.faces[k] for k in keep], ring.size,
+                  [g[2] for g in got])
 
 
 def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
-    """The wall of the part ``shape``: the faces ``indices`` (a list, or 'K,L-M'), or 'auto' (the part's only
-    wall, or its first as find_walls lists them).  faces: the faces themselves instead of a part (indices
-    then index them)."""
+    """The wall of the part ``shape``: the faces ``indices`` (a list, or 'K,L-M'), or a word: 'auto' (the
+    part's only wall), 'outer', 'hole', 'hole:K' (ruled.fit.ring.pick_wall; find_walls names them).  faces:
+    the faces themselves instead of a part (indices then index them)."""
     from ruled.batch.faces import parse_faces
+    from ruled.fit.ring import WALL_WORDS, is_wall_word, pick_wall
     if faces is None:
         faces = faces_of(shape)
-    if isinstance(indices, str):
-        indices = parse_faces(indices, "«wall»", ("auto",))
-    if indices == "auto":
+    if isinstance(indices, str) and not is_wall_word(indices):
+        indices = parse_faces(indices, "«wall»", WALL_WORDS + ("hole:K",))
+    if is_wall_word(indices):
         walls = find_walls(shape)
         if not walls:
             raise BadInputError("the part has no wall (a ring of faces between two planar caps); give its faces "
-                                "with --wall K,L-M")
-        ring = walls[0]
+                                "with «wall=K,L-M»")
+        ring = walls[pick_wall(indices, [r.name for r in walls], [r.role for r in walls],
+                               [list(r.faces) for r in walls])]
     else:
+        from dataclasses import replace
+
+        from ruled.occ.ring import ring_role
         ring = ring_of(faces, indices)
+        ring = replace(ring, role=ring_role(ring, faces))
     tfaces = tuple(faces[i] for i in ring.faces)
-    S, breaks, corners = joined_surface(ring, tfaces)
-    return Wall(ring, tfaces, S, breaks, corners, _slack(ring, tfaces))
+    S, breaks, corners, slack = joined_surface(ring, tfaces)
+    return Wall(ring, tfaces, S, breaks, corners, _slack(ring, tfaces) + slack)
 
 
 def _slack(ring: Ring, faces: tuple) -> float:

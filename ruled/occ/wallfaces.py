@@ -6,14 +6,9 @@ cross it and the cut follows its projection."""
 
 from __future__ import annotations
 
-import numpy as np
-
 from ruled.core.errors import BadInputError, RuledError
-from ruled.core.nurbs import Curve
-from ruled.occ.ring import _edge_points, _ends
+from ruled.occ.ring import _edge_points
 from ruled.occ.wall import WallFit
-
-JOINT_SAMPLES = 65     # points of each joint edge projected onto the result
 
 
 def _joints(fit: WallFit) -> list:
@@ -28,38 +23,11 @@ def _joints(fit: WallFit) -> list:
     return out
 
 
-def _on_result(R, edge, bottom: np.ndarray) -> np.ndarray:
-    """(m, 2): the joint edge's points projected onto R, from its end on the bottom contour (t = t0) up."""
-    from ruled.core.distance import project_points
-    X = _edge_points(edge, JOINT_SAMPLES)
-    if np.linalg.norm(X[0] - bottom) > np.linalg.norm(X[-1] - bottom):
-        X = X[::-1]
-    u0, u1, t0, t1 = R.domain
-    gu, gt = np.meshgrid(np.linspace(u0, u1, 801), np.linspace(t0, t1, 17), indexing="ij")
-    G = R(gu.ravel(), gt.ravel())
-    k = np.argmin(np.linalg.norm(X[:, None, :] - G[None], axis=2), axis=1)
-    uv, d = project_points(R, X, np.stack([gu.ravel()[k], gt.ravel()[k]], axis=1), iters=30, closed_u=True)
-    uv[0, 1], uv[-1, 1] = t0, t1
-    # one sheet: s continuous along the joint (across the seam)
-    L = u1 - u0
-    uv[:, 0] = uv[0, 0] + np.concatenate([[0.0], np.cumsum((np.diff(uv[:, 0]) + 0.5 * L) % L - 0.5 * L)])
-    return uv
-
-
-def _line(p, q) -> Curve:
-    return Curve(np.array([p, q], float), np.array([0.0, 0.0, 1.0, 1.0]), 1)
-
-
-def _polyline(P: np.ndarray) -> Curve:
-    m = len(P)
-    return Curve(np.asarray(P, float), np.concatenate([[0.0], np.linspace(0.0, 1.0, m), [1.0]]), 1)
-
-
 def per_face(fit: WallFit) -> tuple:
     """(pieces, the sewn shell): per kept face of the wall (ring order), the result between its joints."""
     from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
 
-    from ruled.fit.trim import Trim
+    from ruled.fit.wallpieces import JOINT_SAMPLES, piece_trims
     from ruled.occ.convert import container_to_bspline
     from ruled.occ.trimmed import trimmed_face
     R = fit.surface
@@ -68,27 +36,10 @@ def per_face(fit: WallFit) -> tuple:
         return [fit.face], fit.face
     surf = container_to_bspline(R)
     surf.SetUPeriodic()
-    u0, u1, t0, t1 = R.domain
-    L = u1 - u0
-    s = np.linspace(u0, u1, 2001)
-    rail = R(s, np.full(s.size, t0))
-    curves = []
-    for _, e in joints:
-        # the joint's end on the bottom contour: the one nearer the result's bottom rail
-        ends = _ends(e)
-        near = min(ends, key=lambda p: float(np.min(np.linalg.norm(rail - p, axis=1))))
-        curves.append(_on_result(R, e, near))
     pieces = []
-    for i in range(len(joints)):
-        left, right = curves[i - 1], curves[i].copy()
-        # the right joint after the left one round the ring (by less than a period)
-        shift = np.floor((right[0, 0] - left[0, 0]) / L)
-        right[:, 0] -= shift * L
-        if right[0, 0] <= left[0, 0]:
-            right[:, 0] += L
-        loop = (_line(left[0], right[0]), _polyline(right), _line(right[-1], left[-1]), _polyline(left[::-1]))
+    for i, trim in enumerate(piece_trims(R, [_edge_points(e, JOINT_SAMPLES) for _, e in joints])):
         try:
-            face = trimmed_face(R, Trim(loop), surf)
+            face = trimmed_face(R, trim, surf)
         except RuledError as exc:       # (its advice is a face's: a wall has no ends to pin)
             k = fit.wall.ring.faces[fit.wall.ring.kept[i]] if i < len(fit.wall.ring.kept) else i
             raise type(exc)(f"the wall's piece over its face {k} is not a valid face ({exc.problem}); write the "

@@ -24,23 +24,10 @@ def start_parameter(wall: Wall, R: Surface, start: Optional[tuple] = None) -> fl
 
 def outside_sign(wall: Wall) -> float:
     """+1 when the joined surface's normal Su x Sv points out of the part (its first face's outside)."""
-    from OCP.BRep import BRep_Tool
-    from OCP.BRepAdaptor import BRepAdaptor_Surface
-    from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
-    from OCP.gp import gp_Pnt, gp_Vec
-
     from ruled.machine.wall import outside_sign as sign
-    from ruled.occ.machine import outward
+    from ruled.occ.ring import outward_at
     face = wall.faces[wall.ring.kept[0]]
-
-    def normal(x):
-        proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(*map(float, x)), BRep_Tool.Surface_s(face))
-        a, b = proj.LowerDistanceParameters()
-        p, du, dv = gp_Pnt(), gp_Vec(), gp_Vec()
-        BRepAdaptor_Surface(face, False).D1(a, b, p, du, dv)
-        n = du.Crossed(dv)
-        return np.array([n.X(), n.Y(), n.Z()]) * outward(face)
-    return sign(wall.surface, wall.breaks, 0, normal)
+    return sign(wall.surface, wall.breaks, 0, lambda x: outward_at(face, x))
 
 
 def wall_axis(wall: Wall) -> tuple:
@@ -68,15 +55,17 @@ def measure_wall_cut(wall: Wall, path, kerf: float, n: int = 30) -> dict:
             "cut_to_design": float(cut_d.max()), "samples": int(design.size + cut_d.size)}
 
 
-def machine_of_wall(fit: WallFit, opts, side: float = 1.0, start: Optional[tuple] = None,
+def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None,
                     measure_samples: Optional[int] = 30, progress=None):
     """The wall's one closed path (ruled.occ.machine.FaceMachine): XYUV or flank (opts.mode) over its closed
-    ruled result started at ``start``, on the side ``side`` (+1: outside the part, a punch; -1: inside, a
-    die), measured against the wall's faces."""
+    ruled result started at ``start``, on the side ``side`` (ruled.machine.wall.wall_side: None, off the
+    material, outside a punch and inside a hole; 'outside' or 'inside' the wall's contour; +1 / -1 off the
+    material or in it), measured against the wall's faces."""
     from dataclasses import replace
 
     from ruled.machine.output import path_report
     from ruled.machine.paths import machine_path
+    from ruled.machine.wall import wall_side
     from ruled.occ.convert import container_to_face
     from ruled.occ.machine import FaceMachine
     wall = fit.wall
@@ -84,12 +73,13 @@ def machine_of_wall(fit: WallFit, opts, side: float = 1.0, start: Optional[tuple
         opts = replace(opts, axis=wall_axis(wall))
     opts = opts.checked()
     R = started(fit.surface, start_parameter(wall, fit.surface, start))
-    sign = outside_sign(wall) * (1.0 if side >= 0 else -1.0)
+    off, where = wall_side(wall.ring.role, side)
+    sign = outside_sign(wall) * off
     path = machine_path(R, wall.surface, opts, sign, progress)
     rep: dict = {"fit": {"method": fit.result[0].best.method, "closed": True, "error_bound": fit.error_bound,
                          "notes": []},
-                 "machine": path_report(path), "side": "outside" if side >= 0 else "inside",
-                 "wall": {"faces": list(wall.ring.faces), "pieces": len(fit.result),
+                 "machine": path_report(path), "side": where,
+                 "wall": {"faces": list(wall.ring.faces), "pieces": len(fit.result), "role": wall.ring.role,
                           "start": [float(x) for x in R(np.array([R.domain[0]]), np.array([R.domain[2]]))[0]]}}
     warns = list(fit.warnings) + list(path.warnings)
     if fit.hausdorff is not None:

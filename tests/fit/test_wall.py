@@ -255,8 +255,9 @@ def test_bad_rings_are_refused_in_one_line(tmp_path):
          "wire cannot follow a contour through its own crossing; fit each loop of the part as a wall of its own, or "
          "the faces one by one (--face)"),
         (("fit", part, "--wall", "1,4", "-o", out),
-         "ruled: error: faces 1,4 of the wall do not each meet two others of it edge to edge; a wall is a ring of "
-         "faces between two contours"),
+         "ruled: error: faces 1,4 of the wall do not each meet two others of it edge to edge (a wall is a ring of "
+         "faces between two contours); pick the ring of faces between the bottom and the top contour (see 'ruled "
+         "faces INPUT --walls')"),
         (("fit", holed, "--wall", "0,1,4,6", "-o", out),
          "ruled: error: face 0 of the wall has a hole in it (an inner loop of edges); a wall is a band of faces "
          "between two contours: fill the hole first, or fit the face alone (--face)"),
@@ -267,7 +268,8 @@ def test_bad_rings_are_refused_in_one_line(tmp_path):
         (("fit", part, "--wall", "1,2,99", "-o", out),
          "ruled: error: the wall's faces 99 are not faces of the part (it has 7: 0-6); see 'ruled faces INPUT "
          "--walls'"),
-        (("fit", part, "--wall", "x", "-o", out), "ruled: error: --wall 'x': use auto or indices like 0,3-7"),
+        (("fit", part, "--wall", "x", "-o", out),
+         "ruled: error: --wall 'x': use auto, outer, hole, hole:K or indices like 0,3-7"),
         (("fit", part, "--wall", "auto", "--tol", "0.1", "-o", out),
          "ruled: error: --tol is for one face; a wall (--wall) is fitted whole: drop --tol"),
         (("fit", part, "--wall", "auto", "--per-face", "--ends", "pinned", "-o", out),
@@ -288,7 +290,7 @@ def test_ruled_fit_wall_writes_one_closed_face_and_its_report(tmp_path):
     part = tmp_path / "tapered.step"
     write_step(tapered_extrusion().wrapped, str(part))
     listing = ruled_here("faces", part, "--walls")
-    assert "wall 0: faces 1,2,3,4,5  (bottom contour 5 edges, top contour 5 edges)" in listing.stdout
+    assert "wall 0: outer  faces 1,2,3,4,5  (outer wall; bottom contour 5 edges, top contour 5 edges)" in listing.stdout
     out, rep = tmp_path / "wall.step", tmp_path / "wall.json"
     r = ruled_here("fit", part, "--wall", "auto", "--samples", "20", "--quiet", "-o", out, "--report", rep)
     assert r.returncode == 0, r.stderr

@@ -29,10 +29,29 @@ def main():
     sel.clearSelection()
     sel.addSelection(part, faces[0])
     res["one_face"] = toolbar_run("Ruled_Wall")           # one face is no wall: the button stays greyed
-    for name in faces[1:]:
+    # two faces that are not one side wall: the panel says so in one line, and no object is made
+    from ruled_workbench import taskpanels, wallpanel
+    sel.addSelection(part, faces[2])
+    before = len(doc.Objects)
+    res["unrelated_clicked"] = toolbar_run("Ruled_Wall")
+    for _ in range(5):
+        FreeCADGui.updateGui()
+    res["refusal"] = None if wallpanel.REFUSED is None else wallpanel.REFUSED.message.text()
+    res["refusal_shot"] = grab_window(os.path.join(OUT, "ruled_wall_refusal.png"))
+    res["refusal_made"] = len(doc.Objects) - before
+    if wallpanel.REFUSED is not None:
+        wallpanel.REFUSED.reject()
+    sel.clearSelection()
+    for name in faces:
         sel.addSelection(part, name)
     before = len(doc.Objects)
     res["clicked"] = toolbar_run("Ruled_Wall")
+    for _ in range(5):
+        FreeCADGui.updateGui()
+    panel = taskpanels.ACTIVE
+    res["panel"] = type(panel).__name__
+    panel.samples.setValue(40)
+    res["accepted"] = panel.accept()
     walls = [o for o in doc.Objects if type(getattr(o, "Proxy", None)).__name__ == "RuledWall"]
     res["made"] = len(doc.Objects) - before
     w = walls[0]
@@ -54,7 +73,6 @@ def main():
     # the colour legend at three window sizes: the main window grabbed as the user sees it (the navigation
     # cube included); where the legend's texts and bar lie, in the view's pixels
     from PySide import QtGui
-    from ruled_workbench import taskpanels
     mw = FreeCADGui.getMainWindow()
     mw.showNormal()
     mw.move(0, 0)

@@ -14,7 +14,7 @@ import pytest
 
 pytest.importorskip("cadquery")
 
-from tests.machine_helpers import check_sync, lines_3d  # noqa: E402
+from tests.machine_helpers import wall_cut_check  # noqa: E402
 from tests.wall_parts import tapered_extrusion  # noqa: E402
 
 HEIGHT = 15.0     # the tapered extrusion's bottom and top contours lie at z = 0 and z = 15
@@ -41,69 +41,8 @@ def _run(part, name, *args):
         return out, json.load(fh)
 
 
-def _segment_distance(X: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """(N,) each point's distance to the surface of the quads between consecutive lines A[i]B[i]: per quad,
-    64 lines between its two, then a golden-section search between the nearest one's neighbours (exact
-    segment distances throughout)."""
-    def seg(f, i):
-        a, b = A[i] + f[..., None] * (A[i + 1] - A[i]), B[i] + f[..., None] * (B[i + 1] - B[i])
-        D = b - a
-        t = np.clip(np.einsum("...c,...c->...", X - a, D) / np.einsum("...c,...c->...", D, D), 0, 1)
-        return np.linalg.norm(X - (a + t[..., None] * D), axis=-1)
-    best = np.full(len(X), np.inf)
-    g = 0.5 * (np.sqrt(5.0) - 1.0)
-    for i in range(len(A) - 1):
-        fs = np.linspace(0.0, 1.0, 65)
-        d = np.stack([seg(np.full(len(X), f), i) for f in fs], axis=1)
-        k = np.argmin(d, axis=1)
-        lo, hi = fs[np.maximum(k - 1, 0)], fs[np.minimum(k + 1, 64)]
-        for _ in range(50):
-            x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-            left = seg(x1, i) < seg(x2, i)
-            lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
-        best = np.minimum(best, np.minimum(d.min(axis=1), seg(0.5 * (lo + hi), i)))
-    return best
-
-
 def _wall_check(part, ngc: str, rep: dict, kerf: float):
-    """The replayed loop: closed in XY and UV with equal move counts, one lead-in and one lead-out; the wire's
-    lines within kerf +- (fit + chord) of the wall's faces both ways, on the outside."""
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
-    from OCP.BRepClass3d import BRepClass3d_SolidClassifier
-    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
-    from OCP.gp import gp_Pnt
-    from OCP.TopAbs import TopAbs_OUT
-
-    from ruled.occ.io import compound, faces_of, read_shape
-    parsed, kinds = check_sync(ngc, os.path.splitext(ngc)[0] + ".csv")
-    assert kinds[0] == "lead-in" and kinds[-1] == "lead-out" and kinds.count("lead-in") == 1
-    cut = parsed[[k == "cut" for k in kinds]]
-    xy, uv = cut[:, :2], cut[:, 2:]
-    assert len(xy) == len(uv) >= 20
-    assert np.linalg.norm(xy[0] - xy[-1]) <= 1e-3 and np.linalg.norm(uv[0] - uv[-1]) <= 1e-3   # closed loops
-    lo, hi = lines_3d(cut, rep)
-    # the lines inside the part: between the contours' heights
-    t = (np.linspace(0.0, HEIGHT, 7)[None, :, None] - lo[:, None, 2:3]) / (hi - lo)[:, None, 2:3]
-    pts = (lo[:, None] + t * (hi - lo)[:, None]).reshape(-1, 3)
-    shape = read_shape(part[0])
-    faces = faces_of(shape)
-    wall = compound([faces[i] for i in rep["wall"]["faces"]])
-    pick = pts[np.linspace(0, len(pts) - 1, min(400, len(pts))).astype(int)]
-    d = np.array([BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex(), wall).Value()
-                  for p in pick])
-    bound = rep["cut"]["bound"]
-    assert np.abs(d - kerf).max() <= bound, (np.abs(d - kerf).max(), bound)
-    # the wall's points are the kerf from the lines
-    from ruled.occ.measure import face_points
-    W = np.concatenate([face_points(faces[i], 10) for i in rep["wall"]["faces"]])
-    dw = _segment_distance(W, lo, hi)
-    assert np.abs(dw - kerf).max() <= bound + 1e-9, (np.abs(dw - kerf).max(), bound)
-    # with a kerf, the wire runs outside the part (a punch: the side asked for)
-    cls = BRepClass3d_SolidClassifier(shape)
-    for p in pick[::7] if kerf else ():
-        cls.Perform(gp_Pnt(*map(float, p)), 1e-7)
-        assert cls.State() == TopAbs_OUT
-    return cut, lo
+    return wall_cut_check(part[0], ngc, rep, kerf, (0.0, HEIGHT))
 
 
 def test_the_wall_is_one_closed_xyuv_loop_from_the_longest_straight_stretch(part):

@@ -309,10 +309,17 @@ def test_fit_wall_in_the_gui(tmp_path):
     from ruled.occ.io import read_shape
     from ruled.occ.wall import wall_of
     ring = wall_of(read_shape(step)).ring
+    ring_names = [f"Face{i + 1}" for i in sorted(ring.faces)]
     run_gui("wall_gui.py", tmp_path / "home", screen="2560x1440", RULED_WALL_STEP=step,
-            RULED_WALL_FACES=",".join(f"Face{i + 1}" for i in sorted(ring.faces)))
+            RULED_WALL_FACES=",".join(ring_names))
     r = json.load(open(os.path.join(OUT, "wall.json")))
     assert r["one_face"] is False and r["clicked"] and r["made"] == 1, r
+    assert r["unrelated_clicked"] and r["refusal_made"] == 0, r          # no object for faces that are no wall
+    assert r["refusal"] == (f"Cannot fit a wall: faces {ring_names[0]},{ring_names[2]} of the wall do not each meet "
+                            f"two others of it edge to edge (a wall is a ring of faces between two contours); "
+                            f"select the faces of one side wall (the ring of faces between the part's bottom and top "
+                            f"contours)"), r["refusal"]
+    assert r["panel"] == "WallTaskPanel" and r["accepted"], r
     w = r["wall"]
     assert w["valid"] and w["status"] == "ok" and w["shape_valid"] and w["n_faces"] == 1 and w["closed"], w
     assert sorted(w["faces"]) == sorted(f"Face{i + 1}" for i in ring.faces) and w["label"] == "Ruled wall of Part"

@@ -68,3 +68,50 @@ def test_a_wall_read_by_freecad_is_the_command_lines(tmp_path):
         valid, status = out["bad"][key]
         assert not valid and words in status and "\n" not in status, (key, status)
     json.dumps(out)
+
+
+DIE = """
+import FreeCAD, Part
+from ruled_workbench.walls import make_ruled_wall
+from ruled_workbench.export import wall_export
+doc = FreeCAD.newDocument("D")
+part = doc.addObject("Part::Feature", "Die")
+part.Shape = Part.read(STEPS["die"])
+hole = make_ruled_wall(doc, part, [f"Face{i + 1}" for i in FACES], MeasureSamples=0)
+pieces = make_ruled_wall(doc, part, [f"Face{i + 1}" for i in FACES], MeasureSamples=0, PerFace=True)
+doc.recompute()
+out["hole"] = {"status": hole.Status, "bound": hole.ErrorBound.Value}
+out["pieces"] = {"status": pieces.Status, "faces": len(pieces.Shape.Faces), "valid": pieces.Shape.isValid(),
+                 "area": pieces.Shape.Area, "type": pieces.Shape.ShapeType,
+                 "design": sum(part.Shape.Faces[i].Area for i in FACES)}
+rep = wall_export(hole, STEPS["ngc"], "xyuv", kerf=0.15, measure_samples=0)
+out["side"] = rep["side"]
+"""
+
+
+def test_a_die_holes_wall_in_freecad_cuts_as_the_command_line_and_per_face(tmp_path):
+    """The die block's hole: FreeCAD's RuledWall exported with the kerf on its default side (in the hole, off
+    the material) moves as 'ruled machine --wall hole' does, line for line; with PerFace, one valid sewn shell
+    of one piece per face covering the wall."""
+    from wall_parts import die_block
+
+    from ruled.cli.main import main
+    from ruled.occ.io import read_shape, write_step
+    from ruled.occ.wall import wall_of
+    step = str(tmp_path / "die.step")
+    write_step(die_block().wrapped, step)
+    faces = sorted(wall_of(read_shape(step), "hole").ring.faces)
+    steps = {"die": step, "ngc": str(tmp_path / "fc.ngc")}
+    out = freecad_json(f"STEPS = {steps!r}\nFACES = {faces!r}\n" + DIE, tmp_path)
+    assert out["hole"]["status"] == "ok" and out["side"] == "inside the hole (off the material)", out
+    p = out["pieces"]
+    assert p["status"] == "ok" and p["valid"] and p["faces"] == len(faces) and p["type"] == "Shell", p
+    assert abs(p["area"] - p["design"]) <= 1e-4 * p["design"], p       # (the fit is 1e-3 off near two corners)
+    cli = str(tmp_path / "cli.ngc")
+    assert main(["machine", step, "--wall", "hole", "--xyuv", "--kerf", "0.15", "-o", cli, "--quiet",
+                 "--measure-samples", "4"]) == 0
+
+    def moves(path):
+        lines = open(path).read().splitlines()
+        return [ln for ln in lines if not ln.startswith("(ruled XYUV contour")]
+    assert moves(steps["ngc"]) == moves(cli)
