@@ -109,7 +109,7 @@ def main(argv=None) -> int:
 def _engine_4d(S, n: int, m: int, metric: str):
     """The 4D-DP end to end on the oriented surface S: (seconds, stages, DP result)."""
     from ruled.core import sampling
-    from ruled.fit import dp4d, metrics4d
+    from ruled.fit.dp import dp4d, metrics4d
     st = {}
     t0 = time.perf_counter()
     smp = sampling.elevated_samples(S, n, m, 0.05 * S.diagonal() / max(m, 1), False)

@@ -16,7 +16,7 @@ import time
 from cone import _best
 
 from ruled import FitOptions, fit_surface
-from ruled.fit.facefit import face_patch, with_iso
+from ruled.fit.face.fit import face_patch, with_iso
 from ruled.occ.io import get_face
 from ruled.occ.region import face_region, fit_face
 

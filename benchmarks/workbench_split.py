@@ -33,7 +33,8 @@ def main() -> int:
     import Part
     from ruled_workbench.features import make_ruled_split
 
-    from ruled.core import jit, warm
+    from ruled import warm
+    from ruled.core import jit
     doc = FreeCAD.newDocument("Bench")
     src = doc.addObject("Part::Feature", "Src")
     src.Shape = Part.read(os.path.join(ROOT, "tests", "data", "kj66_impeller.step"))

@@ -23,8 +23,8 @@ __version__ = "0.1.0"
 # the public API, imported on first use: `ruled --help` and argument errors answer before numpy,
 # scipy and the numba kernels are loaded
 _LAZY = {"Direction": "fit.options", "FitOptions": "fit.options", "FitResult": "fit.fit2d", "Method": "fit.options",
-         "Metric": "fit.options", "Objective": "fit.options", "fit_surface": "fit.surface", "FacePatch": "fit.facefit",
-         "face_patch": "fit.facefit", "fit_region": "fit.facefit", "Curve": "core.nurbs", "Surface": "core.nurbs",
+         "Metric": "fit.options", "Objective": "fit.options", "fit_surface": "fit.surface", "FacePatch": "fit.face.fit",
+         "face_patch": "fit.face.fit", "fit_region": "fit.face.fit", "Curve": "core.nurbs", "Surface": "core.nurbs",
          "Region": "core.region", "SplitOptions": "split.partition", "split_face": "split.partition",
          "partition": "split.partition", "CurveOnSurface": "curves.curve_on_surface",
          "approximate": "curves.curve_on_surface", "ConeSpline": "cone.conespline",

@@ -100,8 +100,8 @@ def fit_face(face, samples: int = 40, objective: str = "sum", max_error: Optiona
     from ruled.occ.convert import container_to_face
     from ruled.occ.region import fit_face as _fit_face
 
-    opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
-                      refine=refine, method=method, elevations=elevations, step=step, metric=metric, ends=ends)
+    opts = FitOptions.of(samples=samples, objective=objective, max_error=max_error, direction=direction,
+                         refine=refine, method=method, elevations=elevations, step=step, metric=metric, ends=ends)
     if isinstance(face, Surface):
         src = container_to_face(face)
         fitted = (fit_surface(face, opts, progress), 0.0)
@@ -129,7 +129,7 @@ def fit_wall(faces, samples: int = 40, objective: str = "sum", method: str = "2d
         wall_ = wall_of(None, list(range(len(topo))), topo)
     else:
         wall_ = wall_of(getattr(faces, "wrapped", faces), wall)
-    opts = FitOptions(samples=samples * len(wall_.faces), objective=objective, method=method).checked()
+    opts = FitOptions.of(samples=samples * len(wall_.faces), objective=objective, method=method).checked()
     fit = _fit_wall(wall_, opts, progress, measure, measure_samples)
     return replace(fit, face=_cq(fit.face))
 
@@ -319,7 +319,7 @@ def _machine(face, opts, side, method, samples, fit, measure, measure_samples, p
     from ruled.jobs.machine import machine_job
     sign = _side_sign(side)
     src = _face_of(face)
-    fm = machine_job(src, opts, FitOptions(samples=samples, method=method, ends="auto"), progress,
+    fm = machine_job(src, opts, FitOptions.of(samples=samples, method=method, ends="auto"), progress,
                      measure_samples if measure else None, sign, fit)
     if "fallback" in fm.report:
         warnings.warn(str(fm.warnings[0]), stacklevel=3)

@@ -21,7 +21,7 @@ def folded(S):
 
 
 def folding(fit):
-    """fit (ruled.fit.facefit.fit_region) made to return its result, and every other candidate, folded over
+    """fit (ruled.fit.face.fit.fit_region) made to return its result, and every other candidate, folded over
     itself (their bounds still true)."""
     def fold(c):
         return c if c is None or isinstance(c, str) else replace(c, surface=folded(c.surface))

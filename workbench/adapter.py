@@ -182,22 +182,22 @@ def _loop(curves: tuple, bs):
 
 def result_face(fit):
     """The result of a fit (a FitResult or one of its candidates) as a Part.Face: the ruled surface trimmed
-    by the face's edges mapped onto it (ruled.fit.trim.Trim) when it has them, else its natural boundary."""
+    by the face's edges mapped onto it (ruled.fit.face.trim.Trim) when it has them, else its natural boundary."""
     best = getattr(fit, "best", fit)
     trim = getattr(best, "trim", None)
     return surface_to_face(best.surface) if trim is None else trimmed_face(best.surface, trim)
 
 
 def trim_of(face, S: Surface = None):
-    """The boundary of a face on its own surface as a ruled.fit.trim.Trim (its loops' pcurves): what trims a
+    """The boundary of a face on its own surface as a ruled.fit.face.trim.Trim (its loops' pcurves): what trims a
     ruled result, read back from the result face.  S: the face's arrays, when read already."""
-    from ruled.fit.trim import Trim
+    from ruled.fit.face.trim import Trim
     rg = face_region(face, S)
     return Trim(tuple(rg.loop), tuple(tuple(h) for h in rg.holes))
 
 
 def trimmed_face(S: Surface, trim, bs=None):
-    """S bounded by the trim's outer loop, less its holes (ruled.fit.trim.Trim: 2D curves in S's (u, v)), as a
+    """S bounded by the trim's outer loop, less its holes (ruled.fit.face.trim.Trim: 2D curves in S's (u, v)), as a
     valid Part.Face (FiguresError where it cannot be built); bs: S as a Part surface already."""
     from ruled.core.errors import FiguresError
     bs = arrays_to_surface(S) if bs is None else bs
@@ -236,9 +236,9 @@ RING_SAMPLES = 24        # samples per edge to tell a face's sides and the conto
 
 
 def _ring_edge(e, owners: tuple, seam: bool, size: float = 0.0, curve: bool = False):
-    """A Part.Edge as the engine's RingEdge (ruled.fit.ring); with curve, its 3D curve as a B-spline from end
+    """A Part.Edge as the engine's RingEdge (ruled.fit.wall.ring); with curve, its 3D curve as a B-spline from end
     to end and whether it is straight."""
-    from ruled.fit.ring import RingEdge, is_straight
+    from ruled.fit.wall.ring import RingEdge, is_straight
     a, b = e.ParameterRange
     pts = np.array([tuple(e.valueAt(float(t))) for t in np.linspace(a, b, RING_SAMPLES)])
     length = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
@@ -251,13 +251,13 @@ def _ring_edge(e, owners: tuple, seam: bool, size: float = 0.0, curve: bool = Fa
 
 
 class Wall:
-    """A wall of FreeCAD faces (ruled.fit.ring's ring of them, in ring order), joined into one closed B-spline
-    surface by the engine (ruled.fit.join), as ruled.occ.wall.Wall is for OCCT: faces (ring order), names
+    """A wall of FreeCAD faces (ruled.fit.wall.ring's ring of them, in ring order), joined into one closed B-spline
+    surface by the engine (ruled.fit.wall.join), as ruled.occ.wall.Wall is for OCCT: faces (ring order), names
     (the caller's, ring order), the joined surface, its breaks and corners, the slack (edge tolerances)."""
 
     def __init__(self, faces: list, names: list):
-        from ruled.fit.join import joined, wall_patch
-        from ruled.fit.ring import order_ring
+        from ruled.fit.wall.join import joined, wall_patch
+        from ruled.fit.wall.ring import order_ring
         edges: list = []
         owners: list = []
         face_edges = []
@@ -311,9 +311,9 @@ class Wall:
 
     @staticmethod
     def _loose(face, bottom: list, top: list, name):
-        """The face's Coons patch from its contour edges (ruled.fit.wallpatch), as a callable."""
+        """The face's Coons patch from its contour edges (ruled.fit.wall.patch), as a callable."""
         def patch():
-            from ruled.fit.wallpatch import contour_patch
+            from ruled.fit.wall.patch import contour_patch
             loop = outer_edges(face)
             ids = [[k for k, g in enumerate(loop) if any(g.isSame(e) for e in c)] for c in (bottom, top)]
             return contour_patch(face_region(face), ids[0], ids[1], name)
@@ -327,8 +327,8 @@ class Wall:
 
     def pieces(self, R: Surface) -> list:
         """The closed ruled result R in one piece per face kept (ring order), cut along the faces' joints
-        (ruled.fit.wallpieces), each a Part.Face."""
-        from ruled.fit.wallpieces import JOINT_SAMPLES, piece_trims
+        (ruled.fit.wall.pieces), each a Part.Face."""
+        from ruled.fit.wall.pieces import JOINT_SAMPLES, piece_trims
         keep, n = self.kept, len(self.faces)
         joints = []
         for i in range(len(keep)):
@@ -341,9 +341,9 @@ class Wall:
         return [trimmed_face(R, trim, bs) for trim in piece_trims(R, joints)]
 
     def role_of(self, outward) -> str:
-        """'hole' where the opening is inside the bottom contour (ruled.fit.ring.role_of), else 'outer';
+        """'hole' where the opening is inside the bottom contour (ruled.fit.wall.ring.role_of), else 'outer';
         outward(x): the part's outward normal of the first face kept at (near) the point x."""
-        from ruled.fit.ring import loop_polygon, role_of
+        from ruled.fit.wall.ring import loop_polygon, role_of
         k = next((k for k in self.kept if self.order.bottom[k]), None)
         if k is None:
             return "outer"

@@ -37,13 +37,12 @@ def _classes(widget) -> list:
 def cancel_by_user() -> None:
     """Esc while Ruled computes: what Cancel does (the open Ruled panel closes as it was; without one, the
     computation stops and its object is left invalid, 'cancelled by the user')."""
-    from . import taskpanels
-    from .progress import request_cancel
-    panel = taskpanels.ACTIVE
-    if panel is not None and panel.busy:
+    from . import state
+    panel = state.ACTIVE
+    if panel is not None and getattr(panel, "busy", False):
         panel.reject()
     else:
-        request_cancel()
+        state.request_cancel()
 
 
 class BusyFilter(QtCore.QObject):

@@ -4,8 +4,6 @@ workbench is activated (InitGui.py)."""
 
 from __future__ import annotations
 
-from typing import Optional
-
 import FreeCAD
 import FreeCADGui
 
@@ -257,16 +255,6 @@ def _recomputed(obj):
     return obj
 
 
-def export_step(objects, path: str) -> None:
-    """The objects' shapes (ruled results) as one STEP file."""
-    import Part
-    shapes = [o.Shape for o in objects if hasattr(o, "Shape") and not o.Shape.isNull()]
-    if not shapes:
-        raise ValueError("nothing to export: select a ruled result")
-    from .export import write_step
-    write_step(Part.makeCompound(shapes), path)
-
-
 class ExportCommand:
     def GetResources(self):
         return resources("export.svg", "Export for machining...", "Write the selected ruled results for machining: "
@@ -282,26 +270,6 @@ class ExportCommand:
         show_panel(ExportTaskPanel(FreeCADGui.Selection.getSelection()))
 
 
-def export(objs, path: str, kind: str, **params) -> Optional[dict]:
-    """Write the objects in the chosen format (see workbench.export.FORMATS); machine data's report."""
-    from .export import machine_export, rulings_step
-    from .features import _Progress, in_our_terms
-    if kind == "step":
-        export_step(objs, path)
-    elif kind == "step-rulings":
-        rulings_step(objs, path, params.get("chord_tol"))
-    else:
-        bar = _Progress("Ruled: machine data")
-        try:
-            rep = machine_export(objs, path, kind, progress=bar, **params)
-        finally:
-            bar.stop()
-        for w in rep["warnings"]:
-            FreeCAD.Console.PrintWarning(f"Ruled: {in_our_terms(w)}\n")
-        return rep
-    return None
-
-
 COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Split": SplitCommand,
             "Ruled_Partition": PartitionCommand, "Ruled_Cone": ConeCommand, "Ruled_Curve": CurveCommand,
             "Ruled_Wall": WallCommand, "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand}
@@ -309,5 +277,7 @@ NAMES = list(COMMANDS)
 
 
 def register() -> None:
+    """The commands added to FreeCAD, and the task panels loaded (each registers the objects it edits)."""
+    from . import taskpanels, wallpanel  # noqa: F401
     for name, kind in COMMANDS.items():
         FreeCADGui.addCommand(name, kind())

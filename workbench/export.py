@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+from typing import Optional
 
 import FreeCAD
 import numpy as np
@@ -165,7 +166,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     the fit's own result (trimmed by the face's edges where it is), or, where that cannot be machined, the
     fit pinned to the face's corners with a warning naming both figures (the report's "fallback")."""
     from ruled.core.errors import BadInputError
-    from ruled.fit.facefit import face_patch
+    from ruled.fit.face.fit import face_patch
     from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
     from ruled.machine.output import path_report, write_machine
     from ruled.machine.paths import MachineOptions, machine_path
@@ -244,7 +245,35 @@ def _pinned(obj, region, progress) -> tuple:
     """(R, the face's patch, no trim, the certified bound) of the fit of obj's face pinned to its corners."""
     from dataclasses import replace
 
-    from ruled.fit.facefit import fit_region
+    from ruled.fit.face.fit import fit_region
     res = fit_region(region, replace(obj.Proxy.options(obj), ends="pinned").checked(), progress)
     R = res.surface if res.surface.degree_v == 1 else res.surface.transposed()
     return R, res.patch.surface, None, float(res.error_bound)
+
+
+def export_step(objects, path: str) -> None:
+    """The objects' shapes (ruled results) as one STEP file."""
+    import Part
+    shapes = [o.Shape for o in objects if hasattr(o, "Shape") and not o.Shape.isNull()]
+    if not shapes:
+        raise ValueError("nothing to export: select a ruled result")
+    write_step(Part.makeCompound(shapes), path)
+
+
+def export(objs, path: str, kind: str, **params) -> Optional[dict]:
+    """Write the objects in the chosen format (see workbench.export.FORMATS); machine data's report."""
+    from .features import _Progress, in_our_terms
+    if kind == "step":
+        export_step(objs, path)
+    elif kind == "step-rulings":
+        rulings_step(objs, path, params.get("chord_tol"))
+    else:
+        bar = _Progress("Ruled: machine data")
+        try:
+            rep = machine_export(objs, path, kind, progress=bar, **params)
+        finally:
+            bar.stop()
+        for w in rep["warnings"]:
+            FreeCAD.Console.PrintWarning(f"Ruled: {in_our_terms(w)}\n")
+        return rep
+    return None

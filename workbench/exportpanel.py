@@ -82,7 +82,7 @@ def save_settings(values: dict) -> None:
 
 
 def machine_params(v: dict, kind: str) -> dict:
-    """The settings as keyword arguments of workbench.commands.export for the format kind."""
+    """The settings as keyword arguments of workbench.export.export for the format kind."""
     from ruled.core.errors import BadInputError
     if kind not in MACHINE:
         return {"chord_tol": v["ChordTol"] or None} if kind == "step-rulings" else {}
@@ -240,7 +240,7 @@ class ExportTaskPanel:
         cannot."""
         from ruled.core.errors import RuledError
 
-        from .commands import export
+        from .export import export
         from .features import in_our_terms
         v = self.values()
         path = v["Path"].strip()

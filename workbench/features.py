@@ -19,7 +19,8 @@ import time
 
 import FreeCAD
 
-from .progress import LISTENERS, RUNNING, _Progress, request_cancel  # noqa: F401  (the workbench's names for them)
+from .progress import _Progress
+from .state import LISTENERS, RUNNING, request_cancel  # noqa: F401  (the workbench's names for them)
 
 RESULT_GROUP = "Result"
 FIT_GROUP = "Fit"
@@ -202,7 +203,7 @@ class _Feature:
     """What the proxies share: properties added on restore, and a recompute that leaves the object
     invalid with a one-line message (report view and Status) when the engine refuses."""
 
-    capability = ""          # what its first use compiles (ruled.core.warm.NEEDS)
+    capability = ""          # what its first use compiles (ruled.warm.NEEDS)
 
     def __init__(self, obj):
         self.add_properties(obj)
@@ -313,7 +314,7 @@ class RuledFit(_Feature):
 
     def compute(self, obj):
         from ruled.core.hostform import bounds_slack
-        from ruled.fit.facefit import area_ratio, first_consistent, fit_region, measured_warnings
+        from ruled.fit.face.fit import area_ratio, first_consistent, fit_region, measured_warnings
 
         from .adapter import built_slack, face_region, outer_edges, result_face
         face, opts, S, progress = self.inputs(obj, "fitting")
@@ -384,7 +385,7 @@ class RuledSplit(_Feature):
                             dims=int(obj.Dims), fit=FitOptions(samples=int(obj.FitSamples)).checked()).checked()
 
     def compute(self, obj):
-        from ruled.fit.facefit import face_patch
+        from ruled.fit.face.fit import face_patch
         from ruled.split.partition import split_face
 
         from .adapter import face_region
@@ -440,7 +441,7 @@ def unsplit_fit(region, face, options, progress) -> tuple:
     from dataclasses import replace
 
     from ruled.core.hostform import bounds_slack
-    from ruled.fit.facefit import fit_region
+    from ruled.fit.face.fit import fit_region
 
     from .adapter import built_slack, result_face
     res = progress.run(fit_region, region, replace(options, ends="auto").checked(), progress)

@@ -72,7 +72,7 @@ class RuledPartition(_Feature):
 
         from ruled.core.errors import BadInputError
         from ruled.curves.curve_on_surface import approximate
-        from ruled.fit.facefit import face_patch
+        from ruled.fit.face.fit import face_patch
         from ruled.split.partition import partition
         from ruled.split.strips import EDGE_TOL, input_curve
 
@@ -106,7 +106,7 @@ class RuledPartition(_Feature):
 
 
 def cone_source(obj):
-    """(the ruled surface as arrays, the face's boundary on it as a ruled.fit.trim.Trim or None, the design face
+    """(the ruled surface as arrays, the face's boundary on it as a ruled.fit.face.trim.Trim or None, the design face
     to measure against, the ruled fit's bound or None when the source is a face) of a RuledConeSpline's Source:
     a RuledFit (its result as it is: trimmed by the face's edges where it is), or a face of a part."""
     from ruled.core.errors import BadInputError
@@ -137,7 +137,7 @@ def fitted(region, face, options, progress) -> tuple:
     from dataclasses import replace
 
     from ruled.core.hostform import bounds_slack
-    from ruled.fit.facefit import fit_region
+    from ruled.fit.face.fit import fit_region
     res = progress.run(fit_region, region, replace(options, ends="auto").checked(), progress)
     return res.surface, res.best.trim, float(res.error_bound + bounds_slack(region.surface, face.ParameterRange))
 
@@ -215,7 +215,7 @@ class RuledConeSpline(_Feature):
         from ruled import FitOptions
         from ruled.cone.surface import cone_spline_of_surface
         from ruled.core.errors import BadInputError
-        from ruled.fit.facefit import face_patch
+        from ruled.fit.face.fit import face_patch
 
         from .adapter import face_region, surface_to_face
         tol = value(obj.Tolerance)

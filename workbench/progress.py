@@ -1,7 +1,7 @@
 """Progress and cancel of the workbench's computations (no GUI imports: they run in freecadcmd too): the
 engine's progress(stage, fraction) on FreeCAD's console indicator headless, on the status bar in the GUI
 (workbench.busy), with the engine in a worker thread there so that the window stays usable; a task panel's
-Cancel and Esc stop it (request_cancel)."""
+Cancel and Esc stop it (workbench.state.request_cancel)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,9 @@ import threading
 import time
 
 import FreeCAD
+
+from . import state
+from .state import request_cancel  # noqa: F401  (the name the workbench's callers use)
 
 
 class _Progress:
@@ -22,14 +25,13 @@ class _Progress:
     STAGES = 8           # about as many stages as a fit reports (the overall bar never goes back)
 
     def __init__(self, text: str, steps: int = 1000, capability: str = ""):
-        global _CANCEL
-        _CANCEL = False
+        state.CANCEL[0] = False
         self.text, self.stage, self.frac, self.steps = text, None, 0.0, steps
         self.stages = -1
         self.cancelled = False
         self.main = threading.get_ident()
         self.pumped = 0.0
-        self.capability = capability        # (ruled.core.warm.NEEDS: the kernels its first use compiles)
+        self.capability = capability        # (ruled.warm.NEEDS: the kernels its first use compiles)
         self.bar = self.display = None
         if FreeCAD.GuiUp:
             from .busy import StatusDisplay
@@ -46,7 +48,7 @@ class _Progress:
             self.stage = stage
             self.stages += 1
         self.frac = frac
-        if _CANCEL or self.cancelled:
+        if state.CANCEL[0] or self.cancelled:
             self.cancelled = True
             raise CancelledError("cancelled by the user")
         if threading.get_ident() == self.main:      # (a worker only records it: the main thread shows it)
@@ -69,11 +71,11 @@ class _Progress:
             self.pumped = time.perf_counter()
             if self.stage is not None:
                 self.display.show(self.stage, overall, self.frac)
-                for listener in LISTENERS:
+                for listener in state.LISTENERS:
                     listener(self.stage, self.frac)
             from PySide import QtGui
             QtGui.QApplication.processEvents()
-        if _CANCEL:
+        if state.CANCEL[0]:
             self.cancelled = True
             raise CancelledError("cancelled by the user")
 
@@ -104,7 +106,7 @@ class _Progress:
     def first_use(self) -> None:
         """When numba's cache holds none of the kernels this capability runs (its first use in this
         installation), compile them first, saying so and how long it takes, on the bar and in the report view."""
-        from ruled.core import warm
+        from ruled import warm
         todo, self.capability = warm.cold(self.capability), ""
         if todo:
             FreeCAD.Console.PrintMessage(f"Ruled: first use: preparing the fast kernels, once (about "
@@ -117,20 +119,3 @@ class _Progress:
         if self.display is not None:
             self.display.close()
             self.display = None
-
-
-LISTENERS = []       # callables (stage, fraction): a task panel's progress display
-_CANCEL = False
-
-RUNNING = []         # the objects being computed now (a panel's Cancel asks them to stop)
-
-
-def request_cancel() -> bool:
-    """Ask the running computation to stop at its next progress report; False when none runs."""
-    global _CANCEL
-    if not RUNNING:
-        return False
-    _CANCEL = True
-    return True
-
-

@@ -11,9 +11,9 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
-from .features import LISTENERS, make_ruled_fit, make_ruled_split, value
-
-ACTIVE = None            # the open panel (for scripts and tests)
+from . import state
+from .features import make_ruled_fit, make_ruled_split, value
+from .state import LISTENERS
 
 
 class _Panel:
@@ -26,7 +26,6 @@ class _Panel:
     closing = False
 
     def _open(self, source, make, subname, obj=None):
-        global ACTIVE
         self.doc = source.Document if obj is None else obj.Document
         self.editing = obj is not None
         self.doc.openTransaction(("Edit " if self.editing else "") + self.title)
@@ -34,7 +33,7 @@ class _Panel:
         self._done = self.editing and self.obj.isValid() and "Touched" not in self.obj.State
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(self.title)
-        ACTIVE = self
+        state.set_active(self)
         lay = QtGui.QFormLayout(self.form)
         lay.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
         return lay
@@ -121,10 +120,9 @@ class _Panel:
         return True
 
     def reject(self):
-        from .progress import request_cancel
         if self.busy:
             self.closing = True
-            request_cancel()             # the engine stops at its next progress report; then the panel closes
+            state.request_cancel()             # the engine stops at its next progress report; then the panel closes
             return False
         self._close_cancelled()
         return True
@@ -141,11 +139,10 @@ class _Panel:
         self.doc.recompute()
 
     def _leave(self):
-        global ACTIVE
         if self.editing:
             FreeCADGui.ActiveDocument.resetEdit()
         FreeCADGui.Control.closeDialog()
-        ACTIVE = None
+        state.set_active(None)
 
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
@@ -481,11 +478,14 @@ class CurveTaskPanel(_Panel):
     verb = "build the curve"
 
 
-PANELS = {"RuledFit": FitTaskPanel, "RuledSplit": SplitTaskPanel, "RuledPartition": PartitionTaskPanel,
-          "RuledConeSpline": ConeTaskPanel, "RuledCurveOnFace": CurveTaskPanel}
+def _editor(panel):
+    """The panel editing an existing object of its kind (its view provider's setEdit)."""
+    def edit(obj):
+        source, subs = obj.Source
+        return panel(source, (subs or [""])[0], obj=obj)
+    return edit
 
 
-def panel_for(obj):
-    """The task panel editing an existing Ruled object (its view provider's setEdit)."""
-    source, subs = obj.Source
-    return PANELS[type(obj.Proxy).__name__](source, (subs or [""])[0], obj=obj)
+state.PANELS.update({name: _editor(p) for name, p in (
+    ("RuledFit", FitTaskPanel), ("RuledSplit", SplitTaskPanel), ("RuledPartition", PartitionTaskPanel),
+    ("RuledConeSpline", ConeTaskPanel), ("RuledCurveOnFace", CurveTaskPanel))})

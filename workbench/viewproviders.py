@@ -135,9 +135,9 @@ class _Editable:
     def doubleClicked(self, vobj):
         import FreeCADGui
 
-        from .taskpanels import PANELS
+        from .state import PANELS
         if type(vobj.Object.Proxy).__name__ not in PANELS:
-            return False         # (a RuledWall: its properties are its parameters)
+            return False         # (the workbench's panels not loaded: its properties are its parameters)
         FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
         return True
 
@@ -147,8 +147,11 @@ class _Editable:
             return None          # Part's transform dragger and the other modes
 
         from .busy import show_panel
-        from .taskpanels import panel_for
-        show_panel(panel_for(vobj.Object))
+        from .state import PANELS
+        edit = PANELS.get(type(vobj.Object.Proxy).__name__)
+        if edit is None:
+            return False
+        show_panel(edit(vobj.Object))
         return True
 
     def unsetEdit(self, vobj, mode=0):

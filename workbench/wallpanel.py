@@ -8,6 +8,7 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
+from . import state
 from .features import value
 from .taskpanels import _Panel
 
@@ -90,6 +91,14 @@ class WallRefusal:
 
 
 REFUSED = None      # the open refusal (for scripts and tests)
+
+
+def _edit_wall(obj):
+    source, subs = obj.Source
+    return WallTaskPanel(source, list(subs or []), obj=obj)
+
+
+state.PANELS["RuledWall"] = _edit_wall
 
 
 def wall_refusal(part, subnames: list):

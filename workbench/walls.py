@@ -1,5 +1,5 @@
 """RuledWall (no GUI imports: it recomputes in freecadcmd too): a part's wall (a ring of its faces between two
-closed contours, Source naming them) as one closed ruled surface (ruled.fit.wallfit, as ``ruled fit
+closed contours, Source naming them) as one closed ruled surface (ruled.fit.wall.fit, as ``ruled fit
 --wall``): the faces read and joined by the adapter (workbench.adapter.Wall), its certified bound and its
 measure against the wall's faces, both ways.  Saved documents refer to the proxy as
 ``ruled_workbench.walls.RuledWall``: keep the name."""
@@ -73,8 +73,8 @@ class RuledWall(_Feature):
 
         import Part
 
-        from ruled.fit.facefit import measured_warnings
-        from ruled.fit.wallfit import fit_ring, smooth_parts
+        from ruled.fit.face.fit import measured_warnings
+        from ruled.fit.wall.fit import fit_ring, smooth_parts
 
         from .adapter import Wall, built_slack, result_face, surface_to_face
         say_kernels()

@@ -1,14 +1,11 @@
 """``ruled batch``: every selected face of many files, each fitted as ``ruled fit`` fits it, on a local
-process pool or an existing Dask cluster, with a summary (CSV, JSON and a self-contained HTML page).
-
-The face task (run_face) is written once; the two executors (LocalPool, DaskPool) only submit it.  A
-face's outputs go to OUTDIR/<file stem>/face_<k>.step, .json (its report, with the batch key) and .png
-(its plot, the summary's thumbnail), each written whole or not at all (ruled.core.outputs).  --resume skips
-the faces whose report holds the same key (the input file's content, the face, the options), so a
-batch killed half-way and resumed ends with the summary of an uninterrupted one.  A face the engine
-refuses is recorded with its reason; one that crashes its worker or runs past --face-timeout is
-recorded as failed, and the batch goes on.
-"""
+process pool or an existing Dask cluster, with a summary (CSV, JSON and a self-contained HTML page).  The face
+task (run_face) is written once; the executors (LocalPool, DaskPool) only submit it.  A face's outputs go to
+OUTDIR/<file stem>/face_<k>.step, .json (its report, with the batch key) and .png (its plot, the summary's
+thumbnail), each written whole or not at all.  --resume skips the faces whose report holds the same key (the
+file's content, the face, the options): a batch killed half-way and resumed ends as an uninterrupted one.  A
+face the engine refuses is recorded with its reason; one that crashes its worker or runs past --face-timeout
+is recorded as failed, and the batch goes on."""
 
 from __future__ import annotations
 
@@ -19,9 +16,7 @@ import os
 import time
 from typing import Optional
 
-from ruled.batch.faces import parse_faces
-from ruled.cli.common import batch_text
-from ruled.core.errors import BadInputError, RuledError, positive
+from ruled.core.errors import BadInputError, RuledError, parse_faces, positive
 
 COLUMNS = ["file", "face", "type", "trimmed_pct", "method", "status", "error_bound", "hausdorff", "seconds",
            "warnings", "reason"]
@@ -46,7 +41,7 @@ def naive_ruled_error(S) -> float:
 
 def select(path: str, spec, fraction: float) -> list:
     """[(face index, surface type, trimmed %)] of the file's faces chosen by spec."""
-    from ruled.fit.facefit import face_patch
+    from ruled.fit.face.fit import face_patch
     from ruled.occ.convert import face_surface_type
     from ruled.occ.io import face_area, read_faces
     from ruled.occ.region import face_region, rect_area_ratio
@@ -120,7 +115,7 @@ def run_face(job: dict) -> dict:
                    warnings="; ".join(rep.get("warnings", [])))
     except RuledError as exc:
         rep = {}
-        row.update(status="refused", reason=batch_text(exc, job["face"]))
+        row.update(status="refused", reason=_text(job)(exc, job["face"]))
     row["seconds"] = time.perf_counter() - t0
     write_report({**rep, "batch": {"key": job["key"], "row": row}}, paths["json"])
     return row
@@ -137,7 +132,7 @@ def _face_job(job: dict, paths: dict) -> dict:
                    max_error=o["max_error"], direction=o["direction"], method=o["method"],
                    measure_samples=o["measure_samples"], memory_cap_mb=job["memory_cap_mb"],
                    report=None, plot=paths["png"] if o.get("plots", True) else None, quiet=True,
-                   face=faces[job["face"]], say=False, text=lambda m: batch_text(m, job["face"]))
+                   face=faces[job["face"]], say=False, text=lambda m: _text(job)(m, job["face"]))
 
 
 def _wall_job(job: dict, paths: dict) -> dict:
@@ -146,7 +141,7 @@ def _wall_job(job: dict, paths: dict) -> dict:
     return run_wall(job["input"], job["wall"], paths["step"], samples=o["samples"], objective=o["objective"],
                     max_error=o["max_error"], method=o["method"], measure_samples=o["measure_samples"],
                     memory_cap_mb=job["memory_cap_mb"], quiet=True, say=False,
-                    text=lambda m: batch_text(m, job["face"]))
+                    text=lambda m: _text(job)(m, job["face"]))
 
 
 def _row(job: dict, status: str, reason: str = "", seconds=None) -> dict:
@@ -158,6 +153,10 @@ def _row(job: dict, status: str, reason: str = "", seconds=None) -> dict:
 
 def failed_row(job: dict, reason: str, seconds: float) -> dict:
     return _row(job, "failed", reason, seconds)
+
+
+def _text(job: dict):       # how the job words an engine message (run_batch's text; default Python's terms)
+    return job.get("text") or (lambda message, face: str(message))
 
 
 def done_row(job: dict) -> Optional[dict]:
@@ -401,7 +400,6 @@ function sortBy(c) {{
 """
 
 
-# ------------------------------------------------------------------------------------------ the batch
 def plan(inputs: list, outdir: str, spec, fraction: float, options: dict, memory_cap_mb: Optional[float],
          jobs: int) -> list:
     """The jobs of every selected face of every input."""
@@ -448,8 +446,10 @@ def plan(inputs: list, outdir: str, spec, fraction: float, options: dict, memory
 
 def run_batch(inputs: list, outdir: str, *, faces: str = "all", fraction: float = 0.01, options: dict,
               jobs: Optional[int] = None, scheduler: Optional[str] = None, resume: bool = False,
-              face_timeout: float = 600.0, memory_cap_mb: Optional[float] = None, progress=None) -> dict:
-    """The whole batch; returns {"rows": [...], "paths": {...}, "interrupted": bool}."""
+              face_timeout: float = 600.0, memory_cap_mb: Optional[float] = None, progress=None,
+              text=None) -> dict:
+    """The whole batch; returns {"rows": [...], "paths": {...}, "interrupted": bool}.  text(message, face): how
+    a row words the engine's messages (a module-level function, which the workers get by name)."""
     if jobs is None:
         jobs = os.cpu_count() or 1
     if jobs < 1:
@@ -459,14 +459,18 @@ def run_batch(inputs: list, outdir: str, *, faces: str = "all", fraction: float 
     # the cluster reachable first
     pool = DaskPool(scheduler, face_timeout) if scheduler else LocalPool(jobs, face_timeout)
     try:
-        return _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume, memory_cap_mb, progress)
+        return _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume, memory_cap_mb, progress,
+                    text)
     finally:
         pool.close()
 
 
-def _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume, memory_cap_mb, progress) -> dict:
+def _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume, memory_cap_mb, progress,
+         text=None) -> dict:
     os.makedirs(outdir, exist_ok=True)
     todo = plan(inputs, outdir, spec, fraction, options, memory_cap_mb, jobs)
+    for j in todo:
+        j["text"] = text
     for folder in {j["folder"] for j in todo}:
         os.makedirs(folder, exist_ok=True)
         for name in os.listdir(folder):          # what a killed batch was writing (never a named output)

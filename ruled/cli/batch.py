@@ -6,7 +6,7 @@ import os
 import sys
 
 from ruled.batch.batch import run_batch
-from ruled.cli.common import check_measure_samples
+from ruled.cli.common import batch_text, check_measure_samples
 
 
 def options_dict(args) -> dict:
@@ -25,7 +25,8 @@ def main_batch(args) -> int:
     try:
         out = run_batch(args.inputs, args.output, faces=args.faces, fraction=args.candidate_fraction,
                         options=options_dict(args), jobs=args.jobs, scheduler=args.scheduler, resume=args.resume,
-                        face_timeout=args.face_timeout, memory_cap_mb=args.memory_cap, progress=bar)
+                        face_timeout=args.face_timeout, memory_cap_mb=args.memory_cap, progress=bar,
+                        text=batch_text)
     finally:
         bar.done()
     from ruled.batch.batch import NO_WALL

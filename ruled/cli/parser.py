@@ -294,7 +294,7 @@ def _face_or_patches(text: str):
         pass
     if text == "all":
         return text
-    from ruled.batch.faces import parse_faces
+    from ruled.core.errors import parse_faces
     try:
         return parse_faces(text)
     except RuledError:

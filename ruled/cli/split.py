@@ -15,7 +15,7 @@ def _split_options(args, fit_samples: int = 40, objective: str = "sum"):
     from ruled.split.partition import SplitOptions
     return SplitOptions(samples=getattr(args, "split_samples", None) or 30, interior=getattr(args, "interior", 10),
                         objective=getattr(args, "split_objective", "max"),
-                        fit=FitOptions(samples=fit_samples, objective=objective).checked(),
+                        fit=FitOptions.of(samples=fit_samples, objective=objective).checked(),
                         max_strips=getattr(args, "max_strips", 16), dims=getattr(args, "dims", 4),
                         levels=getattr(args, "elevations", None) or 2, step=getattr(args, "split_step", None),
                         memory_cap=None if args.memory_cap is None else args.memory_cap * 2.0 ** 20).checked()

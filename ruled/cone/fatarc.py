@@ -329,7 +329,7 @@ def _try_arc(tr0: Track, tr1: Track, state, delta, tol, kf, samples, h0, h1):
     w = shared_weight(tuple(tris[0]) if len(pts[0]) else None, pts[0], tuple(tris[1]) if len(pts[1]) else None,
                       pts[1])
     arc = FatArc(tris[0], tris[1], w, (v, st.v), (vb, st.vb), 0.0)
-    A, B = Conic(*arc.A, w), Conic(*arc.B, w)
+    A, B = Conic(arc.A[0], arc.A[1], arc.A[2], w), Conic(arc.B[0], arc.B[1], arc.B[2], w)
     eA, _, vA = one_sided(A, 0.0, 1.0, tr0, v, st.v, samples)          # eq. 6, both ways
     eB, _, vB = one_sided(B, 0.0, 1.0, tr1, vb, st.vb, samples)
     err = max(eA, eB, one_sided(tr0, v, st.v, A, 0.0, 1.0, samples)[0] if len(pts[0]) else 0.0,
@@ -471,7 +471,7 @@ def patch_surface(arc: FatArc, h0: float = 0.0, h1: float = 1.0):
     P[0, :, :2], P[0, :, 2] = arc.A, h0
     P[1, :, :2], P[1, :, 2] = arc.B, h1
     W = np.array([[1.0, arc.w, 1.0], [1.0, arc.w, 1.0]])
-    return Surface(P, [0, 0, 1, 1], [0, 0, 0, 1, 1, 1], 1, 2, W)
+    return Surface(P, np.array([0.0, 0.0, 1.0, 1.0]), np.array([0.0, 0.0, 0.0, 1.0, 1.0, 1.0]), 1, 2, W)
 
 
 def trim_arc(arc: FatArc, s0: float, s1: float) -> FatArc:

@@ -63,7 +63,7 @@ def plot(res: ConeSpline, path: str) -> None:
             ax.plot(P[:, 0], P[:, 1], "--", color="#e6550d", lw=1, label=lab)
         for i, a in enumerate(q.arcs):
             for tri in (a.A, a.B):
-                X = conic(*tri, a.w, t)
+                X = conic(tri[0], tri[1], tri[2], a.w, t)
                 ax.plot(X[:, 0], X[:, 1], color="#08306b", lw=1.4, label="fat conic spline" if i == 0 and
                         tri is a.A else None)
                 ax.plot(tri[:, 0], tri[:, 1], ":", color="0.45", lw=0.8,

@@ -1,5 +1,5 @@
 """A cone spline trimmed by the face's edges: the cone spline of a ruled result that runs past the face
-(its rails beyond the face's end edges, the result trimmed by the face's edges: ruled.fit.trim.Trim), with
+(its rails beyond the face's end edges, the result trimmed by the face's edges: ruled.fit.face.trim.Trim), with
 each patch bounded by the face's boundary carried onto it.
 
 The face's boundary lies on the ruled surface R as the trim's loops in R's (s, t).  For each piece of the
@@ -48,9 +48,9 @@ class PatchRegion:
     loops: tuple
 
     def trim(self):
-        """The region as a ruled.fit.trim.Trim of the patch: its loops as 2D curves (loop_curves), what a host
+        """The region as a ruled.fit.face.trim.Trim of the patch: its loops as 2D curves (loop_curves), what a host
         builds the trimmed patch from."""
-        from ruled.fit.trim import Trim
+        from ruled.fit.face.trim import Trim
         curves = [loop_curves(P, c) for P, c in self.loops]
         return Trim(curves[0], tuple(curves[1:]))
 
@@ -257,7 +257,7 @@ def _sampled(loops, per_curve: int) -> list:
 
 
 def trimmed_patches(cone, R: Surface, trim) -> list:
-    """The face (trim: its boundary on R as ruled.fit.trim.Trim, in R's (u, v)) on each patch of cone, the
+    """The face (trim: its boundary on R as ruled.fit.face.trim.Trim, in R's (u, v)) on each patch of cone, the
     cone spline of R between its rails (R's rulings along v: ruled.cone.surface.cone_spline_of_surface with
     direction 'v'): PatchRegion list, patches the face does not reach left out."""
     s0, s1 = R.domain[:2]

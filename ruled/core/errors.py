@@ -162,6 +162,23 @@ class CancelledError(RuledError):
     kind = "cancelled"
 
 
+def parse_faces(spec: str, option: str = "--faces", words: tuple = ("all", "bspline", "ruled-candidates")) -> object:
+    """One of words (default 'all', 'bspline', 'ruled-candidates'), or indices 'K,L-M' (a sorted list)."""
+    if spec in words:
+        return spec
+    out: set = set()
+    try:
+        for part in spec.split(","):
+            a, _, b = part.strip().partition("-")
+            lo, hi = int(a), int(b) if b else int(a)
+            if lo < 0 or hi < lo:
+                raise ValueError
+            out.update(range(lo, hi + 1))
+    except ValueError:
+        raise BadInputError(f"{option} {spec!r}: use {', '.join(words)} or indices like 0,3-7") from None
+    return sorted(out)
+
+
 def positive(name: str, value: Any, what: str = "a distance in model units", zero_ok: bool = False) -> float:
     """value as a float, or the one wording every command uses for a bad size:
     '<name> must be a positive finite number (<what>), not <value>' ('zero or a positive ...' where

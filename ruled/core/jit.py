@@ -1,5 +1,5 @@
 """The switch for the optional numba kernels, shared by every kernel module: ``AVAILABLE`` is True when numba
-imports (and RULED_NO_NUMBA is not set); each kernel module (core.kernels, fit.kernels, split.kernels,
+imports (and RULED_NO_NUMBA is not set); each kernel module (core.kernels, fit.dp.kernels, split.kernels,
 curves.kernels, cone.kernels) defines its kernels only then, beside the NumPy twin they must equal.
 numba is optional: when it is missing (FreeCAD's Python) or RULED_NO_NUMBA=1 is set, every caller takes
 the NumPy path."""

@@ -9,7 +9,7 @@ fan out of it), the candidate groupings are listed (:func:`side_candidates`) for
 face with fewer corners is divided at arc-length points.  Sides 0 and 2 are one pair of opposite sides (the rails
 of rulings along t), sides 1 and 3 the other (rulings along s).
 
-The face's own parametrization, a Coons map of the unit square onto the region, is in ruled.fit.coons.
+The face's own parametrization, a Coons map of the unit square onto the region, is in ruled.fit.face.coons.
 """
 
 from __future__ import annotations
@@ -174,10 +174,10 @@ class Region:
             return None
         from scipy.spatial import cKDTree
 
-        t = np.linspace(*self.loop[k].domain, 2001)
+        t = np.linspace(self.loop[k].domain[0], self.loop[k].domain[1], 2001)
         uv = self.uv(k, t)
         P = self.surface(uv[:, 0], uv[:, 1])
-        ts = np.linspace(*c3.domain, 4001)
+        ts = np.linspace(c3.domain[0], c3.domain[1], 4001)
         X = c3(ts)
         near = to_polyline(P, X, cKDTree(X)) - P
         back = float(np.linalg.norm(to_polyline(X, P, cKDTree(P)) - X, axis=1).max())
@@ -198,7 +198,7 @@ class Region:
             # the parameters agree: the 3D curve itself, tabulated densely (the patch's sampling asks
             # for it many times; linear interpolation of so small and smooth a difference errs by
             # h^2/8 of its second derivative, h a 8192th of the edge)
-            G = _Tabled(_Difference(c3, self, k), 8193)
+            G: object = _Tabled(_Difference(c3, self, k), 8193)
         else:
             spans = 64
             knots = np.concatenate([[t[0]] * 3, np.linspace(t[0], t[-1], spans + 1), [t[-1]] * 3])
@@ -209,7 +209,7 @@ class Region:
     def polygon(self, per_edge: int = 200) -> list:
         """The outer loop and every hole as closed (u, v) polylines (dense samples of each pcurve)."""
         def poly(curves):
-            return np.concatenate([c(np.linspace(*c.domain, per_edge)) for c in curves])
+            return np.concatenate([c(np.linspace(c.domain[0], c.domain[1], per_edge)) for c in curves])
         return [poly(self.loop)] + [poly(h) for h in self.holes]
 
     def contains(self, uv: np.ndarray, per_edge: int = 200) -> np.ndarray:
@@ -239,7 +239,7 @@ class Region:
         S = self.surface
         worst = 0.0
         for h in self.holes:
-            poly = self.inside(np.concatenate([c(np.linspace(*c.domain, per_edge)) for c in h]))
+            poly = self.inside(np.concatenate([c(np.linspace(c.domain[0], c.domain[1], per_edge)) for c in h]))
             edge = cKDTree(S(poly[:, 0], poly[:, 1]))
             lo, hi = poly.min(axis=0), poly.max(axis=0)
             uu, vv = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n), indexing="ij")
@@ -259,7 +259,8 @@ class Region:
         """The image's tangent S_u u' + S_v v' of loop edge k at t (one point, (3,))."""
         c = self.loop[k]
         p, d = c.evaluate(np.array([float(np.clip(t, *c.domain))]), 1)
-        D = self.surface.evaluate(*self.uv(k, np.array([t])).T, 1)
+        uv = self.uv(k, np.array([t]))
+        D = self.surface.evaluate(uv[:, 0], uv[:, 1], 1)
         return (D.Su * d[:, :1] + D.Sv * d[:, 1:2])[0]
 
     def joint_angles(self) -> np.ndarray:
@@ -333,7 +334,7 @@ class _Tabled:
 
     def __init__(self, f, m: int):
         self.domain = f.domain
-        self.t = np.linspace(*f.domain, m)
+        self.t = np.linspace(f.domain[0], f.domain[1], m)
         self.y = f(self.t)
 
     def __call__(self, t) -> np.ndarray:

@@ -275,13 +275,15 @@ def domain_pieces(D: Curve, S: Surface) -> list[Piece]:
                             f"{'uv'[ax]} = {x:.6g} between t = {edges[k]:.6g} and {edges[k + 1]:.6g}; keep (u, v) "
                             f"inside u in [{dom[0, 0]:.6g}, {dom[0, 1]:.6g}], v in [{dom[1, 0]:.6g}, {dom[1, 1]:.6g}]")
     # crossings of the interior knot lines that each piece's coordinate range spans, all roots at once
-    seg, axis, val = [], [], []
+    segs: list = []
+    axes: list = []
+    vals: list = []
     for ax, ks in ((0, np.unique(S.interior_knots("u"))), (1, np.unique(S.interior_knots("v")))):
         sg, kk = np.nonzero((ks[None, :] > cmin[:, ax:ax + 1]) & (ks[None, :] < cmax[:, ax:ax + 1]))
-        seg.append(sg)
-        axis.append(np.full(sg.size, ax))
-        val.append(ks[kk])
-    seg, axis, val = np.concatenate(seg), np.concatenate(axis), np.concatenate(val)
+        segs.append(sg)
+        axes.append(np.full(sg.size, ax))
+        vals.append(ks[kk])
+    seg, axis, val = np.concatenate(segs), np.concatenate(axes), np.concatenate(vals)
     cuts: dict = {}
     if seg.size:
         b = H[seg, :, axis] - val[:, None] * H[seg, :, 2]

@@ -12,20 +12,20 @@ from ruled.core.blas import one_thread
 from ruled.core.errors import DegenerateFaceError, TooBigError
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
-from ruled.fit import dp
-from ruled.fit.cells import Certificate
-from ruled.fit.certify import certified_bound
-from ruled.fit.extend import face_mask
-from ruled.fit.facecost import face_span, ruling_cost
-from ruled.fit.follow import EXACT_RULINGS, follow_exact
+from ruled.fit.certify.cells import Certificate
+from ruled.fit.certify.forward import certified_bound
+from ruled.fit.dp import dp2d as dp
+from ruled.fit.dp.follow import EXACT_RULINGS, follow_exact
+from ruled.fit.dp.pairing import Pairing, delta_coefs, fit_delta, refine_pairing, smooth_pairing
+from ruled.fit.face.cost import face_span, ruling_cost
+from ruled.fit.face.extend import face_mask
 from ruled.fit.options import Direction, FitOptions, Method, Metric, Objective  # noqa: F401 (re-exported)
-from ruled.fit.pairing import Pairing, delta_coefs, fit_delta, refine_pairing, smooth_pairing
 from ruled.fit.rails import COMPACT, compact_fit, net_bound, rebuilt_boundaries
 from ruled.fit.reparam import Boundaries, exact_boundaries, fit_boundaries, ruled_surface
 
 # certification grids (nodes along the boundaries, across them): fine for results, coarse to choose
-GRID_FINE = (240, 80)
-GRID_COARSE = (80, 24)
+GRID_FINE: tuple[int, int] = (240, 80)
+GRID_COARSE: tuple[int, int] = (80, 24)
 
 
 
@@ -52,7 +52,7 @@ class DirectionFit:
     elevations: Optional[np.ndarray] = None   # (K, 2) 4D: elevation of each DP ruling's ends (model units)
     lift: Optional[dict] = None               # 4D: levels, step, metric, ns
     measured: Optional[float] = None          # sampled two-sided distance to the input (engine's own measure)
-    trim: Optional[Any] = None                # the face's edges on the result (ruled.fit.trim.Trim): a trimmed result
+    trim: Optional[Any] = None                # the face's edges on the result (ruled.fit.face.trim.Trim): trimmed
 
     @property
     def error_bound(self) -> float:
@@ -67,7 +67,7 @@ class FitResult:
     timings: dict = field(default_factory=dict)
     notes: tuple = ()             # what the fit decided on its own (e.g. 4D fell back to 2D)
     other: Optional[DirectionFit] = None   # 4D: the fit it was compared with (2D, or the 4D attempt if 2D won)
-    patch: Optional[Any] = None            # the face's patch (ruled.fit.facefit.FacePatch) when fitted as a face
+    patch: Optional[Any] = None            # the face's patch (ruled.fit.face.fit.FacePatch) when fitted as a face
 
     @property
     def surface(self) -> Surface:
@@ -288,7 +288,7 @@ def ruling_figure(S: Surface, options: FitOptions) -> float:
 
 
 def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progress = None,
-                  grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
+                  grid: tuple[int, int] = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
     """Fit along one direction ('v': boundaries v-min/v-max; 'u': the surface is transposed first)."""
     So, closed, cost, res, path, pairing, (sig, dlt, rc), T = _dp_pairing(S, direction, opts, progress)
     n = opts.samples
@@ -309,7 +309,7 @@ def fit_direction(S: Surface, direction: str, opts: FitOptions, progress: Progre
     T["rebuild"] = time.perf_counter() - t0
     _stage(progress, f"certify ({direction})", 0.0)
     t0 = time.perf_counter()
-    cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
+    cert = certified_bound(So, pairing, bd, R, grid[0], grid[1], cutoff)
     bd, R, cert = _coarser(So, pairing, (C0, C1, u0, L), bd, R, cert, tol, grid, focus)
     net = net_bound(So, pairing, bd) if face_mask(So) is None else None
     if net is not None and net + cert.rounding < cert.bound:     # (a result along the face's own v-lines)
@@ -330,7 +330,7 @@ COARSE = 0.01     # rails within this fraction of a result's bound are fine enou
 COMPACT_POLES = 40   # results with more poles than this are rebuilt coarser when far from the face
 
 
-def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: float, grid: tuple,
+def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: float, grid: tuple[int, int],
              focus: Optional[tuple] = None):
     """A result far from the face (its bound far above the rails' fitting tolerance, which follows the
     rulings' own distances) needs no rails finer than a fraction of its bound: refitted to that, kept
@@ -340,15 +340,16 @@ def _coarser(So: Surface, pairing, curves: tuple, bd, R: Surface, cert, tol: flo
     n = bd.A.poles.shape[0]
     if not (np.isfinite(coarse) and coarse > 10.0 * tol and n > COMPACT_POLES):
         return bd, R, cert
-    bd2 = fit_boundaries(*curves, pairing, coarse, focus=focus)
+    C0, C1, u0, L = curves
+    bd2 = fit_boundaries(C0, C1, u0, L, pairing, coarse, focus=focus)
     if bd2.A.poles.shape[0] >= n:
         return bd, R, cert
     R2 = ruled_surface(bd2)
-    cert2 = certified_bound(So, pairing, bd2, R2, *grid, 1.02 * cert.bound)
+    cert2 = certified_bound(So, pairing, bd2, R2, grid[0], grid[1], 1.02 * cert.bound)
     return (bd2, R2, cert2) if cert2.bound <= 1.02 * cert.bound else (bd, R, cert)
 
 
-def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> Optional[DirectionFit]:
+def iso_fit(fit: DirectionFit, grid: tuple[int, int] = GRID_FINE, cutoff: float = np.inf) -> Optional[DirectionFit]:
     """The iso-parametric ruled surface between the same two boundaries (the pairing a = b, rulings
     joining equal parameters: what a CAD system's 'ruled surface between two edges' builds), exact
     and certified like a fit; None when it cannot be rebuilt exactly."""
@@ -363,7 +364,7 @@ def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) 
     if bd is None:
         return None
     R = ruled_surface(bd)
-    cert = certified_bound(So, pairing, bd, R, *grid, cutoff)
+    cert = certified_bound(So, pairing, bd, R, grid[0], grid[1], cutoff)
     x = np.linspace(0.0, 1.0, n, endpoint=not closed)
     rc = ruling_cost(So, u0 + L * sig, u0 + L * sig, 15, 4, closed)
     pc = ruling_cost(So, u0 + L * x, u0 + L * x, FitOptions.points_per_ruling, 3, closed)
@@ -377,12 +378,12 @@ def iso_fit(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) 
                    elevations=None, lift=None, measured=None, method="iso")
 
 
-def recertify(fit: DirectionFit, grid: tuple = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
+def recertify(fit: DirectionFit, grid: tuple[int, int] = GRID_FINE, cutoff: float = np.inf) -> DirectionFit:
     """The same fit with its bound computed on another grid (see certified_bound for cutoff), or with the
     bound it has when that is lower (both are true: a finer grid, or one certified from one side only under
     a cutoff, can come out looser)."""
     t0 = time.perf_counter()
-    cert = certified_bound(fit.oriented, fit.pairing, fit.boundaries, fit.surface, *grid, cutoff)
+    cert = certified_bound(fit.oriented, fit.pairing, fit.boundaries, fit.surface, grid[0], grid[1], cutoff)
     timings = dict(fit.timings)
     timings["certify"] = timings.get("certify", 0.0) + time.perf_counter() - t0
     if fit.certificate is not None and fit.certificate.bound <= cert.bound:

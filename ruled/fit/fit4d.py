@@ -36,13 +36,13 @@ from ruled.core.nearest import GOLD
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.core.sampling import elevated_samples, unit_normals
-from ruled.fit import dp4d
-from ruled.fit.certify import certified_bound, sampled_distance
-from ruled.fit.extend import face_mask
+from ruled.fit.certify.forward import certified_bound, sampled_distance
+from ruled.fit.dp import dp4d
+from ruled.fit.dp.metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
+from ruled.fit.dp.pairing import delta_coefs, fit_delta
+from ruled.fit.face.extend import face_mask
 from ruled.fit.fit2d import GRID_FINE, DirectionFit, FitResult, _stage, fit_surface_2d, memory_budget
-from ruled.fit.metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
 from ruled.fit.options import FitOptions, Method, Metric
-from ruled.fit.pairing import delta_coefs, fit_delta
 from ruled.fit.rails import COMPACT, compact_fit
 from ruled.fit.reparam import fit_boundaries, ruled_surface
 
@@ -277,7 +277,7 @@ def _rebuild(So: Surface, path: np.ndarray, smp, n: int, closed: bool, tol: floa
     xb, ib = np.unique(ab[:, 1], return_index=True)
     ea, eb = lev[path[ia, 2]], lev[path[ib, 3]]
     lift = None
-    info = {"lift_refined": False}
+    info: dict = {"lift_refined": False}
     curves = (sig, dlt, None, None, None)
     if np.any(ea != 0) or np.any(eb != 0):
         if closed:  # one period of samples (the last equals the first)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import Enum
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -84,6 +84,12 @@ class FitOptions:
         except ValueError as exc:
             raise BadInputError(f"{exc}; see «fit_help»") from None
         put(self, "refine", bool(self.refine))
+
+    @classmethod
+    def of(cls, **options: Any) -> "FitOptions":
+        """FitOptions from keywords whose enumerations may be given as words ('sum', '4d'; each checked and
+        normalised as the constructor does)."""
+        return cls(**options)
 
     def checked(self) -> "FitOptions":
         """The options (validated on construction; kept for the callers that say so)."""

@@ -13,7 +13,7 @@ import numpy as np
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.knots import clamp_segment, elevate, insert_knot, knot_multiplicity
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.pairing import Pairing, RailPairing
+from ruled.fit.dp.pairing import Pairing, RailPairing
 from ruled.fit.reparam import (
     MIN_SPAN,
     Boundaries,
@@ -109,7 +109,7 @@ def rail_boundaries(C0: Curve, C1: Curve, u0: float, L: float, pairing: Pairing,
     a composed rail that is an affine image of the first, as on a surface of revolution, is exact).
     Returns (Boundaries, RailPairing: the pairing in the result's own s), or None where this does not apply
     (polyline rails, a pairing past the boundary).  focus_of(pairing) -> (s0, s1) or None: the range
-    where the tolerance holds (ruled.fit.facecost.face_span)."""
+    where the tolerance holds (ruled.fit.face.cost.face_span)."""
     closed = pairing.closed
     a, b = pairing.ab(np.array([0.0, 1.0]))
     x0, x1 = (a if which == "a" else b)

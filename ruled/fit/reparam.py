@@ -30,7 +30,7 @@ import numpy as np
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.knots import clamp_segment, insert_knot, knot_multiplicity
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.pairing import Pairing
+from ruled.fit.dp.pairing import Pairing
 
 
 # ----------------------------------------------------------------------------- boundary curves

@@ -78,7 +78,7 @@ def swept_surface(path: MachinePath) -> Surface:
     ones (degree 1 x 1), as plain arrays."""
     n = path.lower.shape[0]
     ku = np.concatenate([[0.0], np.arange(n, dtype=float), [n - 1.0]])
-    return Surface(np.stack([path.lower, path.upper], axis=1), ku, [0.0, 0.0, 1.0, 1.0], 1, 1)
+    return Surface(np.stack([path.lower, path.upper], axis=1), ku, np.array([0.0, 0.0, 1.0, 1.0]), 1, 1)
 
 
 def cut_points(path: MachinePath, count: int = 2700, along: int = 11, exact: bool = False, keep=None) -> np.ndarray:

@@ -40,7 +40,7 @@ def _off_chord(X: np.ndarray, uu: np.ndarray, a, b, fa: np.ndarray, fb: np.ndarr
     return np.linalg.norm(X - (fa[:, None] + s * (fb - fa)[:, None]), axis=-1).max(axis=(1, 2))
 
 
-def sync_params(f, u0: float, u1: float, tol: float, seeds: np.ndarray = (), max_points: int = 200000,
+def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int = 200000,
                 progress: Progress = None, safety: float = 0.95) -> np.ndarray:
     """The parameters of the synchronized points: the moves between consecutive values of f ((n, m, 3),
     m curves moving together) stay within safety * tol of every curve at the same u.  Bisection from
@@ -75,13 +75,13 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds: np.ndarray = (), max
         fa, fb = np.concatenate([vals[bad], fm]), np.concatenate([fm, vals[bad + 1]])
         nsu, nsx = _samples(f, na, nb, k)
         ndev = _off_chord(nsx, nsu, na, nb, fa, fb)
-        keep = np.ones(u.size - 1, bool)
-        keep[bad] = False
-        starts = np.concatenate([u[:-1][keep], na])
+        kept = np.ones(u.size - 1, bool)
+        kept[bad] = False
+        starts = np.concatenate([u[:-1][kept], na])
         order = np.argsort(starts, kind="stable")
-        su = np.concatenate([su[keep], nsu])[order]
-        sx = np.concatenate([sx[keep], nsx])[order]
-        dev = np.concatenate([dev[keep], ndev])[order]
+        su = np.concatenate([su[kept], nsu])[order]
+        sx = np.concatenate([sx[kept], nsx])[order]
+        dev = np.concatenate([dev[kept], ndev])[order]
         pts = np.concatenate([u, mid])
         po = np.argsort(pts, kind="stable")
         u, vals = pts[po], np.concatenate([vals, fm])[po]
@@ -100,7 +100,7 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds: np.ndarray = (), max
         lin = vals[i][None] + s * (vals[j] - vals[i])[None]
         return bool(np.linalg.norm(X[lo:hi] - lin, axis=-1).max() <= tol)
 
-    keep = [0]
+    keep: list = [0]
     i = 0
     while i < n - 1:
         if progress and len(keep) % 50 == 0:

@@ -14,7 +14,7 @@ from ruled.core.errors import BadInputError, Text
 from ruled.core.knots import clamp_segment
 from ruled.core.nurbs import Curve, Surface
 from ruled.core.region import crossings_odd
-from ruled.fit.trim import loop_polylines
+from ruled.fit.face.trim import loop_polylines
 
 PER_CURVE = 129     # samples of each trim curve for its s-range and the inside test
 

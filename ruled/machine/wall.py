@@ -1,7 +1,7 @@
 """A wall's one closed wire path on plain arrays: the closed ruled result started where the user says on the
 bottom contour (default: the middle of its longest straight edge), the wall's axis (the machine's, normal to
 its contours' planes) and which side of the joined surface is the part's outside.  Hosts give the bottom
-contour's edges (ruled.fit.ring.RingEdge), the contours' points and the faces' outward normals
+contour's edges (ruled.fit.wall.ring.RingEdge), the contours' points and the faces' outward normals
 (ruled.occ.wallmachine for OCCT, the workbench's export for FreeCAD), so that both write the same path."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import numpy as np
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
-from ruled.fit.wallfit import piece
+from ruled.fit.wall.fit import piece
 
 RAIL_SAMPLES = 4097      # samples of the result's bottom rail to place the start by
 START_TOL = 1e-3         # «start» may be this fraction of the wall's size off the bottom contour
@@ -22,8 +22,8 @@ START_TOL = 1e-3         # «start» may be this fraction of the wall's size off
 def started(R: Surface, s0: float) -> Surface:
     """The closed ruled surface R (rulings along v) running round from s = s0 (a knot of full multiplicity
     inserted there, the geometry unchanged), flagged closed."""
-    from ruled.fit.join import along_u, with_knots
-    from ruled.fit.wallfit import clamped_u
+    from ruled.fit.wall.fit import clamped_u
+    from ruled.fit.wall.join import along_u, with_knots
     R = clamped_u(R)            # (stored unwrapped: a host's periodic form)
     u0, u1 = R.domain[:2]
     if min(abs(s0 - u0), abs(s0 - u1)) <= 1e-12 * (u1 - u0):
@@ -69,7 +69,7 @@ def wall_axis(bottom: np.ndarray, top: np.ndarray) -> tuple:
 
 def wall_side(role: str, side=None) -> tuple:
     """(+1 where the wire runs off the material, -1 in it; the side in words, as the G-code's header, the CSV and
-    the report say it) of a wall of role 'outer' or 'hole' (ruled.fit.ring.wall_roles) for the user's side:
+    the report say it) of a wall of role 'outer' or 'hole' (ruled.fit.wall.ring.wall_roles) for the user's side:
     None (off the material: outside a punch, inside a hole), 'outside' or 'inside' the wall's contour, or a
     number (its sign: off the material or in it)."""
     hole = role == "hole"

@@ -103,7 +103,7 @@ def cone_of_face(face, tol: float, step: float = 0.1, *, direction: str = "auto"
     kind = face_surface_type(face)
     if kind != "bspline":
         warnings.append(f"the face is a {kind}; it is taken as its exact B-spline conversion")
-    from ruled.fit.facefit import face_patch
+    from ruled.fit.face.fit import face_patch
     from ruled.occ.region import face_region
     patch = face_patch(face_region(face, S))
     if not patch.identity:
@@ -142,7 +142,7 @@ def _notes(res: ConeSpline) -> list:
 
 
 def trimmed_cone_faces(res: ConeSpline, R, trim) -> tuple:
-    """The cone spline res of a result R trimmed by the face's edges (trim: ruled.fit.trim.Trim), each patch
+    """The cone spline res of a result R trimmed by the face's edges (trim: ruled.fit.face.trim.Trim), each patch
     bounded by the face's boundary carried onto it (ruled.cone.trim): (one face per region of a patch, the
     patch of each)."""
     from ruled.cone.trim import trimmed_patches

@@ -181,7 +181,7 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
                    "error_bound": job.bound, "notes": list(res.notes)}
         if res.patch is not None:
             fit_rep["region"] = region_report(res)
-    rep = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
+    rep: dict = {"fit": fit_rep, "machine": path_report(path), "side": "outside" if side >= 0 else "inside"}
     if trim is not None:
         rep["machine"]["trimmed"] = {
             "rulings": "those that cross the face, plane to plane (the result's rails run past the face; it is "

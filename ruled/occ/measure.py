@@ -299,8 +299,8 @@ class _Projector:
         if etree is not None:
             de, ke = etree.query(X)
             ub = np.minimum(ub, de)
-            for i in np.nonzero(de - self.edge_reach[ke] < ub)[0]:
-                ub[i] = min(ub[i], self._edge_refine(X[i], ke[i]))
+            for j in np.nonzero(de - self.edge_reach[ke] < ub)[0]:
+                ub[j] = min(ub[j], self._edge_refine(X[j], ke[j]))
         return ub
 
     def _piece_upper(self, X: np.ndarray, ub: np.ndarray) -> None:

@@ -142,7 +142,7 @@ def fit_face(face, options, progress=None, rails=None, S=None):
     """The ruled fit of the face as bounded by its edges: (FitResult, conversion slack), the slack (the
     container's round-off overhang of the face's bounds) to be added to the bound.  S: the face's
     container when the caller has it already."""
-    from ruled.fit.facefit import fit_region
+    from ruled.fit.face.fit import fit_region
     from ruled.occ.convert import conversion_slack
     face = nurbs_face(face)         # (once: the container, the region and the slack each read it)
     S = face_to_container(face) if S is None else S

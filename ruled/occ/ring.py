@@ -17,7 +17,7 @@ from OCP.TopoDS import TopoDS
 from OCP.TopTools import TopTools_IndexedDataMapOfShapeListOfShape
 
 from ruled.core.errors import BadInputError
-from ruled.fit.ring import _names
+from ruled.fit.wall.ring import _names
 from ruled.occ.io import compound, faces_of
 
 EDGE_SAMPLES = 24      # samples per edge to tell a face's sides and the contours' order by
@@ -49,7 +49,7 @@ class Ring:
     joints: tuple                  # per face: the edge it shares with the next face round the ring
     loops: tuple                   # (bottom loop, top loop): each a tuple of edges
     size: float = 0.0
-    slivers: tuple = ()            # per face: a sliver (a draft's crease: its topology only, ruled.fit.ring.SLIVER)
+    slivers: tuple = ()            # per face: a sliver (a draft's crease, its topology only: ruled.fit.wall.ring)
     role: str = "outer"            # 'outer' (the part's outside) or 'hole' (a hole's wall: the opening is inside it)
     name: str = ""                 # as the walls' listing names it: 'outer', 'hole 1', ... (find_walls)
 
@@ -86,8 +86,8 @@ class _Edges:
 
 def ring_of(part_faces: list, indices) -> Ring:
     """The ring the faces ``indices`` (of the part's faces) make: checked to be a band between two closed
-    contours, ordered round it (ruled.fit.ring.order_ring on their edges).  Refused in one line otherwise."""
-    from ruled.fit.ring import RingEdge, order_ring
+    contours, ordered round it (ruled.fit.wall.ring.order_ring on their edges).  Refused in one line otherwise."""
+    from ruled.fit.wall.ring import RingEdge, order_ring
     from ruled.occ.io import face_area
     indices = list(dict.fromkeys(int(i) for i in indices))
     bad = [i for i in indices if not 0 <= i < len(part_faces)]
@@ -185,9 +185,9 @@ def outward_at(face, x) -> np.ndarray:
 
 
 def ring_role(ring: Ring, faces: list) -> str:
-    """A ring's role from its faces (ruled.fit.ring.role_of): 'hole' where the opening is inside its bottom
+    """A ring's role from its faces (ruled.fit.wall.ring.role_of): 'hole' where the opening is inside its bottom
     contour.  faces: the part's."""
-    from ruled.fit.ring import loop_polygon, role_of
+    from ruled.fit.wall.ring import loop_polygon, role_of
     k = next((k for k in ring.kept if ring.bottom[k]), None)
     if k is None:
         return "outer"
@@ -199,14 +199,14 @@ def _named(walls: list) -> list:
     """The walls with their roles (outer, hole) and names ('outer', 'hole 1', ...)."""
     from dataclasses import replace
 
-    from ruled.fit.ring import loop_polygon, role_names, wall_roles
+    from ruled.fit.wall.ring import loop_polygon, role_names, wall_roles
     roles = wall_roles([loop_polygon([_edge_points(e) for e in r.loops[0]]) for r in walls])
     return [replace(r, role=ro, name=nm) for r, ro, nm in zip(walls, roles, role_names(roles))]
 
 
 def _connected(faces: list, indices: list) -> list:
     """The faces ``indices`` in groups connected edge to edge."""
-    from ruled.fit.ring import connected
+    from ruled.fit.wall.ring import connected
     sub = [faces[i] for i in indices]
     E = _Edges(sub)
     return [[indices[k] for k in g] for g in connected([{E.map.FindIndex(e) - 1 for e in _face_edges(f)}

@@ -276,9 +276,9 @@ def partition_of_face(face, tol: float, opts=None, progress=None, measure_sample
 
 def face_patch_surface(face, deviation: bool = False):
     """The surface a split works on: the face's own surface when the face is its whole (u, v) rectangle,
-    else its four-sided patch (ruled.fit.facefit); and the warnings to show (and, with deviation, how far
+    else its four-sided patch (ruled.fit.face.fit); and the warnings to show (and, with deviation, how far
     that surface is from the face as bounded by its edges)."""
-    from ruled.fit.facefit import face_patch
+    from ruled.fit.face.fit import face_patch
     from ruled.occ.convert import face_to_container
     from ruled.occ.region import face_region
     S = face_to_container(face)

@@ -1,5 +1,5 @@
 """A trimmed result as a host face: the ruled surface bounded by the face's edges mapped onto it
-(ruled.fit.trim.Trim: 2D curves in the result's (s, t))."""
+(ruled.fit.face.trim.Trim: 2D curves in the result's (s, t))."""
 
 from __future__ import annotations
 

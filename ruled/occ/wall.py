@@ -10,8 +10,8 @@ knots: exact), are joined with full-multiplicity knots at the joints, so that th
 stay corners, into one surface closed round the ring; the DP's rulings then cross the faces' joints
 freely.  A wall whose faces cannot be joined exactly is refused in one line naming the faces.
 
-This module reads the faces with OCCT; the work is the engine's, on plain arrays: ruled.fit.ring (the
-ring's topology), ruled.fit.join (the patches joined), ruled.fit.wallfit (the fit), so that another host's
+This module reads the faces with OCCT; the work is the engine's, on plain arrays: ruled.fit.wall.ring (the
+ring's topology), ruled.fit.wall.join (the patches joined), ruled.fit.wall.fit (the fit), so that another host's
 adapter (FreeCAD's) gives the same walls.
 """
 
@@ -46,7 +46,7 @@ from ruled.occ.ring import (
 # ------------------------------------------------------------------------------------- the joined surface
 def _is_line(edge, tol: float) -> bool:
     """The edge is straight: a line, or a curve within tol of its chord."""
-    from ruled.fit.ring import is_straight
+    from ruled.fit.wall.ring import is_straight
     if BRepAdaptor_Curve(edge).GetType() == GeomAbs_CurveType.GeomAbs_Line:
         return True
     return is_straight(_edge_points(edge, 65), tol)
@@ -55,7 +55,7 @@ def _is_line(edge, tol: float) -> bool:
 def contour_edge(edge, size: float):
     """The edge as the engine's RingEdge with its 3D curve (a B-spline from end to end) and whether it is
     straight (for a face's patch and a loop's start)."""
-    from ruled.fit.ring import RingEdge
+    from ruled.fit.wall.ring import RingEdge
     from ruled.occ.region import _kernel_curve
     a, b = _ends(edge)
     ad = BRepAdaptor_Curve(edge)
@@ -81,17 +81,17 @@ def _clamped(bs):
 
 
 def _patch(face, index: int, bottom: tuple, top: tuple, before, after, size: float) -> tuple:
-    """(the face as a four-sided patch, its contours' mean length, its deviation): ruled.fit.join.wall_patch on
+    """(the face as a four-sided patch, its contours' mean length, its deviation): ruled.fit.wall.join.wall_patch on
     its surface (None for a plane) and its edges (before, after: its joints, read already by contour_edge),
-    with its Coons patch (ruled.fit.wallpatch) where it is no exact one."""
-    from ruled.fit.join import wall_patch
+    with its Coons patch (ruled.fit.wall.patch) where it is no exact one."""
+    from ruled.fit.wall.join import wall_patch
     from ruled.occ.convert import bspline_surface_to_container
     S = None if _planar_normal(face) is not None else bspline_surface_to_container(_clamped(face_to_bspline(face)))
     edge_tol = max((BRep_Tool.Tolerance_s(e) for e in bottom + top), default=0.0)
     ce = [[contour_edge(e, size) for e in c] for c in (bottom, top)]
 
     def loose():
-        from ruled.fit.wallpatch import contour_patch
+        from ruled.fit.wall.patch import contour_patch
         from ruled.occ.region import face_region, outer_edges
         loop = outer_edges(face)
         ids = [[k for k, g in enumerate(loop) if any(g.IsSame(e) for e in c)] for c in (bottom, top)]
@@ -118,8 +118,8 @@ class Wall:
 
 def joined_surface(ring: Ring, faces: tuple) -> tuple:
     """(Surface, breaks, corners, slack): the ring's faces (slivers left out) as one B-spline surface closed round
-    the ring (ruled.fit.join.joined)."""
-    from ruled.fit.join import joined
+    the ring (ruled.fit.wall.join.joined)."""
+    from ruled.fit.wall.join import joined
     n = len(faces)
     keep = ring.kept
     joints = [None if e is None else contour_edge(e, ring.size) for e in ring.joints]   # (each borders two faces)
@@ -131,10 +131,10 @@ def joined_surface(ring: Ring, faces: tuple) -> tuple:
 
 def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
     """The wall of the part ``shape``: the faces ``indices`` (a list, or 'K,L-M'), or a word: 'auto' (the
-    part's only wall), 'outer', 'hole', 'hole:K' (ruled.fit.ring.pick_wall; find_walls names them).  faces:
+    part's only wall), 'outer', 'hole', 'hole:K' (ruled.fit.wall.ring.pick_wall; find_walls names them).  faces:
     the faces themselves instead of a part (indices then index them)."""
-    from ruled.batch.faces import parse_faces
-    from ruled.fit.ring import WALL_WORDS, is_wall_word, pick_wall
+    from ruled.core.errors import parse_faces
+    from ruled.fit.wall.ring import WALL_WORDS, is_wall_word, pick_wall
     if faces is None:
         faces = faces_of(shape)
     if isinstance(indices, str) and not is_wall_word(indices):
@@ -224,10 +224,10 @@ def measure_wall(faces, out_face, n: int = 40):
 
 
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
-    """The wall's one closed ruled surface (ruled.fit.wallfit.fit_ring on the joined surface), built as one face
+    """The wall's one closed ruled surface (ruled.fit.wall.fit.fit_ring on the joined surface), built as one face
     and measured against the wall's faces, both ways."""
-    from ruled.fit.facefit import measured_warnings
-    from ruled.fit.wallfit import fit_ring
+    from ruled.fit.face.fit import measured_warnings
+    from ruled.fit.wall.fit import fit_ring
     from ruled.occ.convert import container_to_face
     from ruled.occ.io import face_area
     from ruled.occ.trimmed import built_slack, result_face

@@ -27,7 +27,7 @@ def per_face(fit: WallFit) -> tuple:
     """(pieces, the sewn shell): per kept face of the wall (ring order), the result between its joints."""
     from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
 
-    from ruled.fit.wallpieces import JOINT_SAMPLES, piece_trims
+    from ruled.fit.wall.pieces import JOINT_SAMPLES, piece_trims
     from ruled.occ.convert import container_to_bspline
     from ruled.occ.trimmed import trimmed_face
     R = fit.surface

@@ -270,7 +270,7 @@ def split_dp(tables: SplitTables, objective: str = "sum", memory_cap: Optional[f
     if not np.isfinite(score):
         raise InfeasibleError("no split path: every M-curve meets an infinite cost")
     st = [n - 1, n - 1, n - 1, b, ep, eq, em]
-    path = [list(st)]
+    trace = [list(st)]
     nmv = len(MOVES)
     while True:
         code = int(back[st[0], st[1], st[2], st[4], st[5], st[3], st[6]])
@@ -280,8 +280,8 @@ def split_dp(tables: SplitTables, objective: str = "sum", memory_cap: Optional[f
         di, dj, da, db = (int(x) for x in MOVES[k])
         st = [st[0] - di, st[1] - dj, st[2] - da, st[3] - db,
               g % mp if di else st[4], (g // mp) % mq if dj else st[5], g // (mp * mq) if da else st[6]]
-        path.append(list(st))
-    path = np.array(path[::-1], dtype=np.int64)
+        trace.append(list(st))
+    path = np.array(trace[::-1], dtype=np.int64)
     if tuple(path[0, :3]) != (0, 0, 0):
         raise AssertionError("split DP trace did not reach the first column")
     return SplitPath(path[:, :4], score, objective, path[:, 4:])

@@ -181,7 +181,7 @@ def split_curves(S: Surface, strip: Strip, side: SideSurface, opts: SplitOptions
     s = (mc[:, 0] - s0) / (s1 - s0)
     t = (mc[:, 1] - t0) / (t1 - t0)
     lo_t, hi_t = 0.5 / (d + 1), 1 - 0.5 / (d + 1)
-    out = []
+    out: list = []
     # the M-points are on d rows: smoothed into a curve at three strengths, each scored by its fits later
     for k, level in enumerate((8, 4, 2)):
         if closed:    # a periodic smoothing: least-squares Fourier series

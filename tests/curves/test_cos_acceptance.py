@@ -165,7 +165,7 @@ def test_kj66_face_with_interior_knots(tmp_path):
     from ruled.cli import main
     path = data_file("kj66_impeller.step")
     from ruled.core.region import four_sides
-    from ruled.fit.coons import coons_map
+    from ruled.fit.face.coons import coons_map
     from ruled.occ.convert import face_to_container
     from ruled.occ.io import get_face
     from ruled.occ.region import face_region

@@ -197,17 +197,19 @@ def test_a_smooth_domain_curve_through_points():
 
 
 def test_a_commands_first_use_is_known_from_numbas_cache(tmp_path):
-    """ruled.core.warm: with an empty numba cache every kernel module a split needs is cold (the workbench then
+    """ruled.warm: with an empty numba cache every kernel module a split needs is cold (the workbench then
     compiles them first, saying so); the estimate is their listed seconds."""
     import subprocess
     import sys
 
     from conftest import ROOT
-    code = ("from ruled.core import warm, jit; print(warm.cold('split') if jit.enabled() else 'no numba', "
+    code = ("from ruled import warm; from ruled.core import jit; "
+            "print(warm.cold('split') if jit.enabled() else 'no numba', "
             "warm.seconds(warm.cold('split')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120,
                          env={**__import__("os").environ, "NUMBA_CACHE_DIR": str(tmp_path)}).stdout
-    from ruled.core import jit, warm
+    from ruled import warm
+    from ruled.core import jit
     if jit.enabled():
         assert out.split("]")[0] + "]" == "['core', 'fit', 'split', 'curves']", out
         assert int(out.split()[-1]) == sum(warm.SECONDS[m] for m in ("core", "fit", "split", "curves"))

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from ruled.core.errors import InfeasibleError
-from ruled.fit import dp
+from ruled.fit.dp import dp2d as dp
 
 
 def _all_paths(ni, nj):

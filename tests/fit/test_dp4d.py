@@ -8,8 +8,9 @@ from ruled.core.distance import ruling_distances
 from ruled.core.errors import InfeasibleError
 from ruled.core.sampling import PATTERNS
 from ruled.examples import elber_ex1, elber_ex2
-from ruled.fit import dp, dp4d, metrics4d
-from ruled.fit.kernels import MOVES
+from ruled.fit.dp import dp2d as dp
+from ruled.fit.dp import dp4d, metrics4d
+from ruled.fit.dp.kernels import MOVES
 
 
 def _tables(S, n, m, tau, closed=False, sshb=True, ns=12):

@@ -252,12 +252,12 @@ def test_a_trim_whose_edges_would_cross_on_the_result_is_refused_in_one_line():
 
 
 def test_loops_cross_by_brute_force():
-    """ruled.fit.trim.loops_cross against figures drawn by hand: a square, a bow tie, a square with a hole
+    """ruled.fit.face.trim.loops_cross against figures drawn by hand: a square, a bow tie, a square with a hole
     inside, and one with a hole that runs out of it."""
     import numpy as np
 
     from ruled.core.nurbs import Curve
-    from ruled.fit.trim import loops_cross
+    from ruled.fit.face.trim import loops_cross
 
     def poly(*pts):
         return [Curve(np.array([a, b], float), np.array([0.0, 0, 1, 1]), 1) for a, b in zip(pts, pts[1:] + pts[:1])]
@@ -281,12 +281,12 @@ def test_a_flat_sector_with_its_apex_collapsed_comes_back_exact():
 
 
 def test_the_face_mask_by_scanlines_is_the_even_odd_rule_node_by_node():
-    """ruled.fit.extend.inside_grid (scanlines over a tensor grid) against the even-odd ray test of every
+    """ruled.fit.face.extend.inside_grid (scanlines over a tensor grid) against the even-odd ray test of every
     node (brute force), on a five-lobed loop with a hole and an irregular grid."""
     import numpy as np
 
     from ruled.core.region import crossings_odd
-    from ruled.fit.extend import inside_grid
+    from ruled.fit.face.extend import inside_grid
     rng = np.random.default_rng(3)
     th = np.linspace(0, 2 * np.pi, 300, endpoint=False)
     r = 0.3 + 0.1 * np.sin(5 * th)

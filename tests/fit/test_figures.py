@@ -155,8 +155,8 @@ def test_a_result_whose_measure_is_above_its_bound_is_never_returned(tmp_path, m
 FOLD = """
 import sys
 sys.path.insert(0, {tests!r})
-import provoke, ruled.fit.facefit
-provoke.fold_results(ruled.fit.facefit)
+import provoke, ruled.fit.face.fit
+provoke.fold_results(ruled.fit.face.fit)
 """
 
 
@@ -174,7 +174,7 @@ def test_a_result_that_covers_another_region_than_the_face_is_never_returned(tmp
     from trimmed_faces import ruled_sheet_face
 
     import ruled.cq as rcq
-    import ruled.fit.facefit as ff
+    import ruled.fit.face.fit as ff
     from ruled.core.errors import FiguresError
     from ruled.occ.io import write_step
     path, out, rep = str(tmp_path / "sheet.step"), str(tmp_path / "o.step"), str(tmp_path / "r.json")

@@ -230,7 +230,7 @@ def test_bounded_least_squares_matches_scipy(rng):
     loaded): feasible, and never a larger residual than scipy's bounded-variable least squares."""
     from scipy.optimize import lsq_linear
 
-    from ruled.fit.pairing import bounded_lstsq
+    from ruled.fit.dp.pairing import bounded_lstsq
     for _ in range(200):
         m = int(rng.integers(10, 80))
         n = min(m, int(rng.integers(3, 30)))
@@ -264,7 +264,7 @@ def _creased(rational: bool) -> Surface:
 def test_certificate_holds_where_rulings_cross_a_crease(rational):
     """Issue 19's fuzzing (and issue 22): the map from the result onto the face crosses the face's crease;
     the derivative's jump there adds to the remainder, so the bound stays above OCCT's dense measure."""
-    from ruled.fit.bounds import crease_jumps
+    from ruled.fit.certify.bounds import crease_jumps
     S = _creased(rational)
     where, J = crease_jumps(S, 1)
     assert where.tolist() == [0.5]

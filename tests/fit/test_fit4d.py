@@ -10,7 +10,7 @@ from ruled import FitOptions, TooBigError, fit_surface
 from ruled.core import sampling
 from ruled.core.nurbs import Surface
 from ruled.examples import elber_ex1, elber_ex2
-from ruled.fit import dp4d, metrics4d
+from ruled.fit.dp import dp4d, metrics4d
 
 OCP = pytest.importorskip("OCP")
 from ruled.occ.convert import container_to_face, face_to_container  # noqa: E402

@@ -1,4 +1,4 @@
-"""A wall's topology on plain data (ruled.fit.ring, what every host's wall comes to): the four sides of a box
+"""A wall's topology on plain data (ruled.fit.wall.ring, what every host's wall comes to): the four sides of a box
 given in a shuffled order come back ordered round the ring, their bottom and top edges and their joints the
 box's; a side missing or a hole is refused in one line."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from ruled.core.errors import BadInputError
-from ruled.fit.ring import RingEdge, order_ring
+from ruled.fit.wall.ring import RingEdge, order_ring
 
 
 def _box_sides():

@@ -67,7 +67,7 @@ def main():
     import Part
     from PySide import QtGui
     FreeCADGui.activateWorkbench("RuledWorkbench")
-    from ruled_workbench import commands, exportpanel, taskpanels
+    from ruled_workbench import commands, exportpanel, state
     from ruled_workbench.features import make_ruled_fit, value
     mw = FreeCADGui.getMainWindow()
     res["commands"] = [c for c in commands.NAMES if c in FreeCADGui.listCommands()]
@@ -84,7 +84,7 @@ def main():
     sel.clearSelection()
     sel.addSelection(imp, "Face7")
     res["partition_toolbar"] = toolbar_run("Ruled_Partition")
-    p = taskpanels.ACTIVE
+    p = state.ACTIVE
     res["widths"] = [panel_width(mw, p)]
     p.samples.setValue(10)
     p.interior.setValue(4)
@@ -122,7 +122,7 @@ def main():
     sel.clearSelection()
     sel.addSelection(cone, "Face1")
     res["cone_toolbar"] = toolbar_run("Ruled_Cone")
-    c = taskpanels.ACTIVE
+    c = state.ACTIVE
     res["widths"].append(panel_width(mw, c))
     c.tol.setValue(0.001)
     c.measure.setValue(8)
@@ -142,7 +142,7 @@ def main():
     sel.clearSelection()
     sel.addSelection(fit)
     toolbar_run("Ruled_Cone")
-    c2 = taskpanels.ACTIVE
+    c2 = state.ACTIVE
     res["cone_of_fit_fit_first_enabled"] = c2.fit_first.isEnabled()
     c2.tol.setValue(0.05)
     c2.measure.setValue(6)
@@ -204,7 +204,7 @@ def main():
     sel.addSelection(imp, "Face7")
     sel.addSelection(sk)
     res["curve_toolbar"] = toolbar_run("Ruled_Curve")
-    k = taskpanels.ACTIVE
+    k = state.ACTIVE
     res["widths"].append(panel_width(mw, k))
     k.tol.setValue(0.001)
     res["curve_pick_enabled_with_sketch"] = k.pick_button.isEnabled()
@@ -229,7 +229,7 @@ def main():
     sel.clearSelection()
     sel.addSelection(blade, "Face1")
     toolbar_run("Ruled_Curve")
-    k2 = taskpanels.ACTIVE
+    k2 = state.ACTIVE
     k2.pick_button.setChecked(True)
     FreeCADGui.updateGui()
     along = sorted(grid, key=lambda g: g[1])         # along the blade, one way

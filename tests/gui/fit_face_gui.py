@@ -21,7 +21,7 @@ def extra_checks(doc, imp, obj, res):
     import FreeCAD
     import FreeCADGui
     from PySide import QtCore, QtGui
-    from ruled_workbench import taskpanels, viewproviders
+    from ruled_workbench import state, viewproviders
     mw = FreeCADGui.getMainWindow()
     sel = FreeCADGui.Selection
     obj.ViewObject.Visibility = True
@@ -57,7 +57,7 @@ def extra_checks(doc, imp, obj, res):
     sel.clearSelection()
     sel.addSelection(imp, "Face7")
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
-    p2 = taskpanels.ACTIVE
+    p2 = state.ACTIVE
     combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
     res["panel_width"] = [p2.form.sizeHint().width() + 40, combo[0].width() if combo else None]
     p2.method.setCurrentIndex(p2.method.findText("2d"))
@@ -89,7 +89,7 @@ def extra_checks(doc, imp, obj, res):
         sel.clearSelection()
         sel.addSelection(imp, "Face7")
         res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
-        p3 = taskpanels.ACTIVE
+        p3 = state.ACTIVE
         p3.samples.setValue(150)
         p3.measure.setValue(80)
         live = {}
@@ -157,16 +157,16 @@ def extra_checks(doc, imp, obj, res):
         res[how] = {"busy_at_stop": live.get("busy"), "run_s": t1 - t0,
                     "latency_s": t1 - live["t"] if "t" in live else None,
                     "objects_same": names == before, "legend_ok": owner is None or owner in names,
-                    "panel_closed": taskpanels.ACTIVE is None,
+                    "panel_closed": state.ACTIVE is None,
                     "responses": {k: live.get(k) for k in ("model_tab", "tree", "view")}}
     # double-click on the RuledFit: its own panel, editing it
     obj.ViewObject.Proxy.doubleClicked(obj.ViewObject)
-    ed = taskpanels.ACTIVE
+    ed = state.ACTIVE
     res["edit"] = {"opened": ed is not None and ed.editing and ed.obj.Name == obj.Name,
                    "samples": ed.samples.value() if ed else None}
     if ed is not None:
         ed.reject()
-    res["edit"]["closed"] = taskpanels.ACTIVE is None
+    res["edit"]["closed"] = state.ACTIVE is None
     # save, close, reopen: nothing in the report view but the usual, the objects valid, the same results
     report = [w for w in mw.findChildren(QtGui.QTextEdit) if "Report" in w.objectName()]
     bound = float(obj.ErrorBound)
@@ -201,7 +201,7 @@ def main():
     import FreeCADGui
     import Part
     FreeCADGui.activateWorkbench("RuledWorkbench")
-    from ruled_workbench import commands, taskpanels
+    from ruled_workbench import commands, state
     res["commands"] = [c for c in commands.NAMES if c in FreeCADGui.listCommands()]
     doc = FreeCAD.newDocument("Gui")
     imp = doc.addObject("Part::Feature", "Impeller")
@@ -223,7 +223,7 @@ def main():
     sel.addSelection(imp, "Face7")
     res["active_on_face"] = commands.FitCommand().IsActive()
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
-    panel = taskpanels.ACTIVE
+    panel = state.ACTIVE
     res["panel"] = panel is not None
     panel.samples.setValue(16)
     panel.measure.setValue(24)
@@ -265,7 +265,7 @@ def main():
     sel.clearSelection()
     sel.addSelection(sphere, "Face1")
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
-    bad_panel = taskpanels.ACTIVE
+    bad_panel = state.ACTIVE
     bad_panel.samples.setValue(12)
     from PySide import QtGui
     report = [w for w in FreeCADGui.getMainWindow().findChildren(QtGui.QTextEdit) if "Report" in w.objectName()]
@@ -278,13 +278,14 @@ def main():
     bad_panel.reject()
     res["after_cancel"] = [o.Name for o in doc.Objects]
     step = os.path.join(OUT, "ruled_fit.step")
-    commands.export_step([obj], step)
+    from ruled_workbench.export import export_step
+    export_step([obj], step)
     res["step_size"] = os.path.getsize(step)
     # "Split for ruling" on the same face: the panel's preview, then OK; a picture of the split curve
     sel.clearSelection()
     sel.addSelection(imp, "Face7")
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Split"))
-    sp = taskpanels.ACTIVE
+    sp = state.ACTIVE
     sp.samples.setValue(12)
     sp.interior.setValue(4)
     sp.fit_samples.setValue(16)

@@ -17,7 +17,7 @@ def main():
     import Part
     from PySide import QtGui
     FreeCADGui.activateWorkbench("RuledWorkbench")
-    from ruled_workbench import commands, taskpanels
+    from ruled_workbench import commands, state
     res["names"] = list(commands.NAMES)
     doc = FreeCAD.newDocument("Smoke")
     imp = doc.addObject("Part::Feature", "Impeller")
@@ -31,11 +31,11 @@ def main():
     res["enabled_on_nothing"] = [a.objectName() for a in actions if a.isEnabled()]
     FreeCADGui.Selection.addSelection(imp, "Face7")
     res["clicked"] = toolbar_run("Ruled_Fit")
-    panel = taskpanels.ACTIVE
+    panel = state.ACTIVE
     res["panel"] = type(panel).__name__ if panel is not None else None
     if panel is not None:
         panel.reject()
-    res["closed"] = taskpanels.ACTIVE is None
+    res["closed"] = state.ACTIVE is None
     res["objects"] = sorted(o.Name for o in doc.Objects)
     # what the greyed buttons say: their tooltips and status tips name what to select
     res["tips"] = {a.objectName(): [a.toolTip(), a.statusTip()] for a in actions}

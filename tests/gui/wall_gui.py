@@ -30,7 +30,7 @@ def main():
     sel.addSelection(part, faces[0])
     res["one_face"] = toolbar_run("Ruled_Wall")           # one face is no wall: the button stays greyed
     # two faces that are not one side wall: the panel says so in one line, and no object is made
-    from ruled_workbench import taskpanels, wallpanel
+    from ruled_workbench import state, wallpanel
     sel.addSelection(part, faces[2])
     before = len(doc.Objects)
     res["unrelated_clicked"] = toolbar_run("Ruled_Wall")
@@ -48,7 +48,7 @@ def main():
     res["clicked"] = toolbar_run("Ruled_Wall")
     for _ in range(5):
         FreeCADGui.updateGui()
-    panel = taskpanels.ACTIVE
+    panel = state.ACTIVE
     res["panel"] = type(panel).__name__
     panel.samples.setValue(40)
     res["accepted"] = panel.accept()
@@ -89,7 +89,7 @@ def main():
         size = {"window": [mw.width(), mw.height()], "view": list(view.getSize()), "shot": path, "panels": {}}
         # the Fit panel (on a face of the part) and the export panel (on the wall), each on first open: its
         # whole width (size hint and the task box's frame) against the combo view's, and a picture
-        for name, select, command, module in (("fit", (part, faces[0]), "Ruled_Fit", taskpanels),
+        for name, select, command, module in (("fit", (part, faces[0]), "Ruled_Fit", state),
                                               ("export", (w,), "Ruled_Export", exportpanel)):
             sel.clearSelection()
             sel.addSelection(*select)

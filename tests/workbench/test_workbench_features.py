@@ -302,8 +302,8 @@ fit.touch()
 doc.recompute()
 out["true"] = [fit.isValid(), fit.Status, float(fit.ErrorBound), float(fit.Hausdorff)]
 sys.path.insert(0, {os.path.dirname(os.path.dirname(__file__))!r})
-import provoke, ruled.fit.facefit
-provoke.fold_results(ruled.fit.facefit)
+import provoke, ruled.fit.face.fit
+provoke.fold_results(ruled.fit.face.fit)
 src2 = doc.addObject("Part::Feature", "Sheet")
 src2.Shape = Part.read({sheet!r})
 folded = make_ruled_fit(doc, src2, "Face1", Samples=16, MeasureSamples=16, Direction="v")

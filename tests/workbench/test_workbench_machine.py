@@ -20,7 +20,7 @@ SCRIPT = textwrap.dedent("""
         from cases import hyperboloid
         from ruled_workbench.adapter import surface_to_face
         from ruled_workbench.features import make_ruled_fit
-        from ruled_workbench.commands import export
+        from ruled_workbench.export import export
         doc = FreeCAD.newDocument("M")
         src = doc.addObject("Part::Feature", "Hyperboloid")
         src.Shape = surface_to_face(hyperboloid(10.0, 10.0, 10.0))
@@ -85,7 +85,7 @@ def test_export_for_machining_in_freecadcmd(tmp_path):
 BLADE = """
 import FreeCAD, Part
 from ruled_workbench.features import make_ruled_fit
-from ruled_workbench.commands import export
+from ruled_workbench.export import export
 doc = FreeCAD.newDocument("B")
 imp = doc.addObject("Part::Feature", "Impeller")
 imp.Shape = Part.read(STEP)

@@ -34,8 +34,8 @@ import numpy as np
 
 from ruled.core import jit
 from ruled.core.errors import InfeasibleError
-from ruled.fit import kernels as kernels4d
-from ruled.fit.kernels import DK_COL, DL_COL, MOVES, PATTERN_OF
+from ruled.fit.dp import kernels as kernels4d
+from ruled.fit.dp.kernels import DK_COL, DL_COL, MOVES, PATTERN_OF
 
 _TIE = 1e-12
 
@@ -54,7 +54,7 @@ class Tables:
     limit: float = np.inf  # moves costlier than this are forbidden (the max-error constraint)
     start: int = -1        # when >= 0, the only allowed start levels k * K + l
 
-    def arrays(self):
+    def arrays(self) -> tuple[np.ndarray, ...]:
         z4 = np.zeros((1, 1, 1, 1), np.float32)
         z3 = np.zeros((1, 1, 1))
         lc = self.lc if self.lc is not None else z4
@@ -210,8 +210,9 @@ def _fill(T: Tables, use_max: bool, closed: bool, shift: int, side: int):
     back = np.empty((side, side, K, K), np.int8)
     src = np.empty((side, side, K, K), np.int16)
     if jit.enabled():
-        kernels4d.fill(T.sshb, use_max, _TIE, closed, T.n, shift, *T.arrays(), float(T.limit), int(T.start), prim,
-                       sec, back, src)
+        lc, c, es, dku, dkv, area, d0u, d0v, t0, g0, gP, gQ, Mq = T.arrays()
+        kernels4d.fill(T.sshb, use_max, _TIE, closed, T.n, shift, lc, c, es, dku, dkv, area, d0u, d0v, t0, g0, gP,
+                       gQ, Mq, float(T.limit), int(T.start), prim, sec, back, src)
     else:
         _fill_numpy(T, use_max, closed, shift, prim, sec, back, src)
     return prim, sec, back, src
@@ -247,7 +248,7 @@ def _trace(back, end4) -> np.ndarray:
 def move_costs(T: Tables, path: np.ndarray) -> np.ndarray:
     """The (unweighted) cost of each move of a path (T - 1,), recomputed from the tables; the path
     in unwrapped indices (on a closed boundary its Q indices include the start shift)."""
-    from ruled.fit.metrics4d import sshb_move
+    from ruled.fit.dp.metrics4d import sshb_move
     n = T.n
     out = []
     for a, b in zip(path[:-1], path[1:]):
@@ -297,7 +298,7 @@ def shift_bounds(T: Tables, use_max: bool) -> np.ndarray:
     ruling, and g0 t0 / 4, every term left out being non-negative; area-weighted for the sum
     objective; the first ruling costs nothing).  The shift here moves Q (j): the 2D program's, which
     moves its first index, on the transposed costs (its moves are symmetric)."""
-    from ruled.fit.dp import shift_scores
+    from ruled.fit.dp.dp2d import shift_scores
     n = T.n
     if T.sshb:
         tm = T.terms

@@ -1,6 +1,6 @@
 """The face as a patch a fit runs on, and what every fit of a face shares: its size, its patch's deviation
-added to the bounds, and the iso-parametric check (ruled.fit.facefit pins the rulings to the face's corners;
-ruled.fit.facetrim runs the rails past the face)."""
+added to the bounds, and the iso-parametric check (ruled.fit.face.fit pins the rulings to the face's corners;
+ruled.fit.face.trimfit runs the rails past the face)."""
 
 from __future__ import annotations
 
@@ -36,7 +36,7 @@ class FacePatch:
     warnings: tuple = ()
     edge_gap: float = 0.0              # part of deviation: the face's edges lie off its surface by up to this
     hole_span: float = 0.0             # part of deviation: the spanning part over holes is this near the face
-    mask: Optional[object] = None      # an extended patch (ruled.fit.extend): the face in its (s, t); result trimmed
+    mask: Optional[object] = None      # an extended patch (ruled.fit.face.extend): the face in its (s, t), trimmed
     extension: Optional[dict] = None   # how far the extended patch's rails run past the face
     own: bool = False                  # the face's own surface, whole (exactly ruled along an iso direction)
     box: bool = False                  # the face's own surface, whole, as the patch (own, or any surface)

@@ -192,10 +192,10 @@ def wall_patch(name, S, bottom: list, top: list, before, after, size: float, edg
     bottom contour edges to its top ones; its contours' mean length; its deviation from the face, 0 where
     exact).  S: the face's surface (clamped, not periodic), or None for a planar face, whose patch is the ruled
     surface between its chained contour curves (exact where its joints are straight).  bottom, top, before,
-    after: ruled.fit.ring.RingEdge (with their curves where S is None); edge_tol: the face's contour edges'
+    after: ruled.fit.wall.ring.RingEdge (with their curves where S is None); edge_tol: the face's contour edges'
     tolerance (an edge that close to the surface lies on it).  loose: where the face is no exact patch (its
     contour edges are not opposite sides of its surface; a plane with curved joints), a callable giving its
-    Coons patch (ruled.fit.wallpatch.contour_patch), whose deviation is then the third figure; without it
+    Coons patch (ruled.fit.wall.patch.contour_patch), whose deviation is then the third figure; without it
     such a face is refused."""
     length = max(0.5 * (sum(e.length for e in bottom) + sum(e.length for e in top)), 1e-12 * size)
     b, t = (np.concatenate([e.points for e in c]) if c else None for c in (bottom, top))

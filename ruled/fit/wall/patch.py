@@ -1,8 +1,8 @@
 """A wall's face that is no exact four-sided patch (its contour edges are not two opposite sides of its surface,
 or it is planar with curved joints: a drafted plane meeting a drafted cone at a sharp corner of the profile,
 along a curve): the patch S o Omega of the Coons map of its four sides, the bottom contour edges, a joint, the
-top contour edges and the other joint (ruled.fit.coons), sampled into a bicubic B-spline whose deviation from
-the face, as bounded by its edges, is carried into the wall's bound (ruled.fit.facefit.sided_patch).  Hosts
+top contour edges and the other joint (ruled.fit.face.coons), sampled into a bicubic B-spline whose deviation from
+the face, as bounded by its edges, is carried into the wall's bound (ruled.fit.face.fit.sided_patch).  Hosts
 give the face's Region and which of its outer loop's edges lie on each contour."""
 
 from __future__ import annotations
@@ -54,13 +54,13 @@ def contour_sides(region: Region, bottom, top, name="") -> Sides:
 
 
 def contour_patch(region: Region, bottom, top, name=""):
-    """The face as the sampled Coons patch of its contour sides (ruled.fit.facepatch.FacePatch: its surface
+    """The face as the sampled Coons patch of its contour sides (ruled.fit.face.patch.FacePatch: its surface
     runs along s from side 3 to side 1 and along t from the bottom contour to the top one, its deviation
     from the bounded face).  Refused in one line where the map folds."""
     from dataclasses import replace
 
-    from ruled.fit.coons import coons_map
-    from ruled.fit.facefit import EDGE_MARGIN, sided_patch
+    from ruled.fit.face.coons import coons_map
+    from ruled.fit.face.fit import EDGE_MARGIN, sided_patch
     sides = contour_sides(region, bottom, top, name)
     try:
         m = coons_map(region, sides)
@@ -77,7 +77,7 @@ def contour_patch(region: Region, bottom, top, name=""):
 def _dense_deviation(region: Region, m, P, per_span: int = 8) -> float:
     """The largest distance between the sampled patch P and S o Omega (with its blended edge gaps) on a grid
     of per_span points across each of P's spans, both ways, its sides included."""
-    from ruled.split.strips import _target
+    from ruled.fit.face.sampled import _target
 
     def grid(knots):
         k = np.unique(knots)

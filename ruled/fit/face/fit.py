@@ -1,7 +1,7 @@
 """Fitting the face the user selected: its region mapped onto the unit square, then fitted.
 
 A face that is its surface's whole (u, v) rectangle is fitted as it is (the exact path). Any other face is
-first turned into the four-sided patch S o Omega of its Coons map (ruled.core.region, ruled.fit.coons),
+first turned into the four-sided patch S o Omega of its Coons map (ruled.core.region, ruled.fit.face.coons),
 sampled into a bicubic B-spline within ``PATCH_TOL`` of the face's size (ruled.split.strips.side_surface);
 the patch is fitted, and the deviation of the sampled patch from S o Omega is added to the certified bound,
 which is then for the bounded face. The rails are two opposite sides of the face: the fit's direction 'v'
@@ -19,8 +19,8 @@ from ruled.core.blas import one_thread
 from ruled.core.errors import BadInputError, DegenerateFaceError, RuledError, Text
 from ruled.core.progress import Progress
 from ruled.core.region import Region, four_sides, side_candidates
-from ruled.fit.coons import coons_map
-from ruled.fit.facepatch import (  # noqa: F401 (FacePatch, region_size, with_deviation, with_iso: re-exported)
+from ruled.fit.face.coons import coons_map
+from ruled.fit.face.patch import (  # noqa: F401 (FacePatch, region_size, with_deviation, with_iso: re-exported)
     EDGE_MARGIN,
     PATCH_ACCEPT,
     PATCH_MAX_SPANS,
@@ -30,11 +30,11 @@ from ruled.fit.facepatch import (  # noqa: F401 (FacePatch, region_size, with_de
     with_deviation,
     with_iso,
 )
-from ruled.fit.facetrim import box_patches, fit_patch, fit_trimmed, own_patch
+from ruled.fit.face.sampled import side_surface
+from ruled.fit.face.trimfit import box_patches, fit_patch, fit_trimmed, own_patch
 from ruled.fit.fit2d import FitResult, ruling_figure
-from ruled.fit.options import Direction, Ends, FitOptions, Method
+from ruled.fit.options import Direction, Ends, FitOptions, Method, Objective
 from ruled.fit.surface import fit_surface
-from ruled.split.strips import side_surface
 
 
 def _rect_direction(region: Region, rails) -> str:
@@ -109,7 +109,7 @@ def _choose_sides(region: Region, rails, size: float):
     if len(maps) == 1:
         return maps[0]
     best, score = None, np.inf
-    quick = FitOptions(samples=16, refine=False, objective="max")
+    quick = FitOptions(samples=16, refine=False, objective=Objective.MAX)
     for sd, m in maps:
         try:
             side = side_surface(region.surface, m, 1e-4 * size, 32, 1e-2 * size)
@@ -129,7 +129,7 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
                rails: Optional[tuple] = None, patch: Optional[FacePatch] = None) -> FitResult:
     """The globally optimal ruled fit of the face as bounded by its edges: with the end rulings pinned
     to its corners (fit_pinned), and with the rails run past the face and the result trimmed by its
-    edges (ruled.fit.extend, ruled.fit.trim); by default the one with the smaller certified bound
+    edges (ruled.fit.face.extend, ruled.fit.face.trim); by default the one with the smaller certified bound
     (options.ends), its notes saying which and why."""
     opts = options.checked()
     if patch is not None or opts.ends == Ends.PINNED or opts.method != Method.D2:
@@ -409,7 +409,7 @@ def _area_checked(res: FitResult, patch: FacePatch) -> FitResult:
                    f"{','.join(map(str, rb)) or 'a point'} covers {100 * r:.3g}% of the face's area")
             cands[d] = why
             reasons.append(why)
-    ok = [c for c in cands.values() if not isinstance(c, str)]
+    ok: list = [c for c in cands.values() if not isinstance(c, str)]
     if not ok:
         raise DegenerateFaceError("; ".join(reasons) + "; the face's edges do not bound a four-sided region "
                                   "a ruled surface can span (check the face in a CAD viewer, or name other rails "

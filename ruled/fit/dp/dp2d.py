@@ -16,7 +16,7 @@ import numpy as np
 
 from ruled.core import jit
 from ruled.core.errors import InfeasibleError
-from ruled.fit import kernels
+from ruled.fit.dp import kernels
 
 # move codes stored in the back-pointer table
 _DIAG, _UP_I, _UP_J = 0, 1, 2

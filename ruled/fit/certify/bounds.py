@@ -9,7 +9,7 @@ import numpy as np
 from ruled.core import jit, kernels
 from ruled.core.basis import SpanRangeMax, _deriv_net, pieces_for
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.pairing import Pairing
+from ruled.fit.dp.pairing import Pairing
 from ruled.fit.reparam import Boundaries
 
 # Newton iterations for the feet of points on the fit's rulings

@@ -1,4 +1,4 @@
-"""The rulings' costs on a face's extended patch (ruled.fit.extend: the patch carries the face's mask), and
+"""The rulings' costs on a face's extended patch (ruled.fit.face.extend: the patch carries the face's mask), and
 how the pairing is held past the face: a ruling counts only over the face (and a little past its edges),
 the rulings past it follow the line of the last ones over it, and the smooth pairing ends where the rails
 reach the patch's ends (its end rulings free).  On a patch with no mask every function is the plain one."""
@@ -11,13 +11,13 @@ import numpy as np
 
 from ruled.core.distance import ruling_distances
 from ruled.core.nurbs import Surface
-from ruled.fit.extend import face_mask
+from ruled.fit.face.extend import face_mask
 
 
 def ruling_cost(S: Surface, uP: np.ndarray, uQ: np.ndarray, m: int, iters: int, closed: bool,
                 outside=0.0) -> np.ndarray:
     """(K,) the distances to S of the rulings from S(uP, v0) to S(uQ, v1) (ruled.core.distance.ruling_distances).
-    On a face's extended patch (ruled.fit.extend.masked) only a ruling's points over the face, or a little
+    On a face's extended patch (ruled.fit.face.extend.masked) only a ruling's points over the face, or a little
     past its edges (FaceMask.inside), count: the result is trimmed by the face's edges, so the part of a
     ruling past them is not part of it, and the surface far past them (the natural extension past the
     face's own surface) is nothing the ruling must follow.  A ruling with no sample there costs
@@ -103,7 +103,7 @@ def _end_lines(sig: np.ndarray, d: np.ndarray, idx: np.ndarray) -> tuple:
 
 
 def face_span(S: Surface, pairing: Any, margin: float = 0.01, k: int = 1001) -> Optional[tuple]:
-    """(s0, s1): the range of the pairing's s (a ruled.fit.pairing.Pairing) whose rulings meet the face a
+    """(s0, s1): the range of the pairing's s (a ruled.fit.dp.pairing.Pairing) whose rulings meet the face a
     masked patch S carries, widened by margin; None on a patch with no mask (or no ruling over the face)."""
     if face_mask(S) is None or pairing.closed:
         return None

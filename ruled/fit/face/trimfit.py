@@ -1,5 +1,5 @@
-"""The face fitted over a longer span: its rails run past the face (ruled.fit.extend), and each candidate
-is trimmed by the face's edges (ruled.fit.trim).  ruled.fit.facefit.fit_region compares it with the fit
+"""The face fitted over a longer span: its rails run past the face (ruled.fit.face.extend), and each candidate
+is trimmed by the face's edges (ruled.fit.face.trim).  ruled.fit.face.fit.fit_region compares it with the fit
 pinned to the face's corners."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from ruled.core.errors import RuledError
 from ruled.core.nurbs import Curve, Surface
 from ruled.core.progress import Progress
 from ruled.core.region import Region, Sides, four_sides
-from ruled.fit.facepatch import (
+from ruled.fit.face.patch import (
     EDGE_MARGIN,
     PATCH_ACCEPT,
     PATCH_MAX_SPANS,
@@ -24,9 +24,9 @@ from ruled.fit.facepatch import (
     with_deviation,
     with_iso,
 )
+from ruled.fit.face.sampled import side_surface
 from ruled.fit.options import Direction, FitOptions
 from ruled.fit.surface import fit_surface
-from ruled.split.strips import side_surface
 
 
 def _rotated(sides: Sides) -> Sides:
@@ -36,9 +36,9 @@ def _rotated(sides: Sides) -> Sides:
 
 
 def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePatch]:
-    """The face's extended patch with rails on sides 0 and 2 (ruled.fit.extend), sampled like the pinned
+    """The face's extended patch with rails on sides 0 and 2 (ruled.fit.face.extend), sampled like the pinned
     patch, or None where no extension covers the face."""
-    from ruled.fit.extend import extended_map, masked
+    from ruled.fit.face.extend import extended_map, masked
     got = extended_map(region, sides)
     if got is None:
         return None
@@ -109,7 +109,7 @@ def box_patch(region: Region, size: float, swap: bool, own: bool) -> Optional[Fa
     """The face's own surface on the unit square, transposed (swap) so that the rulings run along v, with
     the face's mask and its own curves mapped affinely (own: the surface is exactly ruled that way); None
     where the face runs past the surface's domain by more than the mask's band."""
-    from ruled.fit.extend import BAND, PER_EDGE, FaceMask, masked
+    from ruled.fit.face.extend import BAND, PER_EDGE, FaceMask, masked
     S = region.surface
     u0, u1, v0, v1 = S.domain
     lo, span = np.array([u0, v0]), np.array([u1 - u0, v1 - v0])
@@ -173,7 +173,7 @@ def _closed_loop(curves: list) -> tuple:
 def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> tuple:
     """(FitResult, None) of a masked patch (rails at t = 0 and 1), its candidates trimmed by the face's
     edges, or (None, why) where it cannot be fitted or no fit of it can be trimmed."""
-    from ruled.fit.trim import with_trim
+    from ruled.fit.face.trim import with_trim
     try:
         res = with_iso(fit_surface(patch.surface, replace(opts, direction=Direction.V), progress), progress)
     except RuledError as exc:
@@ -208,8 +208,8 @@ def _finer_trim(c, mask, deviation: float = 0.0, progress: Progress = None):
     """The trimmed fit c certified on GRID_TRIM and trimmed again where the trim's part of its bound is
     the larger (an exact fit whose rulings cross the face's edges: the certificate's part is small; the
     patch's deviation from the face, added later, counted in), when that brings its bound down; else c."""
-    from ruled.fit.certify import certified_bound
-    from ruled.fit.trim import with_trim
+    from ruled.fit.certify.forward import certified_bound
+    from ruled.fit.face.trim import with_trim
     if c.trim is None or c.trim.own or 2.0 * c.trim.added <= c.certificate.bound + deviation:
         return c
     if progress:

@@ -8,8 +8,8 @@ import numpy as np
 
 from ruled.core.nearest import GOLD, golden
 from ruled.core.nurbs import Surface
-from ruled.fit.facecost import over_face, ruling_cost
-from ruled.fit.pairing import MAX_DELTA_COEFS, refine_pairing, smooth_pairing
+from ruled.fit.dp.pairing import MAX_DELTA_COEFS, refine_pairing, smooth_pairing
+from ruled.fit.face.cost import over_face, ruling_cost
 from ruled.fit.reparam import _mapped_knots, _merge
 
 # rulings at most this fraction of the size from the face count as exact (the pairing then follows them)

@@ -192,16 +192,16 @@ class CoonsMap:
                 f = uv[:, ax] - k
                 i = np.nonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)[0]
                 out.extend(tau[i] + (tau[i + 1] - tau[i]) * f[i] / (f[i] - f[i + 1]))
-        out = np.array(sorted(out))
-        if out.size > most:
-            out = out[np.linspace(0, out.size - 1, most).astype(int)]
-        return out
+        found = np.array(sorted(out))
+        if found.size > most:
+            found = found[np.linspace(0, found.size - 1, most).astype(int)]
+        return found
 
     def jacobian_signs(self, n: int = 48) -> np.ndarray:
         """det(d Omega / d(s, t)) at the centres of an n x n grid (scaled by the domain's size)."""
         x = (np.arange(n) + 0.5) / n
-        s, t = np.meshgrid(x, x, indexing="ij")
-        s, t = s.ravel(), t.ravel()
+        sg, tg = np.meshgrid(x, x, indexing="ij")
+        s, t = sg.ravel(), tg.ravel()
         h = 0.25 / n
         u0, u1, v0, v1 = self.region.surface.domain
         sc = np.array([max(u1 - u0, 1e-300), max(v1 - v0, 1e-300)])

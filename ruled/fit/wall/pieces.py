@@ -1,6 +1,6 @@
 """A wall's closed ruled result cut into one piece per input face, on plain arrays: each joint between two of
 the wall's faces (its points, from a host) projected onto the result, a polyline in its (s, t) from the bottom
-rail to the top, and per face the loop in (s, t) between its two joints (ruled.fit.trim.Trim), which the hosts
+rail to the top, and per face the loop in (s, t) between its two joints (ruled.fit.face.trim.Trim), which the hosts
 build as trimmed faces and sew (ruled.occ.wallfaces, the workbench's RuledWall).  Where a joint is a corner
 line both contours share, it is a ruling of the result and the cut is exact; elsewhere the rulings cross it
 and the cut follows its projection."""
@@ -41,7 +41,7 @@ def _polyline(P: np.ndarray) -> Curve:
 def piece_trims(R: Surface, joints: list) -> list:
     """Per face of the wall (ring order), the Trim of the result between the joint before it and the joint
     after it; joints: per face, the points of the joint after it (either way round)."""
-    from ruled.fit.trim import Trim
+    from ruled.fit.face.trim import Trim
     u0, u1, t0, t1 = R.domain
     L = u1 - u0
     s = np.linspace(u0, u1, 2001)

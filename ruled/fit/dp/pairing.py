@@ -12,7 +12,7 @@ import numpy as np
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.nearest import golden
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.facecost import _past_face, face_ends, face_weights, over_face, ruling_cost
+from ruled.fit.face.cost import _past_face, face_ends, face_weights, over_face, ruling_cost
 
 
 @dataclass(frozen=True)

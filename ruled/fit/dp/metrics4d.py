@@ -56,7 +56,7 @@ from ruled.core import jit
 from ruled.core.distance import ruling_distances
 from ruled.core.nurbs import Surface
 from ruled.core.sampling import PATTERNS, Elevated
-from ruled.fit import kernels as kernels4d
+from ruled.fit.dp import kernels as kernels4d
 
 
 def f32_up(x: np.ndarray) -> np.ndarray:

@@ -13,7 +13,7 @@ import numpy as np
 
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
-from ruled.fit.join import elevated_u, end_to_end, remapped
+from ruled.fit.wall.join import elevated_u, end_to_end, remapped
 
 
 def piece(S: Surface, a: float, b: float) -> Surface:
@@ -46,7 +46,7 @@ def clamped_u(R: Surface) -> Surface:
     """R clamped along u on its domain (a periodic surface stored unwrapped, as a host's periodic form reads,
     made ordinary: the same geometry on [u0, u1]); R itself when clamped already."""
     from ruled.core.knots import clamp_segment
-    from ruled.fit.join import along_u
+    from ruled.fit.wall.join import along_u
     k, p = R.knots_u, R.degree_u
     if np.ptp(k[:p + 1]) == 0 and np.ptp(k[-p - 1:]) == 0:
         return R
@@ -113,7 +113,7 @@ def fit_ring(S: Surface, breaks, corners, options, size: float, progress=None) -
     """The joined surface S (u round the ring, the faces' joints at breaks; v from the bottom contour to the
     top) fitted along v as one closed ruled surface; corners: the joints (indices into breaks) both contours
     turn at.  options.samples are spread over the pieces by their share of the ring."""
-    from ruled.fit.facepatch import with_iso
+    from ruled.fit.face.patch import with_iso
     from ruled.fit.fit2d import pinned_at_seam
     from ruled.fit.options import Direction
     from ruled.fit.surface import fit_surface

@@ -35,7 +35,7 @@ from dataclasses import replace
 import numpy as np
 
 from ruled.core.nurbs import Curve, Surface
-from ruled.fit.bounds import (
+from ruled.fit.certify.bounds import (
     _contains,
     _crossing,
     _joint_jumps,
@@ -53,10 +53,10 @@ from ruled.fit.bounds import (
     _twin,
     graded_nodes,
 )
-from ruled.fit.cells import FLOOR, Certificate, _cells_to_split, _corner_max
-from ruled.fit.certify_reverse import certify_reverse
-from ruled.fit.extend import face_mask
-from ruled.fit.pairing import Pairing
+from ruled.fit.certify.cells import FLOOR, Certificate, _cells_to_split, _corner_max
+from ruled.fit.certify.reverse import certify_reverse
+from ruled.fit.dp.pairing import Pairing
+from ruled.fit.face.extend import face_mask
 from ruled.fit.reparam import Boundaries
 
 # the second-order remainder is tried where the bound exceeds the node maximum by this factor
@@ -154,7 +154,7 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
         cert, guide, prev = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev)
         if best is None or cert.bound < best.bound:
             best = cert
-        split = _cells_to_split(*guide, FLOOR * S.diagonal(), uniform=True)
+        split = _cells_to_split(guide[0], guide[1], guide[2], FLOOR * S.diagonal(), uniform=True)
         # each round about halves the excess over the node maximum: stop where even that would not
         # bring the bound below the rival's (the other side's certificate)
         hope = cert.node_max + (cert.bound - cert.node_max) / 2 ** (rounds - rnd)
@@ -286,7 +286,7 @@ def _map_bound(S, b, X, us, vs, span_u, span_v, x, s, t, pairing, bd, R, tw, sec
     sw = np.mod(s, 1.0) if closed else s
     Rp = R(sw.ravel(), t.ravel()).reshape(nu, nv, 3)
     f = np.linalg.norm(X - Rp, axis=2)
-    # a trimmed result: only the cells that meet the face count (ruled.fit.extend)
+    # a trimmed result: only the cells that meet the face count (ruled.fit.face.extend)
     mask = face_mask(S)
     cm = None if mask is None else mask.cells(us, vs)
     fmax = float(f.max()) if cm is None else float(_corner_max(f)[cm].max())
@@ -465,7 +465,7 @@ def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, ta
     rnd = (ROUND_ULPS * np.finfo(float).eps + WRITTEN) * max(float(np.abs(S.poles).max()),
                                                              float(np.abs(R.poles).max()))
     if face_mask(S) is not None:
-        # a trimmed result: the forward map's image of the face is the result (ruled.fit.trim)
+        # a trimmed result: the forward map's image of the face is the result (ruled.fit.face.trim)
         fwd = certify(S, pairing, bd, R, target_u, target_v, rival=cutoff)
         return replace(fwd, bound=fwd.bound + rnd, rounding=rnd)
     rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))

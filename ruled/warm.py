@@ -21,13 +21,18 @@ NEEDS = {"fit": ("core", "fit"), "wall": ("core", "fit"), "split": ("core", "fit
 SECONDS = {"core": 4, "fit": 2, "split": 9, "curves": 5, "cone": 2}
 
 
+# where each module's kernels.py lies, under ruled/
+FOLDERS = {"core": "core", "fit": os.path.join("fit", "dp"), "split": "split", "curves": "curves", "cone": "cone"}
+
+
 def _cached(module: str) -> bool:
-    """numba's cache holds compiled kernels of ruled/<module>/kernels.py (in NUMBA_CACHE_DIR when set, a folder
-    per package; else beside the sources)."""
+    """numba's cache holds compiled kernels of ruled/<folder>/kernels.py (in NUMBA_CACHE_DIR when set, a folder
+    per package, named after the package's folder; else beside the sources)."""
     import numba
-    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    here = os.path.dirname(os.path.abspath(__file__))
+    folder = FOLDERS.get(module, module)
     user = getattr(numba.config, "CACHE_DIR", "") or ""
-    where = os.path.join(user, f"{module}_*") if user else os.path.join(here, module, "__pycache__")
+    where = os.path.join(user, f"{os.path.basename(folder)}_*") if user else os.path.join(here, folder, "__pycache__")
     return bool(glob.glob(os.path.join(where, "kernels.*.nbi")))
 
 

@@ -7,9 +7,9 @@ import numpy as np
 
 from ruled.core.basis import SpanRangeMax
 from ruled.core.nurbs import Surface
-from ruled.fit.bounds import _crease_term, _curve_feet, _knot_grid, _nodes_of, _range_max, _twin, crease_jumps
-from ruled.fit.cells import FLOOR, Certificate, _cells_to_split, _corner_max
-from ruled.fit.pairing import Pairing
+from ruled.fit.certify.bounds import _crease_term, _curve_feet, _knot_grid, _nodes_of, _range_max, _twin, crease_jumps
+from ruled.fit.certify.cells import FLOOR, Certificate, _cells_to_split, _corner_max
+from ruled.fit.dp.pairing import Pairing
 
 
 def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 240, target_t: int = 40,

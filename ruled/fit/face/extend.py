@@ -9,7 +9,7 @@ natural extension, the polynomial of its end span, where its domain ends).  The 
 covers the face and more: the end sides 1 and 3 lie inside it, so the rulings a fit chooses may cross them.
 The face is then a region of the patch S o Omega, given by its boundary in the patch's (s, t)
 (:class:`FaceMask`): a certificate counts only the cells of its grid that meet the face, and the result is
-the ruled surface trimmed by the face's edges mapped onto it (ruled.fit.trim).
+the ruled surface trimmed by the face's edges mapped onto it (ruled.fit.face.trim).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import numpy as np
 from ruled.core.errors import DegenerateFaceError
 from ruled.core.nurbs import Surface
 from ruled.core.region import Region, Sides
-from ruled.fit.coons import SideCurve, _merge, _on
+from ruled.fit.face.coons import SideCurve, _merge, _on
 
 # the rails run past each end by this many times the length (in (u, v)) of the end side there; tried in
 # turn, the first that covers the face without folding the map is kept
@@ -216,7 +216,7 @@ class FaceMask:
     def inside(self, st: np.ndarray) -> np.ndarray:
         """(N,) whether the points st (N, 2) of the patch's (s, t) lie in the face grown by GROW (to the
         raster's node spacing): the DP's and the refinement's costs count a ruling's points there only
-        (ruled.fit.pairing.ruling_cost); the certificate counts the cells that meet the face."""
+        (ruled.fit.dp.pairing.ruling_cost); the certificate counts the cells that meet the face."""
         us, vs, g = self._raster
         st = np.asarray(st, float).reshape(-1, 2)
         iu = np.clip(np.round(st[:, 0] * (us.size - 1)), 0, us.size - 1).astype(np.int64)

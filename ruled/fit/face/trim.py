@@ -1,7 +1,7 @@
 """The result trimmed by the face's edges: the face's boundary mapped onto the ruled surface.
 
-A fit of the face's extended patch E (ruled.fit.extend) is certified over the cells that meet the face
-only, through a map psi of E's domain onto the result R's (ruled.fit.certify: |E - R o psi| <= B over the
+A fit of the face's extended patch E (ruled.fit.face.extend) is certified over the cells that meet the face
+only, through a map psi of E's domain onto the result R's (ruled.fit.certify.forward: |E - R o psi| <= B over the
 face).  Where psi keeps its orientation on every such cell, the image psi(face) is the region of R's
 domain that psi(boundary) encloses, so R restricted to it is within B of the face both ways.  The trim
 curves C are cubic B-splines through psi's image of the boundary's samples (the segment of R's rail where
