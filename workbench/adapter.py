@@ -132,8 +132,10 @@ def face_region(face, S: Surface = None) -> Region:
         e3 = [_curve3d(e, c) for e, c in zip(edges, loop)]
         seams = [bool(edge_is_seam(face, e)) for e in edges]
         degen = [bool(e.Degenerated) for e in edges]
-        holes = [tuple(_pcurve(face, e) for e in w.OrderedEdges) for w in face.Wires
-                 if not w.isSame(face.OuterWire)]
+        inner = [w.OrderedEdges for w in face.Wires if not w.isSame(face.OuterWire)]
+        holes = [tuple(_pcurve(face, e) for e in es) for es in inner]
+        holes3d = tuple(tuple(_curve3d(e, c) for e, c in zip(es, h)) for es, h in zip(inner, holes))
+        hole_tols = tuple(tuple(float(e.Tolerance) for e in es) for es in inner)
     except BadInputError:
         raise
     except Exception as exc:     # Part.OCCError and friends: a boundary that cannot be read
@@ -145,7 +147,8 @@ def face_region(face, S: Surface = None) -> Region:
     for per, period, a, b in ((surf.isUPeriodic(), "UPeriod", u0, u1), (surf.isVPeriodic(), "VPeriod", v0, v1)):
         P = getattr(surf, period)() if per else None
         closed.append(bool(per and abs((b - a) - P) <= 1e-9 * P))
-    return Region(S, tuple(loop), tuple(seams), tuple(degen), tuple(holes), tuple(e3), tuple(closed))
+    return Region(S, tuple(loop), tuple(seams), tuple(degen), tuple(holes), tuple(e3), tuple(closed), (), holes3d,
+                  hole_tols)
 
 
 def edge_is_seam(face, edge) -> bool:

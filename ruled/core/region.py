@@ -21,7 +21,6 @@ import numpy as np
 
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.errors import BadInputError
-from ruled.core.nearest import to_curve, to_polyline
 from ruled.core.nurbs import Curve, Surface
 
 CORNER_DEG = 15.0          # a joint where the loop's image turns more than this is a corner
@@ -44,6 +43,8 @@ class Region:
     edges3d: tuple = ()     # the edges' own 3D curves (on the pcurves' parameters), when they are known
     closed: tuple = (False, False)   # the surface closes on itself across its u (v) domain: wrap, not clip
     tolerances: tuple = ()  # per loop edge, the model's tolerance of the edge (3D), when it is known
+    hole_edges3d: tuple = ()     # per hole, its edges' 3D curves (as edges3d), when they are known
+    hole_tolerances: tuple = ()  # per hole, its edges' tolerances
 
     def __post_init__(self):
         if not isinstance(self.surface, Surface):
@@ -161,8 +162,15 @@ class Region:
         return 0.0 if g is None else g[1]
 
     def max_gap(self) -> float:
-        """The largest distance between an edge's 3D curve and the surface at its pcurve (both ways)."""
-        return max(self.edge_gap(k) for k in range(self.size)) if self.edges3d else 0.0
+        """The largest distance between an edge's 3D curve and the surface at its pcurve (both ways), the
+        holes' edges included."""
+        from ruled.core.edgegap import gap_of
+        outer = max(self.edge_gap(k) for k in range(self.size)) if self.edges3d else 0.0
+        holes = [gap_of(lambda x, c=c: self.surface(*c(x).T), np.linspace(c.domain[0], c.domain[1], 2001), c3,
+                        tol)[0]
+                 for h, h3, ht in zip(self.holes, self.hole_edges3d, self.hole_tolerances or [()] * len(self.holes))
+                 for c, c3, tol in zip(h, h3, ht or [0.0] * len(h)) if c3 is not None]
+        return max([outer] + holes)
 
     def _gaps(self, k: int):
         cache = self.__dict__.setdefault("_gap_cache", {})
@@ -172,28 +180,10 @@ class Region:
         if c3 is None or self.degenerate[k]:
             cache[k] = None
             return None
-        from scipy.spatial import cKDTree
-
+        from ruled.core.edgegap import gap_of
         t = np.linspace(self.loop[k].domain[0], self.loop[k].domain[1], 2001)
-        uv = self.uv(k, t)
-        P = self.surface(uv[:, 0], uv[:, 1])
-        ts = np.linspace(c3.domain[0], c3.domain[1], 4001)
-        X = c3(ts)
-        near = to_polyline(P, X, cKDTree(X)) - P
-        back = float(np.linalg.norm(to_polyline(X, P, cKDTree(P)) - X, axis=1).max())
-        gap = max(float(np.linalg.norm(near, axis=1).max()), back)
-        same = c3(np.clip(t, *c3.domain)) - P          # the same parameter on both curves
-        agree = np.linalg.norm(same, axis=1).max() <= 1.5 * max(float(np.linalg.norm(near, axis=1).max()), 1e-300)
-        tol = self.tolerances[k] if self.tolerances else 0.0
-        if gap > tol:
-            # the gap to the curves themselves, not to their polylines, whose sagitta (at a leading edge's
-            # tight turn) can be far more than the gap: where the parameters agree, the points of one
-            # parameter (a one-to-one pairing of the curves), else the nearest points searched on each; but
-            # no less than the edge's own tolerance, within which the file says where the face ends
-            far = (float(np.linalg.norm(same, axis=1).max()) if agree else
-                   max(float(to_curve(P, c3, ts, X, cKDTree(X)).max()),
-                       float(to_curve(X, lambda x: self.surface(*self.uv(k, x).T), t, P, cKDTree(P)).max())))
-            gap = max(min(gap, far), tol)
+        gap, agree, near = gap_of(lambda x: self.surface(*self.uv(k, x).T), t, c3,
+                                  self.tolerances[k] if self.tolerances else 0.0)
         if agree:
             # the parameters agree: the 3D curve itself, tabulated densely (the patch's sampling asks
             # for it many times; linear interpolation of so small and smooth a difference errs by

@@ -99,12 +99,15 @@ def _face_region(face, S) -> Region:
     e3 = [_curve3d(e, c) for e, c in zip(edges, loop)]
     seams = [bool(BRep_Tool.IsClosed_s(e, face)) for e in edges]
     degen = [bool(BRep_Tool.Degenerated_s(e)) for e in edges]
-    holes = []
+    holes, holes3d, hole_tols = [], [], []
     exp = TopExp_Explorer(face, TopAbs_ShapeEnum.TopAbs_WIRE)
     while exp.More():
         w = TopoDS.Wire_s(exp.Current())
         if not w.IsSame(outer):
-            holes.append(tuple(_pcurve(e, face) for e in _wire_edges(w, face)))
+            hedges = _wire_edges(w, face)
+            holes.append(tuple(_pcurve(e, face) for e in hedges))
+            holes3d.append(tuple(_curve3d(e, c) for e, c in zip(hedges, holes[-1])))
+            hole_tols.append(tuple(float(BRep_Tool.Tolerance_s(e)) for e in hedges))
         exp.Next()
     surf = BRep_Tool.Surface_s(face)
     if isinstance(surf, Geom_RectangularTrimmedSurface):   # a periodic surface trimmed to a whole period
@@ -113,7 +116,8 @@ def _face_region(face, S) -> Region:
     closed = (bool(surf.IsUPeriodic() and abs((u1 - u0) - surf.UPeriod()) <= 1e-9 * surf.UPeriod()),
               bool(surf.IsVPeriodic() and abs((v1 - v0) - surf.VPeriod()) <= 1e-9 * surf.VPeriod()))
     tols = tuple(float(BRep_Tool.Tolerance_s(e)) for e in edges)
-    return Region(S, tuple(loop), tuple(seams), tuple(degen), tuple(holes), tuple(e3), closed, tols)
+    return Region(S, tuple(loop), tuple(seams), tuple(degen), tuple(holes), tuple(e3), closed, tols, tuple(holes3d),
+                  tuple(hole_tols))
 
 
 def edge_lines(face) -> list:

@@ -352,3 +352,48 @@ def test_sloppy_edges_within_their_tolerance_leave_the_face_its_whole_surface():
     res, bound, h, area = _fit_and_measure(face)
     assert res.patch.identity
     assert res.surface.poles.shape[0] <= 20 and h.mean <= 0.01 and h.max <= bound and abs(area - 1) <= 0.01
+
+
+def _flat_face_with_a_loose_hole(off: float):
+    """A flat 40 x 30 face with a round hole of diameter 10 whose edge's 3D curve lies off the plane by off (its
+    tolerance just above that), as a file whose edges are sloppy has them."""
+    import cadquery as cq
+    from OCP.BRep import BRep_Builder, BRep_Tool
+    from OCP.gp import gp_Trsf, gp_Vec
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+    face = cq.Workplane("XY").rect(40, 30).extrude(1).faces(">Z").workplane().hole(10).faces("<Z").val().wrapped
+    ex, b = TopExp_Explorer(face, TopAbs_EDGE), BRep_Builder()
+    while ex.More():
+        e = TopoDS.Edge_s(ex.Current())
+        c = BRep_Tool.Curve_s(e, 0.0, 0.0).Copy()
+        t = gp_Trsf()
+        t.SetTranslation(gp_Vec(0.0, 0.0, off))
+        c.Transform(t)
+        b.UpdateEdge(e, c, max(1.01 * off, BRep_Tool.Tolerance_s(e)))
+        ex.Next()
+    return face
+
+
+def test_a_holes_edges_off_the_face_count_in_its_bound(tmp_path):
+    """Issue 58: a flat face whose hole's edge lies 1e-3 off its plane (through a STEP file, as a user has
+    it): the bound holds the measure (OCCT's BRepExtrema from the face's own points, its edges included, to
+    the result; and back), the hole's gap measured into it."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+    from OCP.gp import gp_Pnt
+
+    from ruled.jobs.face import run_fit
+    from ruled.occ.measure import face_points
+    path, out = str(tmp_path / "flat.step"), str(tmp_path / "out.step")
+    write_step(_flat_face_with_a_loose_hole(1e-3), path)
+    rep = run_fit(path, 0, out, quiet=True, say=False)
+    design, result = get_face(path, 0), get_face(out, 0)
+
+    def worst(P, to):
+        return max(BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(gp_Pnt(*map(float, p))).Vertex(),
+                                              to).Value() for p in P)
+    measured = max(worst(face_points(design, 12), result), worst(face_points(result, 12), design))
+    assert measured >= 0.9e-3                                  # (the premise: the hole's edge is off the plane)
+    assert measured <= rep["error_bound"] <= 2e-3, (measured, rep["error_bound"])
