@@ -1,6 +1,6 @@
 """Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
-    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data|wall
+    .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data|wall|wavy
                                                 |census [--ends auto|pinned]]
                                        [--n 50 100 200] [--surface ex2] [--no-numpy]
 
@@ -14,7 +14,8 @@ CPU seconds, the engine at n = 100): benchmarks/job.py; the whole-part batch (--
 --jobs 2): benchmarks/batch.py; the fixed fuzz runs (300 faces in 2D, 50 in 4D): benchmarks/fuzz.py; every
 face of the data files, re-measured by OCCT alone: benchmarks/data.py; every B-spline face fitted, its
 refusals and results that do not cover it counted (--suite census, not in all): benchmarks/census.py; a part's
-wall fitted closed: benchmarks/wall.py.
+wall fitted closed: benchmarks/wall.py; trimmed faces with wavy boundaries counted (--suite wavy, not in
+all): benchmarks/wavy.py.
 The NumPy-only times (no numba, as in FreeCAD's Python) are printed too, from a subprocess with
 RULED_NO_NUMBA=1.
 
@@ -48,7 +49,7 @@ TARGET_MB = 400
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--suite", choices=["all", "2d", "4d", "cos", "cone", "split", "machine", "trimmed", "job",
-                                        "batch", "fuzz", "data", "census", "wall"],
+                                        "batch", "fuzz", "data", "census", "wall", "wavy"],
                     default="all")
     ap.add_argument("--slow", action="store_true", help="with --suite job: the closed 4D fit at n = 100 too")
     ap.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
@@ -93,6 +94,9 @@ def main(argv=None) -> int:
     if args.suite in ("all", "wall"):
         from wall import bench_wall
         bench_wall()
+    if args.suite == "wavy":         # (not in all: minutes)
+        from wavy import bench_wavy
+        bench_wavy()
     bad = 0
     if args.suite in ("all", "fuzz"):
         from fuzz import bench_fuzz

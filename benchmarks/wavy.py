@@ -1,0 +1,86 @@
+"""Trimmed faces with wavy boundaries (issue 58), run by ``benchmarks/run.py --suite wavy [--count N]``: N faces of
+tests/wavy_faces.py (random B-spline surfaces of degrees 2-5, some rational, trimmed by wavy loops of 2-6
+edges with 0-2 holes), each through the whole ``ruled fit`` job (fit, build, OCCT's measure both ways) on a
+pool of 2.  Prints the faces fitted, refused (per reason) and failed, the violations (measured above the
+certified bound), the results within 1 % of the face's size that cover less than 99.5 % of it, the bounds
+beyond 10x the measure where the measure is below 1 % of the size, and the slowest face: issue 58's counts."""
+
+from __future__ import annotations
+
+import collections
+import os
+import sys
+import tempfile
+import time
+from multiprocessing import Pool
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _fit(job: tuple) -> dict:
+    seed, folder = job
+    sys.path.insert(0, os.path.join(ROOT, "tests"))
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from wavy_faces import wavy_face
+
+    from ruled.core.errors import RuledError
+    from ruled.jobs.face import run_fit
+    from ruled.occ.io import write_step
+    face, name = wavy_face(seed)
+    row = {"seed": seed, "name": name}
+    if not BRepCheck_Analyzer(face).IsValid():
+        return {**row, "status": "invalid input"}
+    path = os.path.join(folder, f"w{seed}.step")
+    write_step(face, path)
+    t0 = time.process_time()
+    try:
+        rep = run_fit(path, 0, os.path.join(folder, f"r{seed}.step"), quiet=True, say=False, measure_samples=20,
+                      face_timeout=300.0)
+        row.update(status="fitted", bound=rep["error_bound"], measured=rep["hausdorff"]["max"],
+                   size=(rep.get("region") or {}).get("face_size"),
+                   ratio=(rep.get("area") or {}).get("ratio"))
+    except RuledError as exc:
+        row.update(status="refused", reason=str(exc))
+    except Exception as exc:  # a crash is a row too: the count says so
+        row.update(status="failed", reason=f"{type(exc).__name__}: {exc}")
+    row["cpu"] = time.process_time() - t0
+    return row
+
+
+def _kind(reason: str) -> str:
+    for key, name in (("could not be interpolated", "the face's own parametrization could not be interpolated"),
+                      ("no grouping", "no grouping of the edges into four sides can be fitted"),
+                      ("Coons map", "the Coons map folds"), ("a single point", "two sides a single point"),
+                      ("above its certified bound", "measured above the bound (withheld)")):
+        if key in reason:
+            return name
+    return reason.split(";")[0][:90]
+
+
+def bench_wavy(count: int = 80, jobs: int = 2) -> int:
+    print(f"== {count} trimmed faces with wavy boundaries (tests/wavy_faces.py), the whole ruled fit job")
+    t0 = time.perf_counter()
+    with tempfile.TemporaryDirectory() as d, Pool(jobs, maxtasksperchild=10) as pool:
+        rows = sorted(pool.map(_fit, [(s, d) for s in range(count)], chunksize=1), key=lambda r: r["seed"])
+    by = collections.Counter(r["status"] for r in rows)
+    print(f"   fitted {by['fitted']}, refused {by['refused']}, failed {by['failed']}, invalid input "
+          f"{by['invalid input']} ({time.perf_counter() - t0:.0f} s wall)")
+    for kind, n in collections.Counter(_kind(r["reason"]) for r in rows if r["status"] in ("refused", "failed")
+                                       ).most_common():
+        print(f"      {n:3d}  {kind}")
+    fitted = [r for r in rows if r["status"] == "fitted"]
+    bad = [r for r in fitted if r["measured"] > r["bound"] * (1 + 1e-9) + 1e-12]
+    size = {r["seed"]: r.get("size") or 0.0 for r in fitted}
+    close = [r for r in fitted if size[r["seed"]] and r["measured"] <= 0.01 * size[r["seed"]]]
+    short = [r for r in close if r.get("ratio") is not None and r["ratio"] < 0.995]
+    loose = [r for r in close if r["bound"] > 10.0 * max(r["measured"], 1e-9 * size[r["seed"]])]
+    print(f"   violations (measured above the bound): {len(bad)}")
+    print(f"   within 1 % of the size: {len(close)}; covering less than 99.5 %: {len(short)}; bound above 10x the "
+          f"measure: {len(loose)}")
+    slow = max(rows, key=lambda r: r.get("cpu", 0.0))
+    print(f"   slowest: {slow['name']}, {slow.get('cpu', 0.0):.1f} CPU s ({slow['status']})")
+    return len(bad)
+
+
+if __name__ == "__main__":
+    bench_wavy(int(sys.argv[1]) if len(sys.argv) > 1 else 80)
