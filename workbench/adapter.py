@@ -253,6 +253,31 @@ def _ring_edge(e, owners: tuple, seam: bool, size: float = 0.0, curve: bool = Fa
     return RingEdge(pts[0], pts[-1], pts, length, owners, seam, bool(e.Degenerated), c3, straight)
 
 
+def ring_order(faces: list, names: list) -> tuple:
+    """(ruled.fit.wall.ring.RingOrder, the faces' edges): the faces checked to be a wall's ring and ordered round
+    it (its topology only), or a BadInputError naming them."""
+    from ruled.fit.wall.ring import order_ring
+    edges: list = []
+    owners: list = []
+    face_edges = []
+    for k, f in enumerate(faces):
+        mine = set()
+        for e in f.Edges:
+            i = next((j for j, x in enumerate(edges) if x.isSame(e)), None)
+            if i is None:
+                i = len(edges)
+                edges.append(e)
+                owners.append([])
+            if k not in owners[i]:
+                owners[i].append(k)
+            mine.add(i)
+        face_edges.append(mine)
+    ring = [_ring_edge(e, tuple(own), len(own) == 1 and edge_is_seam(faces[own[0]], e))
+            for e, own in zip(edges, owners)]
+    return order_ring(list(names), ring, face_edges, [len(f.Wires) > 1 for f in faces],
+                      [float(f.Area) for f in faces]), edges
+
+
 class Wall:
     """A wall of FreeCAD faces (ruled.fit.wall.ring's ring of them, in ring order), joined into one closed B-spline
     surface by the engine (ruled.fit.wall.join), as ruled.occ.wall.Wall is for OCCT: faces (ring order), names
@@ -260,25 +285,7 @@ class Wall:
 
     def __init__(self, faces: list, names: list):
         from ruled.fit.wall.join import joined, wall_patch
-        from ruled.fit.wall.ring import order_ring
-        edges: list = []
-        owners: list = []
-        face_edges = []
-        for k, f in enumerate(faces):
-            mine = set()
-            for e in f.Edges:
-                i = next((j for j, x in enumerate(edges) if x.isSame(e)), None)
-                if i is None:
-                    i = len(edges)
-                    edges.append(e)
-                    owners.append([])
-                if k not in owners[i]:
-                    owners[i].append(k)
-                mine.add(i)
-            face_edges.append(mine)
-        ring = [_ring_edge(e, tuple(own), len(own) == 1 and edge_is_seam(faces[own[0]], e))
-                for e, own in zip(edges, owners)]
-        o = order_ring(list(names), ring, face_edges, [len(f.Wires) > 1 for f in faces], [float(f.Area) for f in faces])
+        o, edges = ring_order(faces, names)
         self.order = o
         self.faces = [faces[k] for k in o.order]
         self.names = [names[k] for k in o.order]

@@ -102,13 +102,14 @@ state.PANELS["RuledWall"] = _edit_wall
 
 
 def wall_refusal(part, subnames: list):
-    """Why the faces subnames of part are no side wall, in this workbench's words (None: they are one)."""
+    """Why the faces subnames of part are no side wall (their ring: the topology, read at once), in this
+    workbench's words (None: they are one)."""
     from ruled.core.errors import BadInputError
 
-    from .adapter import Wall
+    from .adapter import ring_order
     from .features import in_our_terms
     try:
-        Wall([part.Shape.getElement(s) for s in subnames], list(subnames))
+        ring_order([part.Shape.getElement(s) for s in subnames], list(subnames))
     except BadInputError as exc:
         return in_our_terms(exc)
     return None

@@ -87,7 +87,8 @@ class RuledWall(_Feature):
             out = result_face(ring.results[0]) if ring.periodic else surface_to_face(ring.surface)
             bound = ring.bound + wall.slack + (built_slack(out, ring.results[0]) if ring.periodic else 0.0)
             design = Part.Compound(wall.faces)
-            parts = [surface_to_face(p) for p in smooth_parts(ring.surface)]
+            parts = ([surface_to_face(p) for p in smooth_parts(ring.surface)] if int(obj.MeasureSamples) >= 2
+                     else None)
             measure_into(obj, [out], design, lambda f: progress("measuring (distances to the wall)", f), parts)
         finally:
             progress.stop()

@@ -164,13 +164,20 @@ class Region:
     def max_gap(self) -> float:
         """The largest distance between an edge's 3D curve and the surface at its pcurve (both ways), the
         holes' edges included."""
-        from ruled.core.edgegap import gap_of
         outer = max(self.edge_gap(k) for k in range(self.size)) if self.edges3d else 0.0
-        holes = [gap_of(lambda x, c=c: self.surface(*c(x).T), np.linspace(c.domain[0], c.domain[1], 2001), c3,
+        return max(outer, self._hole_gap())
+
+    def _hole_gap(self) -> float:
+        """max_gap over the holes' edges (computed once)."""
+        if "_hole_gap_cache" not in self.__dict__:
+            from ruled.core.edgegap import gap_of
+            tols = self.hole_tolerances or [()] * len(self.holes)
+            self.__dict__["_hole_gap_cache"] = max(
+                [gap_of(lambda x, c=c: self.surface(*c(x).T), np.linspace(c.domain[0], c.domain[1], 2001), c3,
                         tol)[0]
-                 for h, h3, ht in zip(self.holes, self.hole_edges3d, self.hole_tolerances or [()] * len(self.holes))
-                 for c, c3, tol in zip(h, h3, ht or [0.0] * len(h)) if c3 is not None]
-        return max([outer] + holes)
+                 for h, h3, ht in zip(self.holes, self.hole_edges3d, tols)
+                 for c, c3, tol in zip(h, h3, ht or [0.0] * len(h)) if c3 is not None], default=0.0)
+        return self.__dict__["_hole_gap_cache"]
 
     def _gaps(self, k: int):
         cache = self.__dict__.setdefault("_gap_cache", {})

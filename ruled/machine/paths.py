@@ -387,16 +387,20 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
             absorbed = False
         else:
             budget = tol - off_dev
-    pieces, L = smooth_pieces(R, u0, u1), u1 - u0
+    # the offset lines jump at a crease: followed piece by piece between the creases, each from its own side
+    L = u1 - u0
+    pieces = smooth_pieces(R, u0, u1) if lines.offset else [(u0, u1)]
     f, held_fillet = on_planes, 0.0
     if lines.offset:
         f, dense = trimmed_guides(on_planes, pieces, L, fr.xy, lines.closed)
         held_fillet = held_fillet_of(f, dense, lines, opts.kerf)
     seeds = _seed_params(R, lines)
-    us = np.concatenate([sync_params(lambda u, a=a, b=b: f(one_sided(u, a, b, L)), a, b, budget,
-                                     seeds[(seeds > a) & (seeds < b)], opts.max_points, progress)
-                         for a, b in pieces])
-    us = np.concatenate([one_sided(us[(us >= a) & (us <= b)], a, b, L) for a, b in pieces])
+    if len(pieces) == 1:
+        us = sync_params(f, u0, u1, budget, seeds, opts.max_points, progress)
+    else:
+        us = np.concatenate([one_sided(sync_params(lambda u, a=a, b=b: f(one_sided(u, a, b, L)), a, b, budget,
+                                                   seeds[(seeds > a) & (seeds < b)], opts.max_points, progress),
+                                       a, b, L) for a, b in pieces])
     if us.size < 2:
         raise BadInputError("the machine path is empty: the ruled result has no extent along its rulings")
     a, b, _ = lines.ends(us)
@@ -405,6 +409,10 @@ def xyuv_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pro
         a, b = held_ends(f, us, a, b, d)
         us, a, b, inside_turns = round_corners(lines, us, a, b, budget)
     E = to_planes(a, b, d, planes)
+    if len(pieces) > 1:     # both sides of a crease the offsets do not jump at (a tangent joint): one point
+        same = np.linalg.norm(np.diff(E, axis=0), axis=2).max(axis=1) <= 1e-9 * R.diagonal()
+        keep = np.concatenate([[True], ~same])
+        us, a, b, E = us[keep], a[keep], b[keep], E[keep]
     lower, upper = E[:, 0], E[:, 1]
     part = np.stack([a, b], axis=1)
     moves, kinds = with_leads(lower, upper, lines, us, sign, fr, opts, R)

@@ -69,7 +69,7 @@ def wall_axis(bottom: np.ndarray, top: np.ndarray) -> tuple:
 
 def wall_side(role: str, side=None) -> tuple:
     """(+1 where the wire runs off the material, -1 in it; the side in words, as the G-code's header, the CSV and
-    the report say it) of a wall of role 'outer' or 'hole' (ruled.fit.wall.ring.wall_roles) for the user's side:
+    the report say it) of a wall of role 'outer' or 'hole' (ruled.fit.wall.ring.role_of) for the user's side:
     None (off the material: outside a punch, inside a hole), 'outside' or 'inside' the wall's contour, or a
     number (its sign: off the material or in it)."""
     hole = role == "hole"

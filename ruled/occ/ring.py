@@ -165,7 +165,7 @@ def find_walls(shape) -> list:
             except BadInputError:
                 continue
         if walls:
-            return _named(walls)
+            return _named(walls, faces)
     return []
 
 
@@ -195,12 +195,12 @@ def ring_role(ring: Ring, faces: list) -> str:
     return role_of(loop_polygon([_edge_points(e) for e in ring.loops[0]]), x, outward_at(faces[ring.faces[k]], x))
 
 
-def _named(walls: list) -> list:
-    """The walls with their roles (outer, hole) and names ('outer', 'hole 1', ...)."""
+def _named(walls: list, faces: list) -> list:
+    """The walls with their roles (outer, hole: ring_role) and names ('outer', 'hole 1', ...)."""
     from dataclasses import replace
 
-    from ruled.fit.wall.ring import loop_polygon, role_names, wall_roles
-    roles = wall_roles([loop_polygon([_edge_points(e) for e in r.loops[0]]) for r in walls])
+    from ruled.fit.wall.ring import role_names
+    roles = [ring_role(r, faces) for r in walls]
     return [replace(r, role=ro, name=nm) for r, ro, nm in zip(walls, roles, role_names(roles))]
 
 

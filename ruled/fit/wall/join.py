@@ -201,7 +201,7 @@ def wall_patch(name, S, bottom: list, top: list, before, after, size: float, edg
     b, t = (np.concatenate([e.points for e in c]) if c else None for c in (bottom, top))
     jb, ja = (None if e is None else e.points for e in (before, after))
     try:
-        return _exact_patch(name, S, bottom, top, before, after, size, edge_tol), length, 0.0
+        return _exact_patch(name, S, bottom, top, (before, after), (b, t, jb, ja), size, edge_tol), length, 0.0
     except BadInputError:
         if loose is None or b is None or t is None:
             raise
@@ -232,21 +232,22 @@ def _dense(edges: list) -> np.ndarray:
     return np.concatenate(out)
 
 
-def _exact_patch(name, S, bottom: list, top: list, before, after, size: float, edge_tol: float) -> Surface:
-    """wall_patch's exact patch, or BadInputError."""
+def _exact_patch(name, S, bottom: list, top: list, joints: tuple, points: tuple, size: float,
+                 edge_tol: float) -> Surface:
+    """wall_patch's exact patch, or BadInputError; joints: (before, after); points: the bottom, top, before and
+    after edges' samples."""
+    before, after = joints
+    b, t, jb, ja = points
     if S is None:
         sides = [e for e in (before, after) if e is not None]
         if before is None or not bottom or not top or not all(e.straight for e in sides):
             raise BadInputError(f"face {name} of the wall is planar but not bounded by its contour edges and two "
                                 f"straight joints; walls of such faces are not supported yet")
-        bpts = np.concatenate([e.points for e in bottom])
-        near = [float(np.min(np.linalg.norm(bpts - q, axis=1))) for q in (before.start, before.end)]
+        near = [float(np.min(np.linalg.norm(b - q, axis=1))) for q in (before.start, before.end)]
         start_b, start_t = (before.start, before.end) if near[0] <= near[1] else (before.end, before.start)
         tol = 1e-6 * size
         return ruled_patch(chained([e.curve for e in bottom], start_b, tol),
                            chained([e.curve for e in top], start_t, tol))
-    b, t = (np.concatenate([e.points for e in c]) if c else None for c in (bottom, top))
-    jb, ja = (None if e is None else e.points for e in (before, after))
     tol = max(1e-3 * size, 1.5 * edge_tol)
     P = oriented(S, b, t, jb, ja, name, size, tol)
     # the contour edges cover the sides end to end (a face trimmed by curved joints has sides longer than them)

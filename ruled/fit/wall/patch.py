@@ -7,8 +7,6 @@ give the face's Region and which of its outer loop's edges lie on each contour."
 
 from __future__ import annotations
 
-import numpy as np
-
 from ruled.core.errors import BadInputError, DegenerateFaceError
 from ruled.core.region import Region, Sides
 
@@ -61,6 +59,7 @@ def contour_patch(region: Region, bottom, top, name=""):
 
     from ruled.fit.face.coons import coons_map
     from ruled.fit.face.fit import EDGE_MARGIN, sided_patch
+    from ruled.fit.face.sampled import dense_deviation
     sides = contour_sides(region, bottom, top, name)
     try:
         m = coons_map(region, sides)
@@ -70,21 +69,8 @@ def contour_patch(region: Region, bottom, top, name=""):
                             f"ones ({exc}); fit it alone («one_face»)") from None
     # the sampled patch's deviation, checked again on a denser grid (a wall's joined surface has no
     # second chance: its bound is the fit's on it plus this)
-    dense = EDGE_MARGIN * _dense_deviation(region, m, fp.surface) + fp.edge_gap + fp.hole_span
+    dense = EDGE_MARGIN * dense_deviation(region.surface, m, fp.surface) + fp.edge_gap + fp.hole_span
     return replace(fp, deviation=max(fp.deviation, dense))
-
-
-def _dense_deviation(region: Region, m, P, per_span: int = 8) -> float:
-    """The largest distance between the sampled patch P and S o Omega (with its blended edge gaps) on a grid
-    of per_span points across each of P's spans, both ways, its sides included."""
-    from ruled.fit.face.sampled import _target
-
-    def grid(knots):
-        k = np.unique(knots)
-        return np.unique(np.concatenate([np.linspace(a, b, per_span + 1) for a, b in zip(k[:-1], k[1:])]))
-    ss, tt = np.meshgrid(grid(P.knots_u), grid(P.knots_v), indexing="ij")
-    X = _target(region.surface, m, ss, tt)
-    return float(np.linalg.norm(X - P(ss.ravel(), tt.ravel()), axis=1).max())
 
 
 __all__ = ["contour_sides", "contour_patch"]

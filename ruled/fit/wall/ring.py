@@ -206,23 +206,6 @@ def loop_polygon(pieces: list) -> np.ndarray:
     return np.concatenate(out)
 
 
-def wall_roles(bottoms: list) -> list:
-    """Per wall (its bottom contour as a polygon, loop_polygon), 'outer' or 'hole': a hole's contour lies
-    inside an odd number of the other walls' contours, seen along the normal of the largest one's plane."""
-    from ruled.core.region import crossings_odd
-    if len(bottoms) < 2:
-        return ["outer"] * len(bottoms)
-    big = max(bottoms, key=lambda P: float(np.linalg.norm(np.ptp(P, axis=0))))
-    c = big.mean(axis=0)
-    frame = np.linalg.svd(big - c)[2]            # rows: two in-plane directions, then the normal
-    flat = [(P - c) @ frame[:2].T for P in bottoms]
-    roles = []
-    for i, P in enumerate(flat):
-        inside = sum(bool(crossings_odd(Q, P[:1])[0]) for j, Q in enumerate(flat) if j != i)
-        roles.append("hole" if inside % 2 else "outer")
-    return roles
-
-
 def role_of(bottom: np.ndarray, point: np.ndarray, outward: np.ndarray) -> str:
     """A wall's role from its own faces: 'hole' where the part's outward normal at a point of its bottom
     contour (bottom: the contour as a polygon) points into the contour (the opening is inside it), else
@@ -253,7 +236,7 @@ WALL_WORDS = ("auto", "outer", "hole")
 
 
 def pick_wall(spec: str, names: list, roles: list, faces: list) -> int:
-    """Which of a part's walls (their names and roles, role_names / wall_roles, and face lists) the user's
+    """Which of a part's walls (their names and roles, role_names / role_of, and face lists) the user's
     «wall» word picks: 'auto' (the only wall), 'outer', 'hole' (the only one of that role), 'hole:K' or
     'outer:K' (the K-th, from 1).  Refused in one line listing the walls where the choice is not one."""
     listing = "; ".join(f"{n} (faces {_names(f)})" for n, f in zip(names, faces))
@@ -307,5 +290,5 @@ def connected(face_edges: list) -> list:
     return sorted(groups.values(), key=lambda g: g[0])
 
 
-__all__ = ["RingEdge", "RingOrder", "order_ring", "connected", "is_straight", "SLIVER", "loop_polygon", "wall_roles",
+__all__ = ["RingEdge", "RingOrder", "order_ring", "connected", "is_straight", "SLIVER", "loop_polygon",
            "role_names", "role_of", "pick_wall", "is_wall_word", "WALL_WORDS"]
