@@ -17,36 +17,6 @@ from multiprocessing import Pool
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def _fit(job: tuple) -> dict:
-    seed, folder = job
-    sys.path.insert(0, os.path.join(ROOT, "tests"))
-    from OCP.BRepCheck import BRepCheck_Analyzer
-    from wavy_faces import wavy_face
-
-    from ruled.core.errors import RuledError
-    from ruled.jobs.face import run_fit
-    from ruled.occ.io import write_step
-    face, name = wavy_face(seed)
-    row = {"seed": seed, "name": name}
-    if not BRepCheck_Analyzer(face).IsValid():
-        return {**row, "status": "invalid input"}
-    path = os.path.join(folder, f"w{seed}.step")
-    write_step(face, path)
-    t0 = time.process_time()
-    try:
-        rep = run_fit(path, 0, os.path.join(folder, f"r{seed}.step"), quiet=True, say=False, measure_samples=20,
-                      face_timeout=300.0)
-        row.update(status="fitted", bound=rep["error_bound"], measured=rep["hausdorff"]["max"],
-                   size=(rep.get("region") or {}).get("face_size"),
-                   ratio=(rep.get("area") or {}).get("ratio"))
-    except RuledError as exc:
-        row.update(status="refused", reason=str(exc))
-    except Exception as exc:  # a crash is a row too: the count says so
-        row.update(status="failed", reason=f"{type(exc).__name__}: {exc}")
-    row["cpu"] = time.process_time() - t0
-    return row
-
-
 def _kind(reason: str) -> str:
     for key, name in (("could not be interpolated", "the face's own parametrization could not be interpolated"),
                       ("no grouping", "no grouping of the edges into four sides can be fitted"),
@@ -60,8 +30,11 @@ def _kind(reason: str) -> str:
 def bench_wavy(count: int = 80, jobs: int = 2) -> int:
     print(f"== {count} trimmed faces with wavy boundaries (tests/wavy_faces.py), the whole ruled fit job")
     t0 = time.perf_counter()
+    sys.path.insert(0, os.path.join(ROOT, "tests"))
+    from wavy_faces import fit_row
     with tempfile.TemporaryDirectory() as d, Pool(jobs, maxtasksperchild=10) as pool:
-        rows = sorted(pool.map(_fit, [(s, d) for s in range(count)], chunksize=1), key=lambda r: r["seed"])
+        rows = sorted(pool.map(fit_row, [("wavy", s, d, 20, False) for s in range(count)], chunksize=1),
+                      key=lambda r: r["seed"])
     by = collections.Counter(r["status"] for r in rows)
     print(f"   fitted {by['fitted']}, refused {by['refused']}, failed {by['failed']}, invalid input "
           f"{by['invalid input']} ({time.perf_counter() - t0:.0f} s wall)")

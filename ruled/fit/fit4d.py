@@ -14,7 +14,7 @@
    ruled face between them is certified like a 2D result
    (certify.certified_bound bounds H(S, R) directly, so the rebuild error is
    inside the reported bound).
-4. Never worse than 2D: both results are measured (certify.sampled_distance)
+4. Never worse than 2D: both results are measured (ruled.fit.certify.sampled)
    and the 4D one is kept only if it is closer and its certified bound is
    below the 2D result's measured distance (so that the 4D result's true
    distance cannot exceed the 2D one's, whatever the sampling missed);
@@ -36,7 +36,8 @@ from ruled.core.nearest import GOLD
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.core.sampling import elevated_samples, unit_normals
-from ruled.fit.certify.forward import certified_bound, sampled_distance
+from ruled.fit.certify.forward import certified_bound
+from ruled.fit.certify.sampled import sampled_distance
 from ruled.fit.dp import dp4d
 from ruled.fit.dp.metrics4d import lsad_tables, patch_terms, ruling_feet, sshb_ruling_tables
 from ruled.fit.dp.pairing import delta_coefs, fit_delta

@@ -53,7 +53,7 @@ from ruled.fit.certify.bounds import (
     _twin,
     graded_nodes,
 )
-from ruled.fit.certify.cells import FLOOR, Certificate, _cells_to_split, _corner_max
+from ruled.fit.certify.cells import FLOOR, RAIL_T, Certificate, _cells_to_split, _corner_max, folds
 from ruled.fit.certify.reverse import certify_reverse
 from ruled.fit.dp.pairing import Pairing
 from ruled.fit.face.extend import face_mask
@@ -61,6 +61,10 @@ from ruled.fit.reparam import Boundaries
 
 # the second-order remainder is tried where the bound exceeds the node maximum by this factor
 SECOND_ORDER_WHEN = 1.1
+# a trimmed result's certificate keeps at most this many other maps (see certify)
+ALTERNATIVES = 8
+# ... those whose node maximum is below this many times the best bound (a smoother map's trim can cost far less)
+TRIM_PRUNE = 2.0
 # the refinement rounds stop before a grid this many times the first one
 GRID_GROWTH = 8
 # the second-order remainder's corner values are taken this fraction of the cell inside each corner
@@ -75,47 +79,6 @@ ROUND_ULPS = 64
 # reader) moved a result by up to 4e-13 of its largest coordinate on the data files (space ship face 69:
 # 7.0e-11 at coordinates up to 185); the bound covers the file, with a margin, at this fraction of it
 WRITTEN = 1e-12
-
-
-def sampled_distance(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, nu: int = 121,
-                     nv: int = 41) -> float:
-    """The engine's own measure of H(S, R): closest points both ways from dense grids (a sampled
-    estimate, not a bound; the independent measure is ruled.occ.measure)."""
-    from ruled.core.distance import project_points
-    closed = pairing.closed
-    u0, u1, v0, v1 = S.domain
-    L = u1 - u0
-    x = np.linspace(0.0, 1.0, nu, endpoint=not closed)
-    tau = np.linspace(0.0, 1.0, nv)
-    UU, VV = np.meshgrid(u0 + L * x, v0 + (v1 - v0) * tau, indexing="ij")
-    X = S(UU.ravel(), VV.ravel())
-    s0 = _pairing_s(pairing, x, tau).ravel()
-    d1 = np.full(X.shape[0], np.inf)
-    best = np.zeros((X.shape[0], 2))
-    for shift in (0.0, -0.05, 0.05, -0.15, 0.15):  # several seeds: the closest ruling is not always the nearest one
-        s, t = _segment_feet(bd.A, bd.B, X, s0 + shift if closed else np.clip(s0 + shift, 0.0, 1.0), closed, iters=8)
-        d = np.linalg.norm(X - R(np.mod(s, 1.0) if closed else s, t), axis=1)
-        better = d < d1
-        d1 = np.where(better, d, d1)
-        best[better] = np.stack([s, t], axis=1)[better]
-    # polish on R as a surface (both parameters at once)
-    _, dp = project_points(R, X, best, 6, closed)
-    d1 = np.minimum(d1, dp)
-    SS, TT = np.meshgrid(x, tau, indexing="ij")
-    Y = R(SS.ravel(), TT.ravel())
-    a, b = pairing.ab(SS.ravel())
-    xs = (1 - TT.ravel()) * a + TT.ravel() * b
-    seeds = np.stack([u0 + L * (np.mod(xs, 1.0) if closed else np.clip(xs, 0.0, 1.0)),
-                      v0 + (v1 - v0) * TT.ravel()], axis=1)
-    _, d2 = project_points(S, Y, seeds, 8, closed)
-    # and from the nearest of S's own samples (the pairing's seed can lead the projection into a local
-    # minimum, or against the domain's edge, far from the closest point)
-    from scipy.spatial import cKDTree
-    near = cKDTree(X).query(Y)[1]
-    grid = np.stack([UU.ravel(), VV.ravel()], axis=1)
-    _, d2b = project_points(S, Y, grid[near], 8, closed)
-    d2 = np.minimum(d2, d2b)
-    return float(max(d1.max(), d2.max()))
 
 
 def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
@@ -148,10 +111,12 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
     tw = (_twin(S), _twin(R, ruled=True))
     b = tw[0].derivative_bounds()
     best = prev = None
+    others: list = []
     for rnd in range(rounds + 1):
         us, span_u = _knot_grid(S, "u", target_u, extra_u, tw[0])
         vs, span_v = _knot_grid(S, "v", target_v, extra_v, tw[0])
-        cert, guide, prev = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev)
+        cert, guide, prev, alts = _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev)
+        others.extend(alts)
         if best is None or cert.bound < best.bound:
             best = cert
         split = _cells_to_split(guide[0], guide[1], guide[2], FLOOR * S.diagonal(), uniform=True)
@@ -166,6 +131,12 @@ def certify(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface,
             break       # the next grid would cost more than the bound is worth (an exact fit asks for ever more)
         extra_u = np.concatenate([extra_u, 0.5 * (us[iu] + us[iu + 1])])
         extra_v = np.concatenate([extra_v, 0.5 * (vs[iv] + vs[iv + 1])])
+    if others:
+        # a trimmed result: the other maps that keep their orientation over the face, lowest bound first, for
+        # the trim to choose from (its own part of the bound depends on how smooth the map's image of the
+        # face's edges is: ruled.fit.face.trim.with_trim)
+        alts = sorted((c for c in others if c is not best), key=lambda c: c.bound)[:ALTERNATIVES]
+        best = replace(best, alternatives=tuple(alts))
     return best
 
 
@@ -217,16 +188,32 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev
         s = (s_init + _smooth(ds, sweeps)).ravel()
         _, t = _segment_feet(bd.A, bd.B, X.reshape(-1, 3), s, closed, iters=0)
         maps.append((s, t))
-    best, which, guide = None, 0, None
+    mask = face_mask(S)
+    if mask is not None:
+        # a trimmed result needs a map that keeps its orientation over the face (ruled.fit.face.trim): the
+        # pairing's own correspondence at the grid's own t (psi_u = (s_x, 0), psi_v = (s_tau, 1): it folds
+        # nowhere the pairing runs forward), far from the closest points where the face is far from ruled
+        maps.append((s_init.ravel().copy(), np.broadcast_to(tau[None, :], (nu, nv)).ravel().copy()))
+    best, which, guide, alts = None, 0, None, []
 
     def reach(c):
         return c.node_max + 0.25 * (c.bound - c.node_max)
+
+    def better(out, best):
+        # a map that folds over the face is the best only where no map keeps its orientation
+        if best is None:
+            return True
+        fo, fb = _folds_face(out[0], mask), _folds_face(best[0], mask)
+        return fo < fb or (fo == fb and out[0].bound < best[0].bound)
     for k, (s, t) in enumerate(maps):
         out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(), t.reshape(nu, nv).copy(),
-                         pairing, bd, R, tw, prune=np.inf if best is None else best[0].bound)
+                         pairing, bd, R, tw, prune=np.inf if best is None or _folds_face(best[0], mask)
+                         else best[0].bound * (1.0 if mask is None else TRIM_PRUNE))
         if out is None:
             continue
-        if best is None or out[0].bound < best[0].bound:
+        if mask is not None and not _folds_face(out[0], mask):
+            alts.append(out[0])
+        if better(out, best):
             best, which = out, k
         if guide is None or reach(out[0]) < reach(guide[0]):
             guide = out
@@ -239,11 +226,24 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev
                              t.reshape(nu, nv).copy(), pairing, bd, R, tw, second=True, prune=best[0].bound)
             if out is None:
                 continue
-            if out[0].bound < best[0].bound:
+            if mask is not None and not _folds_face(out[0], mask):
+                alts.append(out[0])
+            if better(out, best):
                 best = out
             if reach(out[0]) < reach(guide[0]):
                 guide = out
-    return best[0], guide, (us, vs, node)
+    return best[0], guide, (us, vs, node), alts
+
+
+def _folds_face(cert: Certificate, mask) -> bool:
+    """Whether a masked certificate's map folds over the face's cells (those along R's rails left out:
+    ruled.fit.face.trim checks them against the trim's own segments)."""
+    if mask is None or cert.psi is None:
+        return False
+    us, vs, _, t = cert.psi
+    ct = np.stack([t[:-1, :-1], t[1:, :-1], t[:-1, 1:], t[1:, 1:]])
+    along = (np.abs(ct).max(axis=0) <= RAIL_T) | (np.abs(ct - 1.0).max(axis=0) <= RAIL_T)
+    return folds(cert.psi, mask.cells(us, vs) & ~along)
 
 
 def _smooth(f: np.ndarray, sweeps: int) -> np.ndarray:
@@ -467,7 +467,8 @@ def certified_bound(S: Surface, pairing: Pairing, bd: Boundaries, R: Surface, ta
     if face_mask(S) is not None:
         # a trimmed result: the forward map's image of the face is the result (ruled.fit.face.trim)
         fwd = certify(S, pairing, bd, R, target_u, target_v, rival=cutoff)
-        return replace(fwd, bound=fwd.bound + rnd, rounding=rnd)
+        alts = tuple(replace(c, bound=c.bound + rnd, rounding=rnd) for c in fwd.alternatives)
+        return replace(fwd, bound=fwd.bound + rnd, rounding=rnd, alternatives=alts)
     rev = certify_reverse(S, pairing, R, target_u, max(16, target_v // 2))
     if not (rev.bound <= 1.02 * rev.node_max or rev.node_max >= cutoff):
         fwd = certify(S, pairing, bd, R, target_u, target_v, rival=min(rev.bound, cutoff))

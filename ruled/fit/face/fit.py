@@ -130,10 +130,53 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     """The globally optimal ruled fit of the face as bounded by its edges: with the end rulings pinned
     to its corners (fit_pinned), and with the rails run past the face and the result trimmed by its
     edges (ruled.fit.face.extend, ruled.fit.face.trim); by default the one with the smaller certified bound
-    (options.ends), its notes saying which and why."""
+    (options.ends), its notes saying which and why.  Where the face is much straighter along a direction of
+    its surface's domain that is not an iso direction (an exactly ruled surface whose rulings cross its iso
+    lines), the fit across a parallelogram along it (ruled.fit.face.skew) is a candidate too."""
     opts = options.checked()
     if patch is not None or opts.ends == Ends.PINNED or opts.method != Method.D2:
         return fit_pinned(region, opts, progress, rails, patch)
+    try:
+        res, why = _fit_region(region, opts, progress, rails), None
+    except BadInputError as exc:          # no map of the four-sided kinds: the skewed one may have one
+        res, why = None, exc
+    if rails is None and (not region.holes or opts.ends == Ends.TRIMMED):
+        skewed = fit_skewed(region, opts, progress, res)
+        if skewed is not None:
+            return skewed
+    if res is None:
+        raise why
+    return res
+
+
+def fit_skewed(region: Region, opts: FitOptions, progress: Progress, res: Optional[FitResult]) -> Optional[FitResult]:
+    """The fit across the face's parallelogram along its straightest direction (ruled.fit.face.skew), trimmed by
+    its edges, where that direction is worth a try (straighter than both iso directions by WORTH: its rulings
+    may still curve in the domain, as a hyperboloid's do, so the fit decides) and res's bound, if any, is
+    above FLOOR of the face's size, and where its bound is below res's; else None."""
+    from ruled.fit.face.skew import skew_patch, straightest, worth_trying
+    from ruled.fit.face.trimfit import _trimmed_open
+    if not _trimmed_open(region):
+        return None
+    theta, score, iso = straightest(region)
+    size = region_size(region)
+    if not worth_trying(theta, score, iso) or (res is not None and res.error_bound <= FLOOR * size):
+        return None
+    patch = skew_patch(region, size, theta)
+    if patch is None:
+        return None
+    got, _ = fit_patch(patch, opts, progress)
+    if got is None or (res is not None and got.error_bound >= res.error_bound):
+        return None
+    vs = "" if res is None else f" (otherwise {res.error_bound:.4g})"
+    note = (f"the face is straightest along a direction {np.degrees(theta):.3g} degrees from its surface's u lines: "
+            f"the rulings run across a parallelogram of the surface's domain along it, trimmed by the face's edges, "
+            f"bound {got.error_bound:.4g}{vs}")
+    return replace(got, notes=tuple(got.notes) + (note,))
+
+
+def _fit_region(region: Region, opts: FitOptions, progress: Progress, rails: Optional[tuple]) -> FitResult:
+    """fit_region's four-sided and own-surface candidates (pinned, trimmed, the surface's own box)."""
     lazy = why = None
     if opts.ends == Ends.AUTO:
         try:

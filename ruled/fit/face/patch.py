@@ -40,6 +40,7 @@ class FacePatch:
     extension: Optional[dict] = None   # how far the extended patch's rails run past the face
     own: bool = False                  # the face's own surface, whole (exactly ruled along an iso direction)
     box: bool = False                  # the face's own surface, whole, as the patch (own, or any surface)
+    skew: Optional[float] = None       # a parallelogram along the face's straightest direction (its angle, degrees)
 
     @property
     def trimmed(self) -> bool:
@@ -47,7 +48,7 @@ class FacePatch:
 
     def rails(self, direction: str) -> tuple:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
-        if self.box:        # the loop edges on the surface's two rails (t = 0 and 1 of the patch)
+        if self.box or self.skew is not None:   # the loop edges on the patch's two rails (t = 0 and 1)
             on = [(float(st[:, 1].max()) <= 1e-4, float(st[:, 1].min()) >= 1.0 - 1e-4)
                   for st in getattr(self.mask, "edges")]
             return tuple(tuple(k for k, o in enumerate(on) if o[i]) for i in (0, 1))
@@ -61,6 +62,9 @@ class FacePatch:
     def how(self) -> str:
         if self.own:
             return "the face's own surface, exactly ruled along its iso lines, trimmed by the face's edges"
+        if self.skew is not None:
+            return (f"rulings across a parallelogram of its surface's domain along the face's straightest direction "
+                    f"({self.skew:.3g} degrees from its u lines), trimmed by the face's edges")
         if self.box:
             return ("no four-sided map of the face: rulings between the iso lines bounding its own surface, "
                     "trimmed by the face's edges")

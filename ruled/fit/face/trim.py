@@ -27,14 +27,13 @@ import numpy as np
 
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.nurbs import Curve
+from ruled.fit.certify.cells import RAIL_T, folds
 
-SPANS = (8, 16, 32, 64, 128) # the trim curves' knot spans, tried in turn
+SPANS = (8, 16, 32, 64, 128, 256)   # the trim curves' knot spans, tried in turn
 FIT_TOL = 1e-8                      # in R's domain (a unit square): the trim curve follows psi's image to this
 CHECK = 4                      # eps checked at this many points per interval of the edge's samples
 EPS_MARGIN = 1.5               # eps is sampled: raised by half
-RAIL_T = 1e-3                  # a cell whose corners map this near a rail of R lies along it
 ON_RAIL = 1e-4                 # an edge whose (s, t) in the patch is this near t = 0 (1) all along lies on a rail
-FOLD_TOL = 1e-3                # psi's Jacobian below -this of its median on a cell of the face: a fold
 
 
 @dataclass(frozen=True)
@@ -97,26 +96,6 @@ def rail_cells(psi: tuple, segments: list) -> np.ndarray:
     return out
 
 
-def folds(psi: tuple, cells: np.ndarray) -> bool:
-    """Whether psi fails to keep its orientation on a cell of the mask: its bilinear Jacobian, at each
-    corner of each such cell, below -FOLD_TOL of its median somewhere (the grid's rows next to R's rails
-    are a hair high, and their nodes go to the rails' closest points: a corner there may come out flat,
-    or negative at round-off's scale, without folding anything)."""
-    us, vs, S, T = psi
-    hu, hv = np.diff(us)[:, None], np.diff(vs)[None, :]
-
-    def edge(F, axis, k):
-        # the cell's edge difference along axis at its side k (0 or 1)
-        if axis == 0:
-            return (F[1:, k:F.shape[1] - 1 + k] - F[:-1, k:F.shape[1] - 1 + k]) / hu
-        return (F[k:F.shape[0] - 1 + k, 1:] - F[k:F.shape[0] - 1 + k, :-1]) / hv
-    dets = [(edge(S, 0, j0) * edge(T, 1, i0) - edge(S, 1, i0) * edge(T, 0, j0))[cells]
-            for j0 in (0, 1) for i0 in (0, 1)]
-    d = np.concatenate(dets)
-    med = float(np.median(d)) if d.size else 0.0
-    return not (med > 0 and d.min() > -FOLD_TOL * med)
-
-
 def _fit_curve(x: np.ndarray, Y: np.ndarray, ends: tuple, spans: int) -> Curve:
     """A cubic B-spline of `spans` uniform knot spans (fewer where the points are few) through the points
     Y (N, 2) at parameters x by least squares, its end points pinned to ends."""
@@ -170,21 +149,33 @@ def local_speed(R, P: np.ndarray, pad: float) -> float:
 
 
 def _edge_curve(psi: tuple, st: np.ndarray, ends: tuple, R) -> tuple:
-    """(C, eps, added) for one edge of the face, its samples st in E's domain: C through psi's image of
-    the samples, with the first of SPANS that follows it there within FIT_TOL (else the last: psi is
-    bilinear on the certificate's grid, so its image has a kink at each grid line, which a smooth curve
-    cuts across); eps, C's sampled distance from psi's image of the edge (_along between its samples),
-    raised by EPS_MARGIN; added, eps times R's speed there (local_speed)."""
-    x = np.linspace(0.0, 1.0, st.shape[0])
-    y = psi_at(psi, st)
+    """(C, eps, added) for one edge of the face, its samples st in E's domain: C through psi's image of the
+    edge (_along its samples, CHECK per interval), parametrized by that image's chord length (psi can run
+    fast along a short piece of the edge: near a fan of rulings, many rulings meet a short arc), with the
+    first of SPANS that follows it there within FIT_TOL (else the last: psi is bilinear on the
+    certificate's grid, so its image has a kink at each grid line, which a smooth curve cuts across); eps,
+    C's distance from psi's image at CHECK times as many points again, raised by EPS_MARGIN; added, eps
+    times R's speed there (local_speed)."""
+    xs, stc = _along(st, CHECK)
+    y = psi_at(psi, stc)
+    x = _chord(y, xs)
     for spans in SPANS:
         C = _fit_curve(x, y, ends, spans)
         if np.abs(C(x) - y).max() <= FIT_TOL:
             break
-    xc, stc = _along(st, CHECK)
-    P = C(xc)
-    eps = EPS_MARGIN * float(np.linalg.norm(P - psi_at(psi, stc), axis=1).max())
-    return C, eps, eps * local_speed(R, P, eps + 1.0 / xc.size)
+    xf, stf = _along(st, CHECK * CHECK)
+    P = C(np.interp(xf, xs, x))
+    eps = EPS_MARGIN * float(np.linalg.norm(P - psi_at(psi, stf), axis=1).max())
+    return C, eps, eps * local_speed(R, P, eps + 1.0 / xf.size)
+
+
+def _chord(y: np.ndarray, xs: np.ndarray) -> np.ndarray:
+    """Parameters in [0, 1] for the points y (N, 2) in order: their chord length, blended with xs (a tenth)
+    so that no two points share one."""
+    d = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(y, axis=0), axis=1))])
+    x = 0.9 * d / d[-1] + 0.1 * xs if d[-1] > 0 else xs
+    x[0], x[-1] = 0.0, 1.0
+    return x
 
 
 def trim_of(fit, mask) -> Optional[Trim]:
@@ -288,12 +279,22 @@ def _identity_trim(psi: tuple, mask, R) -> Optional[Trim]:
 
 
 def with_trim(fit, mask):
-    """The fit with its Trim and its bound raised by the trim's part; None where it has none."""
-    tr = trim_of(fit, mask)
-    if tr is None:
+    """The fit with its Trim and its bound raised by the trim's part; None where it has none.  Of the
+    certificate's maps (its own and its alternatives, each a valid certificate), the one whose bound plus
+    its trim's part is the smallest: the map with the lowest bound may follow the closest points of a face
+    far from ruled, whose image of the face's edges is too jagged for a smooth trim curve."""
+    first = fit.certificate
+    best, total = None, np.inf
+    for c in sorted((first,) + tuple(first.alternatives), key=lambda c: c.bound):
+        if c.bound >= total:
+            break
+        tr = trim_of(replace(fit, certificate=c), mask)
+        if tr is not None and c.bound + tr.added < total:
+            best, total = (c, tr), c.bound + tr.added
+    if best is None:
         return None
-    c = fit.certificate
-    cert = replace(c, bound=c.bound + tr.added, map_deviation=c.map_deviation + tr.added)
+    c, tr = best
+    cert = replace(c, bound=c.bound + tr.added, map_deviation=c.map_deviation + tr.added, alternatives=())
     return replace(fit, certificate=cert, trim=tr)
 
 

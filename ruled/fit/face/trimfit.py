@@ -43,14 +43,8 @@ def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePa
     if got is None:
         return None
     m, mask = got
-    try:
-        # (a rational surface's natural extension can reach a zero weight: no extension there)
-        with np.errstate(divide="raise", over="raise", invalid="raise"):
-            side = side_surface(region.surface, m, PATCH_TOL * max(size, 1e-300), PATCH_MAX_SPANS,
-                                PATCH_ACCEPT * size)
-    except (RuledError, ArithmeticError):
-        return None
-    if not np.all(np.isfinite(side.surface.poles)):
+    side = sampled_past(region, m, size)
+    if side is None:
         return None
     E = masked(side.surface, mask)
     gap = EDGE_MARGIN * region.max_gap()
@@ -59,6 +53,19 @@ def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePa
     ext = _extension(E, mask, [float(m.A.a), float(1.0 - m.A.b)])
     return FacePatch(region, E, float(side.deviation) + gap, False, sides, "v", side.spans, size, (), gap, 0.0,
                      mask=mask, extension=ext)
+
+
+def sampled_past(region: Region, m, size: float):
+    """side_surface of a map that runs past the face (onto the surface's natural extension), or None where it
+    cannot be sampled within PATCH_ACCEPT of the size or leaves finite numbers (a rational surface's extension
+    can reach a zero weight)."""
+    try:
+        with np.errstate(divide="raise", over="raise", invalid="raise"):
+            side = side_surface(region.surface, m, PATCH_TOL * max(size, 1e-300), PATCH_MAX_SPANS,
+                                PATCH_ACCEPT * size)
+    except (RuledError, ArithmeticError):
+        return None
+    return side if np.all(np.isfinite(side.surface.poles)) else None
 
 
 def _extension(E, mask, uv_past: list) -> dict:
@@ -201,7 +208,7 @@ def fit_patch(patch: FacePatch, opts: FitOptions, progress: Progress = None) -> 
 # the trim's part of a bound above the certificate's own: the best candidate certified again on this grid
 # (finer across the rulings: psi's kinks at the grid's lines, which the trim curves cut across, shrink
 # with the cells' size squared)
-GRID_TRIM = (240, 320)
+GRID_TRIM = (240, 640)
 
 
 def _finer_trim(c, mask, deviation: float = 0.0, progress: Progress = None):
