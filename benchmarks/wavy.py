@@ -3,7 +3,8 @@ tests/wavy_faces.py (random B-spline surfaces of degrees 2-5, some rational, tri
 edges with 0-2 holes), each through the whole ``ruled fit`` job (fit, build, OCCT's measure both ways) on a
 pool of 2.  Prints the faces fitted, refused (per reason) and failed, the violations (measured above the
 certified bound), the results within 1 % of the face's size that cover less than 99.5 % of it, the bounds
-beyond 10x the measure where the measure is below 1 % of the size, and the slowest face: issue 58's counts."""
+beyond 10x the measure where the measure is below 1 % of the size, and the slowest face: issue 58's counts.
+Then 36 exactly ruled faces whose rulings cross their iso lines (ruled_face), counted within 1e-5 of their size."""
 
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ def _kind(reason: str) -> str:
     return reason.split(";")[0][:90]
 
 
-def bench_wavy(count: int = 80, jobs: int = 2) -> int:
+def bench_wavy(count: int = 80, jobs: int = 2, ruled: int = 36) -> int:
     print(f"== {count} trimmed faces with wavy boundaries (tests/wavy_faces.py), the whole ruled fit job")
     t0 = time.perf_counter()
     sys.path.insert(0, os.path.join(ROOT, "tests"))
@@ -52,7 +53,30 @@ def bench_wavy(count: int = 80, jobs: int = 2) -> int:
           f"measure: {len(loose)}")
     slow = max(rows, key=lambda r: r.get("cpu", 0.0))
     print(f"   slowest: {slow['name']}, {slow.get('cpu', 0.0):.1f} CPU s ({slow['status']})")
-    return len(bad)
+    return len(bad) + bench_ruled(ruled, jobs) if ruled else len(bad)
+
+
+def bench_ruled(count: int = 36, jobs: int = 2) -> int:
+    """Exactly ruled faces whose rulings cross their iso lines (tests/wavy_faces.py ruled_face: skewed lofts,
+    hyperbolic paraboloids, hyperboloid pieces, trimmed by wavy loops): how many are measured and certified
+    within 1e-5 of their size, per kind, and the slowest."""
+    print(f"== {count} exactly ruled faces across their iso lines (tests/wavy_faces.py ruled_face), the whole job")
+    t0 = time.perf_counter()
+    from wavy_faces import fit_row
+    with tempfile.TemporaryDirectory() as d, Pool(jobs, maxtasksperchild=10) as pool:
+        rows = pool.map(fit_row, [("ruled", s, d, 20, False) for s in range(count)], chunksize=1)
+    kinds = collections.defaultdict(list)
+    for r in rows:
+        kinds[r["name"].split(": ")[1].split(",")[0]].append(r)
+    bad = 0
+    for kind, rs in kinds.items():
+        ok = [r for r in rs if r["status"] == "fitted" and max(r["measured"], r["bound"]) <= 1e-5 * r["size"]]
+        worst = max((r["bound"] / r["size"] for r in rs if r["status"] == "fitted"), default=float("nan"))
+        print(f"   {kind}: {len(ok)} of {len(rs)} measured and certified within 1e-5 of the size (the largest "
+              f"bound {worst:.3g} of it)")
+        bad += len(rs) - len(ok)
+    print(f"   ({time.perf_counter() - t0:.0f} s wall; slowest {max(r.get('cpu', 0.0) for r in rows):.1f} CPU s)")
+    return bad
 
 
 if __name__ == "__main__":

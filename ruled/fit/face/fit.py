@@ -136,38 +136,46 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     opts = options.checked()
     if patch is not None or opts.ends == Ends.PINNED or opts.method != Method.D2:
         return fit_pinned(region, opts, progress, rails, patch)
+    skewed = theta = None
+    if rails is None and (not region.holes or opts.ends == Ends.TRIMMED):
+        skewed, theta = fit_skewed(region, opts, progress)
+        if skewed is not None and skewed.error_bound <= EXACT * region_size(region):
+            # exact along the face's straightest direction: no four-sided map can do better than that
+            return _skew_noted(skewed, theta, None)
     try:
         res, why = _fit_region(region, opts, progress, rails), None
     except BadInputError as exc:          # no map of the four-sided kinds: the skewed one may have one
         res, why = None, exc
-    if rails is None and (not region.holes or opts.ends == Ends.TRIMMED):
-        skewed = fit_skewed(region, opts, progress, res)
-        if skewed is not None:
-            return skewed
+    if skewed is not None and (res is None or skewed.error_bound < res.error_bound):
+        return _skew_noted(skewed, theta, res)
     if res is None:
         raise why
     return res
 
 
-def fit_skewed(region: Region, opts: FitOptions, progress: Progress, res: Optional[FitResult]) -> Optional[FitResult]:
-    """The fit across the face's parallelogram along its straightest direction (ruled.fit.face.skew), trimmed by
-    its edges, where that direction is worth a try (straighter than both iso directions by WORTH: its rulings
-    may still curve in the domain, as a hyperboloid's do, so the fit decides) and res's bound, if any, is
-    above FLOOR of the face's size, and where its bound is below res's; else None."""
+# a fit across the face's parallelogram certified within this fraction of its size is the result at once
+EXACT = 1e-5
+
+
+def fit_skewed(region: Region, opts: FitOptions, progress: Progress) -> tuple:
+    """(fit, theta): the fit across the face's parallelogram along its straightest direction theta
+    (ruled.fit.face.skew), trimmed by its edges, where that direction is worth a try (straighter than both iso
+    directions by WORTH: its rulings may still curve in the domain, as a hyperboloid's do, so the fit decides);
+    (None, None) otherwise, or where it cannot be fitted and trimmed."""
     from ruled.fit.face.skew import skew_patch, straightest, worth_trying
     from ruled.fit.face.trimfit import _trimmed_open
     if not _trimmed_open(region):
-        return None
+        return None, None
     theta, score, iso = straightest(region)
-    size = region_size(region)
-    if not worth_trying(theta, score, iso) or (res is not None and res.error_bound <= FLOOR * size):
-        return None
-    patch = skew_patch(region, size, theta)
+    if not worth_trying(theta, score, iso):
+        return None, None
+    patch = skew_patch(region, region_size(region), theta)
     if patch is None:
-        return None
-    got, _ = fit_patch(patch, opts, progress)
-    if got is None or (res is not None and got.error_bound >= res.error_bound):
-        return None
+        return None, None
+    return fit_patch(patch, opts, progress)[0], theta
+
+
+def _skew_noted(got: FitResult, theta: float, res: Optional[FitResult]) -> FitResult:
     vs = "" if res is None else f" (otherwise {res.error_bound:.4g})"
     note = (f"the face is straightest along a direction {np.degrees(theta):.3g} degrees from its surface's u lines: "
             f"the rulings run across a parallelogram of the surface's domain along it, trimmed by the face's edges, "

@@ -34,8 +34,8 @@ MARGIN_S, MARGIN_T = 0.25, 0.03
 # that only grazes the face is held by its own line's run past it (the surface is ruled there too, or nothing
 # is won); farther in s would count rulings that miss the face, which may leave the parallelogram's sides
 GROW = (0.05, 0.3)
-WORTH = 0.5          # tried where the straightest direction is this much straighter than both iso directions
-ISO_ANGLE = np.radians(2.0)   # ... and this far from them
+WORTH = 0.25         # tried where the straightest direction is this much straighter than both iso directions
+ISO_ANGLE = np.radians(5.0)   # ... and this far from them
 
 
 def _inside(poly: np.ndarray, pts: np.ndarray) -> np.ndarray:
