@@ -31,7 +31,7 @@ from ruled.fit.face.patch import (  # noqa: F401 (FacePatch, region_size, with_d
     with_iso,
 )
 from ruled.fit.face.sampled import side_surface
-from ruled.fit.face.trimfit import box_patches, fit_patch, fit_trimmed, own_patch
+from ruled.fit.face.trimfit import _trimmed_open, box_patches, fit_patch, fit_trimmed, own_patch
 from ruled.fit.fit2d import FitResult, ruling_figure
 from ruled.fit.options import Direction, Ends, FitOptions, Method, Objective
 from ruled.fit.surface import fit_surface
@@ -132,11 +132,17 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     edges (ruled.fit.face.extend, ruled.fit.face.trim); by default the one with the smaller certified bound
     (options.ends), its notes saying which and why.  Where the face is much straighter along a direction of
     its surface's domain that is not an iso direction (an exactly ruled surface whose rulings cross its iso
-    lines), the fit across a parallelogram along it (ruled.fit.face.skew) is a candidate too."""
+    lines), the fit across a parallelogram along it (ruled.fit.face.skew) is a candidate too, and a planar face's
+    plane (ruled.fit.face.plane)."""
     opts = options.checked()
     if patch is not None or opts.ends == Ends.PINNED or opts.method != Method.D2:
         return fit_pinned(region, opts, progress, rails, patch)
-    skewed = theta = None
+    flat = skewed = theta = None
+    if rails is None:
+        from ruled.fit.face.plane import plane_fit
+        flat = plane_fit(region, region_size(region), opts, progress)
+        if flat is not None and flat.error_bound <= EXACT * region_size(region):
+            return flat         # a plane is ruled: exact at once
     if rails is None and (not region.holes or opts.ends == Ends.TRIMMED):
         skewed, theta = fit_skewed(region, opts, progress)
         if skewed is not None and skewed.error_bound <= EXACT * region_size(region):
@@ -147,7 +153,23 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     except BadInputError as exc:          # no map of the four-sided kinds: the skewed one may have one
         res, why = None, exc
     if skewed is not None and (res is None or skewed.error_bound < res.error_bound):
-        return _skew_noted(skewed, theta, res)
+        res = _skew_noted(skewed, theta, res)
+    if flat is not None and (res is None or flat.error_bound < res.error_bound):
+        res = flat
+    if res is None and rails is None:
+        # no map of any kind above: the parallelogram along the surface's own iso lines, run a little past the
+        # face (its own rectangle's rails touch a face inscribed in it, where a map onto the result folds)
+        size = region_size(region)
+        for th in (0.5 * np.pi, 0.0):
+            got, _ = fit_skewed(region, opts, progress, th)
+            if got is not None and got.error_bound <= size and (res is None or got.error_bound < res.error_bound):
+                res, theta = got, th            # (a bound past the face's size is no result)
+        if res is not None:
+            return _skew_noted(res, theta, None)
+        if _trimmed_open(region):
+            raise DegenerateFaceError(f"{getattr(why, 'template', why)} (no fit across its own surface's rectangle, "
+                                      f"nor across a parallelogram round it, keeps its orientation over the face "
+                                      f"within its size, {size:.4g})")
     if res is None:
         raise why
     return res
@@ -157,18 +179,18 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
 EXACT = 1e-5
 
 
-def fit_skewed(region: Region, opts: FitOptions, progress: Progress) -> tuple:
+def fit_skewed(region: Region, opts: FitOptions, progress: Progress, theta: Optional[float] = None) -> tuple:
     """(fit, theta): the fit across the face's parallelogram along its straightest direction theta
     (ruled.fit.face.skew), trimmed by its edges, where that direction is worth a try (straighter than both iso
-    directions by WORTH: its rulings may still curve in the domain, as a hyperboloid's do, so the fit decides);
-    (None, None) otherwise, or where it cannot be fitted and trimmed."""
+    directions by WORTH: its rulings may still curve in the domain, as a hyperboloid's do, so the fit decides),
+    or along the theta given; (None, None) otherwise, or where it cannot be fitted and trimmed."""
     from ruled.fit.face.skew import skew_patch, straightest, worth_trying
-    from ruled.fit.face.trimfit import _trimmed_open
     if not _trimmed_open(region):
         return None, None
-    theta, score, iso = straightest(region)
-    if not worth_trying(theta, score, iso):
-        return None, None
+    if theta is None:
+        theta, score, iso = straightest(region)
+        if not worth_trying(theta, score, iso):
+            return None, None
     patch = skew_patch(region, region_size(region), theta)
     if patch is None:
         return None, None

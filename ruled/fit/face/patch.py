@@ -41,6 +41,7 @@ class FacePatch:
     own: bool = False                  # the face's own surface, whole (exactly ruled along an iso direction)
     box: bool = False                  # the face's own surface, whole, as the patch (own, or any surface)
     skew: Optional[float] = None       # a parallelogram along the face's straightest direction (its angle, degrees)
+    plane: bool = False                # a rectangle of the plane of a planar face (ruled.fit.face.plane)
 
     @property
     def trimmed(self) -> bool:
@@ -48,7 +49,7 @@ class FacePatch:
 
     def rails(self, direction: str) -> tuple:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
-        if self.box or self.skew is not None:   # the loop edges on the patch's two rails (t = 0 and 1)
+        if self.box or self.skew is not None or self.plane:   # the loop edges on the patch's rails (t = 0 and 1)
             on = [(float(st[:, 1].max()) <= 1e-4, float(st[:, 1].min()) >= 1.0 - 1e-4)
                   for st in getattr(self.mask, "edges")]
             return tuple(tuple(k for k, o in enumerate(on) if o[i]) for i in (0, 1))
@@ -62,6 +63,8 @@ class FacePatch:
     def how(self) -> str:
         if self.own:
             return "the face's own surface, exactly ruled along its iso lines, trimmed by the face's edges"
+        if self.plane:
+            return "the face is planar: rulings across a rectangle of its plane, trimmed by the face's edges"
         if self.skew is not None:
             return (f"rulings across a parallelogram of its surface's domain along the face's straightest direction "
                     f"({self.skew:.3g} degrees from its u lines), trimmed by the face's edges")
