@@ -178,7 +178,15 @@ REGRESSIONS = [
     # (issue 35), leave the surface's finite numbers: the fit crashed building the map's inverse; no extension
     # there now (the fit pinned at the face's corners, with a note)
     ("2d", 612134142, 10, "non-finite extension"),
+    # found by the rotating run of 6ceec07 (and there at 1fbbd46 already): a rational degree-1 x 3 face, periodic
+    # in v, extreme weights, whose 4D result is certified at 1.519 (its remainder: 1.519, nodes 0.411) while the
+    # 32 x 32 measure finds 3.897 (12 x 12: 1.484): a 4D certificate that misses part of its result; named in
+    # KNOWN_DENSE (xfail) until the certificate holds it
+    ("4d", 1827586172, 4, "4D certificate below the dense measure"),
 ]
+# Faces whose result a denser measure finds beyond its bound, known and reported (the check xfails naming them)
+KNOWN_DENSE = {"4d:1827586172:4": "its 4D result certified at 1.519, measured 3.897 at 32 x 32 (a rational "
+                                  "periodic face with extreme weights: the 4D certificate misses part of the result)"}
 FACE_LIMIT = 120       # seconds: a face that takes longer hangs (they take about 3 s)
 SAMPLES = 12           # the DP's and the measure's samples: small faces of every kind, not fine fits
 
