@@ -199,21 +199,26 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev
     def reach(c):
         return c.node_max + 0.25 * (c.bound - c.node_max)
 
-    def better(out, best):
-        # a map that folds over the face is the best only where no map keeps its orientation
-        if best is None:
+    best_folds = False
+
+    def take(out) -> bool:
+        # whether out is the new best: a map that folds over the face is the best only where no map keeps its
+        # orientation; one that keeps it is among the alternatives (each map checked once)
+        nonlocal best_folds
+        fo = _folds_face(out[0], mask)
+        if mask is not None and not fo:
+            alts.append(out[0])
+        if best is None or fo < best_folds or (fo == best_folds and out[0].bound < best[0].bound):
+            best_folds = fo
             return True
-        fo, fb = _folds_face(out[0], mask), _folds_face(best[0], mask)
-        return fo < fb or (fo == fb and out[0].bound < best[0].bound)
+        return False
     for k, (s, t) in enumerate(maps):
         out = _map_bound(S, b, X, us, vs, span_u, span_v, x, s.reshape(nu, nv).copy(), t.reshape(nu, nv).copy(),
-                         pairing, bd, R, tw, prune=np.inf if best is None or _folds_face(best[0], mask)
+                         pairing, bd, R, tw, prune=np.inf if best is None or best_folds
                          else best[0].bound * (1.0 if mask is None else TRIM_PRUNE))
         if out is None:
             continue
-        if mask is not None and not _folds_face(out[0], mask):
-            alts.append(out[0])
-        if better(out, best):
+        if take(out):
             best, which = out, k
         if guide is None or reach(out[0]) < reach(guide[0]):
             guide = out
@@ -226,9 +231,7 @@ def _grid_bound(S, b, pairing, bd, R, us, vs, span_u, span_v, target_u, tw, prev
                              t.reshape(nu, nv).copy(), pairing, bd, R, tw, second=True, prune=best[0].bound)
             if out is None:
                 continue
-            if mask is not None and not _folds_face(out[0], mask):
-                alts.append(out[0])
-            if better(out, best):
+            if take(out):
                 best = out
             if reach(out[0]) < reach(guide[0]):
                 guide = out

@@ -138,14 +138,15 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     if patch is not None or opts.ends == Ends.PINNED or opts.method != Method.D2:
         return fit_pinned(region, opts, progress, rails, patch)
     flat = skewed = theta = None
+    size = region_size(region)
     if rails is None:
         from ruled.fit.face.plane import plane_fit
-        flat = plane_fit(region, region_size(region), opts, progress)
-        if flat is not None and flat.error_bound <= EXACT * region_size(region):
+        flat = plane_fit(region, size, opts, progress)
+        if flat is not None and flat.error_bound <= EXACT * size:
             return flat         # a plane is ruled: exact at once
     if rails is None and (not region.holes or opts.ends == Ends.TRIMMED):
-        skewed, theta = fit_skewed(region, opts, progress)
-        if skewed is not None and skewed.error_bound <= EXACT * region_size(region):
+        skewed, theta = fit_skewed(region, size, opts, progress)
+        if skewed is not None and skewed.error_bound <= EXACT * size:
             # exact along the face's straightest direction: no four-sided map can do better than that
             return _skew_noted(skewed, theta, None)
     try:
@@ -159,9 +160,8 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
     if res is None and rails is None:
         # no map of any kind above: the parallelogram along the surface's own iso lines, run a little past the
         # face (its own rectangle's rails touch a face inscribed in it, where a map onto the result folds)
-        size = region_size(region)
         for th in (0.5 * np.pi, 0.0):
-            got, _ = fit_skewed(region, opts, progress, th)
+            got, _ = fit_skewed(region, size, opts, progress, th)
             if got is not None and got.error_bound <= size and (res is None or got.error_bound < res.error_bound):
                 res, theta = got, th            # (a bound past the face's size is no result)
         if res is not None:
@@ -179,7 +179,8 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
 EXACT = 1e-5
 
 
-def fit_skewed(region: Region, opts: FitOptions, progress: Progress, theta: Optional[float] = None) -> tuple:
+def fit_skewed(region: Region, size: float, opts: FitOptions, progress: Progress,
+               theta: Optional[float] = None) -> tuple:
     """(fit, theta): the fit across the face's parallelogram along its straightest direction theta
     (ruled.fit.face.skew), trimmed by its edges, where that direction is worth a try (straighter than both iso
     directions by WORTH: its rulings may still curve in the domain, as a hyperboloid's do, so the fit decides),
@@ -191,7 +192,7 @@ def fit_skewed(region: Region, opts: FitOptions, progress: Progress, theta: Opti
         theta, score, iso = straightest(region)
         if not worth_trying(theta, score, iso):
             return None, None
-    patch = skew_patch(region, region_size(region), theta)
+    patch = skew_patch(region, size, theta)
     if patch is None:
         return None, None
     return fit_patch(patch, opts, progress)[0], theta

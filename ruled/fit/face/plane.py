@@ -57,10 +57,11 @@ def plane_patch(region: Region, size: float):
     k = np.array([0.0, 0.0, 1.0, 1.0])
     E = Surface(np.array(corners), k, k.copy(), 1, 1)
     outer = tuple(np.clip((p - lo) / span, 0.0, 1.0) for p in xy)
-    E = masked(E, FaceMask((np.concatenate(outer),), outer, (), 0.0))
+    mask = FaceMask((np.concatenate(outer),), outer, (), 0.0)
+    E = masked(E, mask)
     gap = EDGE_MARGIN * region.max_gap()
-    return FacePatch(region, E, d + gap, False, None, "v", (1, 1), size, (), gap, 0.0, mask=E.__dict__["face_mask"],
-                     extension=_extension(E, E.__dict__["face_mask"], [MARGIN, MARGIN]), plane=True)
+    return FacePatch(region, E, d + gap, False, None, "v", (1, 1), size, (), gap, 0.0, mask=mask,
+                     extension=_extension(E, mask, [MARGIN, MARGIN]), plane=True)
 
 
 def plane_fit(region: Region, size: float, opts, progress=None) -> Optional[FitResult]:

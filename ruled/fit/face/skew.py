@@ -74,21 +74,17 @@ class _Face:
         ins = _inside(self.poly, flat).reshape(P.shape[:3])
         uv = self.lo + flat * self.span
         X = self.S(uv[:, 0], uv[:, 1]).reshape(P.shape[:3] + (3,))
-        out = np.zeros(thetas.size)
-        for i in range(thetas.size):
-            for k in range(LINES):
-                idx = np.flatnonzero(ins[i, k])
-                if idx.size < 3:
-                    continue
-                Y = X[i, k, idx]
-                chord = Y[-1] - Y[0]
-                L = float(np.linalg.norm(chord))
-                if L <= 0:
-                    continue
-                w = Y - Y[0]
-                dist = np.linalg.norm(w - np.outer(w @ chord / L ** 2, chord), axis=1)
-                out[i] = max(out[i], float(dist.max()))
-        return out
+        # per line, the chord between its first and last point in the face, and its points in the face from it
+        first = np.argmax(ins, axis=2)
+        last = PER_LINE - 1 - np.argmax(ins[:, :, ::-1], axis=2)
+        Y0 = np.take_along_axis(X, first[:, :, None, None], axis=2)
+        chord = np.take_along_axis(X, last[:, :, None, None], axis=2) - Y0
+        L2 = np.sum(chord * chord, axis=3, keepdims=True)
+        w = X - Y0
+        along = np.sum(w * chord, axis=3, keepdims=True) / np.where(L2 > 0, L2, 1.0)
+        dist = np.linalg.norm(w - along * chord, axis=3)
+        ok = (ins.sum(axis=2) >= 3) & (L2[:, :, 0, 0] > 0)
+        return np.where(ok, np.where(ins, dist, 0.0).max(axis=2), 0.0).max(axis=1)
 
 
 def straightest(region: Region) -> Optional[tuple]:

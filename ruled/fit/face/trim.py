@@ -24,6 +24,7 @@ from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
+from scipy.linalg import cho_factor, cho_solve
 
 from ruled.core.basis import bspline_basis_matrix
 from ruled.core.nurbs import Curve
@@ -107,7 +108,6 @@ def _fit_curve(x: np.ndarray, Y: np.ndarray, ends: tuple, spans: int) -> Curve:
     rhs = Y - M[:, :1] * P[0] - M[:, -1:] * P[-1]
     A = M[:, 1:-1]
     try:            # the normal equations (banded, positive definite where every span holds points): fast
-        from scipy.linalg import cho_factor, cho_solve
         P[1:-1] = cho_solve(cho_factor(A.T @ A), A.T @ rhs)
     except np.linalg.LinAlgError:
         P[1:-1] = np.linalg.lstsq(A, rhs, rcond=None)[0]
