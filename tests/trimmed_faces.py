@@ -421,10 +421,12 @@ def many_edged_face(edges: int = 160):
                                          curve2d([[0.05, 0.9], [0.05, bot(0.05)]])]])
 
 
-def bow_edges(face, offset: float, count: int = 1):
+def bow_edges(face, offset: float, count: int = 1, way: str = "up", spike: float = 0.0):
     """The face with the 3D curves of its first count edges bowed up to offset off the surface (a sine arch
-    along each, along the surface's normal at its middle), within the edge's tolerance (2 x offset), as
-    exporters write edges: the pcurve on the surface, the 3D curve near it."""
+    along each, along the surface's normal at its middle; way 'out' or 'in': across the edge, in the plane
+    of a flat face, away from its middle or towards it; spike > 0: a bell that wide, a fraction of the edge,
+    at its middle instead), within the edge's tolerance (2 x offset), as exporters write edges: the pcurve on
+    the surface, the 3D curve near it."""
     from OCP.BRep import BRep_Builder
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.GeomAPI import GeomAPI_PointsToBSpline
@@ -440,10 +442,18 @@ def bow_edges(face, offset: float, count: int = 1):
     for e in [x for x in outer_edges(face) if not BRep_Tool.Degenerated_s(x)][:count]:
         a, b = BRep_Tool.Range_s(e)
         c = BRep_Tool.Curve_s(e, 0.0, 1.0)
-        t = np.linspace(a, b, 201)
+        if way != "up":
+            mid = gp_Vec(p, c.Value(0.5 * (a + b)))
+            n = mid.Subtracted(n.Multiplied(mid.Dot(n)))
+            n.Normalize()
+            if way == "in":
+                n.Reverse()
+        t = np.linspace(a, b, 201 if spike <= 0 else 2001)
         pts = TColgp_Array1OfPnt(1, t.size)
         for i, x in enumerate(t):
-            q = c.Value(float(x)).Translated(n.Multiplied(offset * np.sin(np.pi * (x - a) / (b - a))))
+            f = (x - a) / (b - a)
+            h = np.sin(np.pi * f) if spike <= 0 else np.exp(-((f - 0.5) / spike) ** 2)
+            q = c.Value(float(x)).Translated(n.Multiplied(offset * h))
             pts.SetValue(i + 1, q)
         par = TColStd_Array1OfReal(1, t.size)
         for i, x in enumerate(t):
@@ -453,9 +463,9 @@ def bow_edges(face, offset: float, count: int = 1):
     return face
 
 
-def sloppy_face(offset: float = 5e-4):
+def sloppy_face(offset: float = 5e-4, way: str = "up", spike: float = 0.0):
     """A flat 10 x 10 face, its surface's whole rectangle, whose first edge's 3D curve bows up to offset off the
-    surface within its tolerance (bow_edges)."""
+    surface within its tolerance (bow_edges: up off the plane, or out of the face or into it in the plane)."""
     S = bspline_surface(np.array([[(0, 0, 0), (0, 10, 0)], [(10, 0, 0), (10, 10, 0)]], float),
                         [0, 1], [2, 2], [0, 1], [2, 2], 1, 1)
-    return bow_edges(BRepBuilderAPI_MakeFace(S, 1e-7).Face(), offset)
+    return bow_edges(BRepBuilderAPI_MakeFace(S, 1e-7).Face(), offset, way=way, spike=spike)

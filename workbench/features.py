@@ -314,7 +314,8 @@ class RuledFit(_Feature):
 
     def compute(self, obj):
         from ruled.core.hostform import bounds_slack
-        from ruled.fit.face.fit import area_ratio, first_consistent, fit_region, measured_warnings
+        from ruled.fit.face.fit import fit_region
+        from ruled.fit.face.verdict import area_ratio, first_consistent, measured_warnings
 
         from .adapter import built_slack, face_region, outer_edges, result_face
         face, opts, S, progress = self.inputs(obj, "fitting")
@@ -367,8 +368,7 @@ class RuledSplit(_Feature):
               ["max", "sum"], "max")
         _add(obj, "App::PropertyInteger", "FitSamples", group, "samples per boundary of each side's fit", 40)
         _add(obj, "App::PropertyString", "Chosen", RESULT_GROUP, "the split kept: optimal, best-iso or iso-0.5 (none: "
-             "the face needs no split, its own fit is better, and is the result)",
-             "", True)
+             "the face needs no split, its own fit is better, and is the result)", "", True)
         _add(obj, "App::PropertyLength", "WholeBound", RESULT_GROUP, "certified bound of one ruled fit of the whole "
              "face", 0.0, True)
         _add(obj, "App::PropertyStringList", "Candidates", RESULT_GROUP, "each split's certified bound", None, True)

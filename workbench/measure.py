@@ -10,19 +10,13 @@ import FreeCAD
 import numpy as np
 import Part
 
-from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
+from ruled.core.hostform import Hausdorff, PolygonClassifier, clipped_bounds, grid_size
 
 
 def face_bounds(face):
     """The face's parameter range, clipped to its surface's own range where not periodic."""
-    u0, u1, v0, v1 = face.ParameterRange
     s = face.Surface
-    a0, a1, b0, b1 = s.bounds()
-    if not s.isUPeriodic():
-        u0, u1 = max(u0, a0), min(u1, a1)
-    if not s.isVPeriodic():
-        v0, v1 = max(v0, b0), min(v1, b1)
-    return u0, u1, v0, v1
+    return clipped_bounds(face.ParameterRange, s.bounds(), (s.isUPeriodic(), s.isVPeriodic()))
 
 
 def grid(face, n: int) -> np.ndarray:
@@ -102,6 +96,46 @@ def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
     return out
 
 
+def edge_views(face) -> list:
+    """The face's edges with a pcurve, as the measures' EdgeViews (ruled.core.edgerows; Part's evaluation, as
+    the command line's OCCT one)."""
+    from ruled.core.edgerows import EdgeView
+    s, box = face.Surface, face_bounds(face)
+
+    def surface(u, v):
+        return tuple(s.value(float(u), float(v)))
+    out = []
+    for e in face.Edges:
+        got = None if e.Degenerated else face.curveOnSurface(e)
+        if not got:
+            continue
+        c2, a, b = got
+
+        def pcurve(t, c2=c2):
+            q = c2.value(float(t))
+            return (q.x, q.y)
+
+        def curve(t, e=e):
+            return tuple(e.valueAt(float(t)))
+        out.append(EdgeView(surface, pcurve, a, b, curve, *e.ParameterRange, box))
+    return out
+
+
+def _extra(face, n: int, offset: float) -> np.ndarray:
+    """The face's extra samples where edges lie off their surface (ruled.core.edgerows): its own such edges,
+    densely, and rows inward of its edges at fractions of the other side's edges' offset."""
+    from ruled.core.edgerows import edge_offsets, edge_rows, off_edge_points
+    views = edge_views(face)
+    return np.concatenate([edge_rows(views, n, offset, classifier(face).points),
+                           off_edge_points(views, edge_offsets(views), n)])
+
+
+def _offset(faces) -> float:
+    """How far the faces' edges lie off their surfaces, at most (ruled.core.edgerows.edge_offsets)."""
+    from ruled.core.edgerows import edge_offsets
+    return max([g for f in faces for g in edge_offsets(edge_views(f))], default=0.0)
+
+
 def trimmed(face) -> bool:
     """The face is trimmed inside its surface's rectangle (a result trimmed by the design face's edges)."""
     u0, u1, v0, v1 = face_bounds(face)
@@ -139,15 +173,20 @@ def hausdorff(results: list, design, n: int = 24, progress=None, parts=None) -> 
     to the nearest result (one compound, so the distance is to their union; of parts, the results' smooth
     parts, where given: OCCT's distance search does not cross a crease)."""
     total = len(results) * n * n
+    g_design, g_results = _offset(design.Faces), _offset(results)
     colours, dab, done = [], [], 0
     for f in results:
         c, d = _result_side(f, design, n, None if progress is None else
                             (lambda x, d=done: progress(0.5 * (d + x * n * n) / total)))
         colours.append(c)
         dab.append(d)
+        rows = _extra(f, n, g_design)
+        if len(rows):
+            dab.append(distances(rows, design))
         done += n * n
     dab = np.concatenate(dab) if dab else np.zeros(0)
-    pb = np.concatenate([face_points(f, n) for f in design.Faces])      # (a face, or a wall's faces)
+    pb = np.concatenate([np.concatenate([face_points(f, n), _extra(f, n, g_results)])
+                         for f in design.Faces])      # (a face, or a wall's faces)
     dba = distances(pb, Part.Compound(parts or results),
                     None if progress is None else (lambda x: progress(0.5 + 0.5 * x)))
     alld = np.concatenate([dab, dba])

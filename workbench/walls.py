@@ -73,7 +73,7 @@ class RuledWall(_Feature):
 
         import Part
 
-        from ruled.fit.face.fit import measured_warnings
+        from ruled.fit.face.verdict import measured_warnings
         from ruled.fit.wall.fit import fit_ring, smooth_parts
 
         from .adapter import Wall, built_slack, result_face, surface_to_face

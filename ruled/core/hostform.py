@@ -255,6 +255,18 @@ class PolygonClassifier:
         return out
 
 
+def clipped_bounds(face_range, surface_range, periodic: tuple) -> tuple:
+    """A face's (u0, u1, v0, v1) clipped to its surface's own range where the surface is not periodic (faces may
+    overhang it by round-off): both hosts' measures sample the same rectangle."""
+    u0, u1, v0, v1 = face_range
+    a0, a1, b0, b1 = surface_range
+    if not periodic[0]:
+        u0, u1 = max(u0, a0), min(u1, a1)
+    if not periodic[1]:
+        v0, v1 = max(v0, b0), min(v1, b1)
+    return u0, u1, v0, v1
+
+
 def grid_size(n: int, frac: float) -> int:
     """The side of a (u, v) grid of a face's bounds that puts about n x n points inside a face covering
     the share frac of its bounds (n when it covers nearly all of them; at most 8 n)."""

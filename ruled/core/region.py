@@ -161,13 +161,16 @@ class Region:
         g = self._gaps(k)
         return 0.0 if g is None else g[1]
 
+    def outer_gap(self) -> float:
+        """The largest distance between an outer edge's 3D curve and the surface at its pcurve (both ways)."""
+        return max(self.edge_gap(k) for k in range(self.size)) if self.edges3d else 0.0
+
     def max_gap(self) -> float:
         """The largest distance between an edge's 3D curve and the surface at its pcurve (both ways), the
         holes' edges included."""
-        outer = max(self.edge_gap(k) for k in range(self.size)) if self.edges3d else 0.0
-        return max(outer, self._hole_gap())
+        return max(self.outer_gap(), self.hole_gap())
 
-    def _hole_gap(self) -> float:
+    def hole_gap(self) -> float:
         """max_gap over the holes' edges (computed once)."""
         if "_hole_gap_cache" not in self.__dict__:
             from ruled.core.edgegap import gap_of

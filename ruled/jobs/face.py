@@ -1,7 +1,7 @@
 """A face's whole job: read, fit, build, measure, write (``ruled fit``, ``ruled.cq.fit_face``, the batch).
 
 fit_job is the result every door shows and everything made from a face's fit starts from: the fit whose own
-figures agree (ruled.fit.face.fit.first_consistent: the best candidate, or the next one whose built face,
+figures agree (ruled.fit.face.verdict.first_consistent: the best candidate, or the next one whose built face,
 certified bound and measure do not contradict each other), built as a face (trimmed by the face's edges
 where its rails run past the face) and measured against the face as bounded by its edges.  run_fit adds
 reading the face and writing the STEP, report and plot.
@@ -58,7 +58,7 @@ def fit_job(face, options: Optional[FitOptions] = None, progress=None, rails=Non
     OCCT samples each way; None: not measured); fitted: (FitResult, conversion slack) when the fit is made
     already.  A result whose own figures disagree is replaced by the next candidate whose figures agree
     (FiguresError, naming them, when none do)."""
-    from ruled.fit.face.fit import first_consistent
+    from ruled.fit.face.verdict import first_consistent
     from ruled.fit.options import Ends, FitOptions
     from ruled.occ.io import face_area
     from ruled.occ.region import fit_face
@@ -93,7 +93,7 @@ def face_fit_of(face, fit, fit_options, progress=None, rails=None, measure_sampl
 def _built(res: FitResult, source, slack: float, area: Optional[float], measure_samples: Optional[int],
            progress) -> FaceFit:
     """One candidate built as a face and measured; FiguresError where its figures contradict each other."""
-    from ruled.fit.face.fit import area_ratio, measured_warnings
+    from ruled.fit.face.verdict import area_ratio, measured_warnings
     from ruled.occ.io import face_area
     from ruled.occ.measure import hausdorff
     from ruled.occ.trimmed import built_slack, result_face

@@ -9,7 +9,6 @@ from dataclasses import replace
 import numpy as np
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
-from OCP.BRepTools import BRepTools
 from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
 from OCP.Extrema import Extrema_GenLocateExtPS
 from OCP.GeomAdaptor import GeomAdaptor_Surface
@@ -23,36 +22,14 @@ from OCP.TopoDS import TopoDS
 from ruled.core.distance import _golden_min
 from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
 from ruled.occ.curve_measure import _p3
+from ruled.occ.edgerows import face_bounds
+from ruled.occ.edgerows import face_edges as _face_edges
 
 SEED_GRID = 60     # about SEED_GRID^2 seeds inside a face for the local projections
 SEEDS = 8          # the exact distance also searches locally from this many nearest seeds
 PIECES = 6         # ... and in this many nearest smooth pieces between creases, from their own seeds
 EDGE_SEEDS = 8     # ... and along the edges near this many nearest edge samples
 REACH_MARGIN = 1.1  # an edge's arc between two samples is at most this many times their chord (dense samples)
-
-
-def face_bounds(face):
-    """The face's UV bounds, clipped to its surface's own range (faces may overhang it by round-off)."""
-    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
-    surf = BRep_Tool.Surface_s(face)
-    a0, a1, b0, b1 = surf.Bounds()
-    if not surf.IsUPeriodic():
-        u0, u1 = max(u0, a0), min(u1, a1)
-    if not surf.IsVPeriodic():
-        v0, v1 = max(v0, b0), min(v1, b1)
-    return u0, u1, v0, v1
-
-
-def _face_edges(face):
-    """The face's edges with a 3D curve (every wire, degenerate edges left out)."""
-    out = []
-    ex = TopExp_Explorer(face, TopAbs_ShapeEnum.TopAbs_EDGE)
-    while ex.More():
-        e = TopoDS.Edge_s(ex.Current())
-        if not BRep_Tool.Degenerated_s(e):
-            out.append(e)
-        ex.Next()
-    return out
 
 
 def face_points(face, n: int, cls=None) -> np.ndarray:
@@ -440,10 +417,19 @@ class _Projector:
 
 def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     """Two-sided Hausdorff distance between two faces as bounded by their edges (about n x n samples
-    of each plus n along every edge, projected on the other)."""
+    of each plus n along every edge, and rows inward of its edges where the other's lie off their surface
+    (ruled.core.edgerows), projected on the other)."""
+    from ruled.core.edgerows import edge_offsets, edge_rows, off_edge_points
+    from ruled.occ.edgerows import edge_views
     to_a, to_b = _Projector(face_a), _Projector(face_b)
     pa, ra = face_samples(face_a, n, to_a.inside, resolution=True)
     pb, rb = face_samples(face_b, n, to_b.inside, resolution=True)
+    # where one face's edges lie off its surface: they are sampled densely (they may leave it at spots), and the
+    # other face may cover the strip between them and the surface: rows inward of its edges
+    va, vb = edge_views(face_a), edge_views(face_b)
+    oa, ob = edge_offsets(va), edge_offsets(vb)
+    pa = np.concatenate([pa, edge_rows(va, n, max(ob, default=0.0), to_a.inside.points), off_edge_points(va, oa, n)])
+    pb = np.concatenate([pb, edge_rows(vb, n, max(oa, default=0.0), to_b.inside.points), off_edge_points(vb, ob, n)])
     return replace(two_sided(pa, pb, to_a, to_b), resolution=max(ra, rb))
 
 

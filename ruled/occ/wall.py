@@ -226,7 +226,7 @@ def measure_wall(faces, out_face, n: int = 40):
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
     """The wall's one closed ruled surface (ruled.fit.wall.fit.fit_ring on the joined surface), built as one face
     and measured against the wall's faces, both ways."""
-    from ruled.fit.face.fit import measured_warnings
+    from ruled.fit.face.verdict import measured_warnings
     from ruled.fit.wall.fit import fit_ring
     from ruled.occ.convert import container_to_face
     from ruled.occ.io import face_area

@@ -300,7 +300,8 @@ def test_edges_off_their_surface_within_their_tolerance_are_in_the_bound_and_sai
     fit = rcq.fit_face(face, samples=12, measure_samples=12)
     a, b = extrema_measure(face, fit.face.wrapped, 12)
     assert 4.9e-4 < max(a, b) <= fit.error_bound < 6e-4, (a, b, fit.error_bound)
-    assert fit.result.patch.identity and fit.result.patch.edge_gap >= 5e-4, fit.result.patch
+    # (the edge bowed off the plane: the patch's side is moved onto it, and that is in the bound)
+    assert not fit.result.patch.identity and fit.result.patch.edge_gap >= 5e-4, fit.result.patch
     assert any("is how far the face's edges lie off its surface (their tolerance in the file is up to 0.001)" in w
                for w in fit.warnings), fit.warnings
 

@@ -163,15 +163,25 @@ def test_closed_trimmed_face_is_fitted_round():
     assert h.max <= 1e-4 * _size(face) and bound >= h.max and abs(area - 1.0) <= 0.05
 
 
-def test_folding_map_is_refused_in_one_line(tmp_path):
+def test_a_folding_face_pinned_is_refused_in_one_line_and_gets_its_surfaces_rectangle(tmp_path):
+    """The C-shaped face: with its rulings pinned to its corners (its Coons map folds) a one-line refusal; at
+    the defaults, where no map puts rulings over it, the fit of its surface's whole rectangle, untrimmed
+    (ruled.fit.face.inscribed), its bound covering how far the rectangle reaches past the face: the rectangle's
+    corner (0, 0, 0) lies 1.41 from the face's nearest corner (1, 1, 0.01), and the independent measure sees
+    it, below the bound."""
+    import json
     face = folding_face()
     with pytest.raises(RuledError) as exc:
         fit_face(face, FitOptions())
     assert "fold" in str(exc.value) and "\n" not in str(exc.value)
-    path = str(tmp_path / "fold.step")
+    path, out, rep = str(tmp_path / "fold.step"), str(tmp_path / "o.step"), str(tmp_path / "r.json")
     write_step(face, path)
-    run = ruled_here("fit", path, "--face", "0", "-o", str(tmp_path / "o.step"))
-    assert run.returncode == 2 and run.stderr.count("\n") == 1 and "fold" in run.stderr, run.stderr
+    run = ruled_here("fit", path, "--face", "0", "--samples", "16", "-o", out, "--report", rep, "--quiet")
+    assert run.returncode == 0, run.stderr
+    r = json.load(open(rep))
+    assert any("whole rectangle, untrimmed" in n for n in r["notes"]), r["notes"]
+    h = hausdorff(face, get_face(out, 0), 24)
+    assert 1.41 <= h.max <= r["error_bound"], (h, r["error_bound"])
 
 
 # ------------------------------------------------------------------------------ real parts
@@ -337,12 +347,13 @@ def test_faces_with_fewer_than_three_corners_rule_from_one_half_to_the_other(sha
         res.patch.how, res.patch.how
 
 
-def test_sloppy_edges_within_their_tolerance_leave_the_face_its_whole_surface():
+def test_sloppy_edges_within_their_tolerance_are_reached_by_the_result():
     """OCCT's periodic wing: face 0 is half of a closed, exactly ruled surface, u in [0, 0.5]; its two
     long edges (tolerances 0.65 and 0.33) overshoot the seam edge (tolerance 1e-7) to u = 0.50036 and
-    wander 1e-3 off the v iso lines.  Within their own tolerances they are the rectangle's sides: the
-    face is its surface's [0, 0.5] x [0, 1] (it was fitted as a trimmed face, 123 x 2 poles, 0.073 from
-    it on average), and the bound covers the edges' own distance from the surface."""
+    wander off the v iso lines, up to 0.66 from the surface.  The face is its surface and its own edges: the
+    result's patch has its sides moved onto those edges (it reaches them, as Part Ruled between them does),
+    where the surface's own rectangle left them 0.65 from the result.  Measured by OCCT: within its bound,
+    no farther than Part Ruled between the same edges (0.32 against 0.53), its area the face's within 1 %."""
     path = _shared("occt_bug25994_wing_periodic.brep")
     if path is None:
         pytest.skip("occt_bug25994_wing_periodic.brep is not available (needs ../shared/data beside the repository)")
@@ -350,8 +361,8 @@ def test_sloppy_edges_within_their_tolerance_leave_the_face_its_whole_surface():
     face = get_face(path, 0)
     assert face_uv_bounds(face)[:2] == pytest.approx((0.0, 0.5), abs=1e-12)
     res, bound, h, area = _fit_and_measure(face)
-    assert res.patch.identity
-    assert res.surface.poles.shape[0] <= 20 and h.mean <= 0.01 and h.max <= bound and abs(area - 1) <= 0.01
+    assert not res.patch.identity and res.patch.region.outer_gap() > 0.6
+    assert h.max <= bound and h.max <= _part_best(face, res) and h.max < 0.6 * 0.649 and abs(area - 1) <= 0.01
 
 
 def _flat_face_with_a_loose_hole(off: float):

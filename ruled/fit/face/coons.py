@@ -197,6 +197,31 @@ class CoonsMap:
             found = found[np.linspace(0, found.size - 1, most).astype(int)]
         return found
 
+    def boundary_miss(self, n: int = 2001) -> float:
+        """How far the patch's boundary, S o Omega moved by the offset, lies from the face's outer edges' 3D
+        curves, both ways (dense polylines of each, every point to the other's segments): the sides follow
+        the edges within this (the gaps are tabulated or fitted, and averaged at corners where the edges'
+        ends do not meet)."""
+        from scipy.spatial import cKDTree
+
+        from ruled.core.nearest import to_polyline
+        region = self.region
+        curves = [c for c, bad in zip(region.edges3d, region.degenerate) if c is not None and not bad]
+        if not curves:
+            return 0.0
+        x = np.linspace(0.0, 1.0, n)
+        one, zero = np.ones(n), np.zeros(n)
+        S = region.surface
+        B = []
+        for s, t in ((x, zero), (one, x), (1.0 - x, one), (zero, 1.0 - x)):
+            u, v = self.omega(S, s, t)
+            B.append(S(u, v) + self.offset(s, t))
+        E = [c(np.linspace(c.domain[0], c.domain[1], n)) for c in curves]
+
+        def near(A, lines):         # per point of A, its distance to the nearest of the polylines
+            return np.min([np.linalg.norm(to_polyline(A, L, cKDTree(L)) - A, axis=1) for L in lines], axis=0)
+        return max(max(float(near(X, B).max()) for X in E), max(float(near(P, E).max()) for P in B))
+
     def jacobian_signs(self, n: int = 48) -> np.ndarray:
         """det(d Omega / d(s, t)) at the centres of an n x n grid (scaled by the domain's size)."""
         x = (np.arange(n) + 0.5) / n

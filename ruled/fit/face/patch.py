@@ -42,6 +42,7 @@ class FacePatch:
     box: bool = False                  # the face's own surface, whole, as the patch (own, or any surface)
     skew: Optional[float] = None       # a parallelogram along the face's straightest direction (its angle, degrees)
     plane: bool = False                # a rectangle of the plane of a planar face (ruled.fit.face.plane)
+    inscribed: bool = False            # the surface's whole rectangle for a face inscribed in it (face.inscribed)
 
     @property
     def trimmed(self) -> bool:
@@ -73,6 +74,8 @@ class FacePatch:
                     "trimmed by the face's edges")
         if self.trimmed:
             return f"rails past the face ({self.sides.how}), trimmed by the face's edges"
+        if self.inscribed:
+            return "its surface's whole (u, v) rectangle, untrimmed, the face inscribed in it"
         return "the face is its surface's whole (u, v) rectangle" if self.identity else self.sides.how
 
 

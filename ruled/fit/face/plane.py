@@ -14,6 +14,7 @@ from typing import Optional
 
 import numpy as np
 
+from ruled.core.edgegap import off_face
 from ruled.core.nurbs import Surface
 from ruled.core.region import Region
 from ruled.fit.fit2d import FitResult
@@ -59,7 +60,7 @@ def plane_patch(region: Region, size: float):
     outer = tuple(np.clip((p - lo) / span, 0.0, 1.0) for p in xy)
     mask = FaceMask((np.concatenate(outer),), outer, (), 0.0)
     E = masked(E, mask)
-    gap = EDGE_MARGIN * region.max_gap()
+    gap = EDGE_MARGIN * off_face(region)
     return FacePatch(region, E, d + gap, False, None, "v", (1, 1), size, (), gap, 0.0, mask=mask,
                      extension=_extension(E, mask, [MARGIN, MARGIN]), plane=True)
 

@@ -20,6 +20,7 @@ from typing import Optional
 
 import numpy as np
 
+from ruled.core.edgegap import off_face
 from ruled.core.nurbs import Surface
 from ruled.core.region import Region
 
@@ -192,7 +193,7 @@ def skew_patch(region: Region, size: float, theta: float):
     mask = FaceMask((np.concatenate(outer),) + tuple(np.concatenate(h) for h in holes), outer, holes, 0.0,
                     grow=GROW)
     E = masked(side.surface, mask)
-    gap = EDGE_MARGIN * region.max_gap()
+    gap = EDGE_MARGIN * off_face(region)
     return FacePatch(region, E, float(side.deviation) + gap, False, None, "v", side.spans, size, (), gap, 0.0,
                      mask=mask, extension=_extension(E, mask, [MARGIN_S, MARGIN_S]), skew=float(np.degrees(theta)))
 

@@ -10,6 +10,7 @@ from typing import Optional
 
 import numpy as np
 
+from ruled.core.edgegap import off_face
 from ruled.core.errors import RuledError
 from ruled.core.nurbs import Curve, Surface
 from ruled.core.progress import Progress
@@ -47,7 +48,7 @@ def extended_patch(region: Region, sides: Sides, size: float) -> Optional[FacePa
     if side is None:
         return None
     E = masked(side.surface, mask)
-    gap = EDGE_MARGIN * region.max_gap()
+    gap = EDGE_MARGIN * off_face(region)
     # the loop's points a hair past the rails were clipped onto them: the face runs past the patch by so much
     gap += mask.overshoot * float(E.derivative_bounds()["Sv"].max())
     ext = _extension(E, mask, [float(m.A.a), float(1.0 - m.A.b)])
@@ -150,7 +151,7 @@ def box_patch(region: Region, size: float, swap: bool, own: bool) -> Optional[Fa
                     curves)
     E = masked(E, mask)
     b = E.derivative_bounds()
-    gap = EDGE_MARGIN * region.max_gap() + over * max(float(b["Su"].max()), float(b["Sv"].max()))
+    gap = EDGE_MARGIN * off_face(region) + over * max(float(b["Su"].max()), float(b["Sv"].max()))
     gap += snap * (float(b["Su"].max()) + float(b["Sv"].max()))
     s_lo = min(float(st[:, 0].min()) for st in outer)
     s_hi = max(float(st[:, 0].max()) for st in outer)
