@@ -169,8 +169,9 @@ def test_bad_arguments_are_refused_in_one_line(tmp_path, args, needle):
 @pytest.mark.slow
 def test_a_refusal_names_only_what_the_batch_takes(tmp_path):
     """Issue 34: a batch's refusal advised --rails, which 'ruled batch' does not take.  A five-edge face whose
-    Coons map folds: its row says the 'ruled fit' command of that face that takes the rails; an option the
-    batch does take is still named by its flag."""
+    Coons map folds, fitted by the 4D fit (its rulings pinned to the face's corners: the 2D fit's last resort,
+    the surface's whole rectangle, is not its): its row says the 'ruled fit' command of that face that takes the
+    rails; an option the batch does take is still named by its flag."""
     pytest.importorskip("OCP")
     from trimmed_faces import folding_face
 
@@ -179,7 +180,8 @@ def test_a_refusal_names_only_what_the_batch_takes(tmp_path):
     from ruled.occ.io import write_step
     src = str(tmp_path / "fold.step")
     write_step([folding_face(4), folding_face(5)], src)
-    r = ruled_process("batch", src, "--jobs", "1", "--no-plots", "--quiet", "-o", str(tmp_path / "o"), timeout=300)
+    r = ruled_process("batch", src, "--jobs", "1", "--method", "4d", "--no-plots", "--quiet", "-o",
+                      str(tmp_path / "o"), timeout=300)
     assert r.returncode == 0, r.stderr
     rows = {x["face"]: x for x in json.load(open(tmp_path / "o" / "summary.json"))["rows"]}
     assert rows[0]["status"] == rows[1]["status"] == "refused", rows

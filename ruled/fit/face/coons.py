@@ -131,7 +131,25 @@ class CoonsMap:
 
     @cached_property
     def _gap_corners(self) -> tuple:
-        return self._corner_values(lambda c, x: c.gap(x)[0])
+        """The gaps at the corners: the sides' ends averaged; where a corner's two edges' ends do not meet (a
+        file's edges meet within their tolerance), the one of the three (either end, their mean) whose patch
+        boundary misses the face's edges least (the Coons blend then ramps the two sides to the other end: a
+        straight side runs on along itself to an end that lies on its extension, as Part Ruled's does)."""
+        c = self.curves
+        chosen = list(self._corner_values(lambda cc, x: cc.gap(x)[0]))
+        tol = 1e-6 * max(self.region.surface.diagonal(), 1e-300)     # (below: within what no machine holds)
+        for i in range(4):
+            a, b = c[i].gap(0.0)[0], c[(i - 1) % 4].gap(1.0)[0]
+            if not np.linalg.norm(a - b) > tol:
+                continue
+            best = None
+            for g in (chosen[i], a, b):
+                trial = tuple(chosen[:i]) + (g,) + tuple(chosen[i + 1:])
+                miss = self.boundary_miss(513, trial)
+                if best is None or miss < best[0]:
+                    best = (miss, g)
+            chosen[i] = best[1]
+        return tuple(chosen)
 
     def _raw(self, s, t):
         c0, c1, c2, c3 = self.curves
@@ -142,9 +160,10 @@ class CoonsMap:
                - ((1 - s) * (1 - t) * P00 + s * (1 - t) * P10 + s * t * P11 + (1 - s) * t * P01))
         return out
 
-    def offset(self, s, t) -> Optional[np.ndarray]:
+    def offset(self, s, t, corners: Optional[tuple] = None) -> Optional[np.ndarray]:
         """(N, 3) the Coons blend of the gaps between the sides' 3D edges and the surface, so that the
-        patch's boundary is the face's edges themselves (None when no 3D edges are known)."""
+        patch's boundary is the face's edges themselves (None when no 3D edges are known); corners: the gaps
+        at the corners (_gap_corners when not given)."""
         if not self.region.edges3d:
             return None
         s = np.asarray(s, float).ravel()
@@ -152,7 +171,7 @@ class CoonsMap:
         if self.flip:
             s = 1.0 - s
         c0, c1, c2, c3 = self.curves
-        G00, G10, G11, G01 = self._gap_corners
+        G00, G10, G11, G01 = self._gap_corners if corners is None else corners
         s, t = s[:, None], t[:, None]
         return ((1 - t) * _on(c0.gap, s[:, 0]) + t * _on(c2.gap, 1 - s[:, 0]) + (1 - s) * _on(c3.gap, 1 - t[:, 0])
                 + s * _on(c1.gap, t[:, 0]) - ((1 - s) * (1 - t) * G00 + s * (1 - t) * G10 + s * t * G11
@@ -197,11 +216,11 @@ class CoonsMap:
             found = found[np.linspace(0, found.size - 1, most).astype(int)]
         return found
 
-    def boundary_miss(self, n: int = 2001) -> float:
-        """How far the patch's boundary, S o Omega moved by the offset, lies from the face's outer edges' 3D
-        curves, both ways (dense polylines of each, every point to the other's segments): the sides follow
-        the edges within this (the gaps are tabulated or fitted, and averaged at corners where the edges'
-        ends do not meet)."""
+    def boundary_miss(self, n: int = 2001, corners: Optional[tuple] = None) -> float:
+        """How far the patch's boundary, S o Omega moved by the offset (its corners' gaps given, or chosen),
+        lies from the face's outer edges' 3D curves, both ways (dense polylines of each, every point to the
+        other's segments): the sides follow the edges within this (the gaps are tabulated or fitted, and at
+        a corner where the edges' ends do not meet one side runs to the other's end)."""
         from scipy.spatial import cKDTree
 
         from ruled.core.nearest import to_polyline
@@ -215,7 +234,7 @@ class CoonsMap:
         B = []
         for s, t in ((x, zero), (one, x), (1.0 - x, one), (zero, 1.0 - x)):
             u, v = self.omega(S, s, t)
-            B.append(S(u, v) + self.offset(s, t))
+            B.append(S(u, v) + self.offset(s, t, corners))
         E = [c(np.linspace(c.domain[0], c.domain[1], n)) for c in curves]
 
         def near(A, lines):         # per point of A, its distance to the nearest of the polylines
