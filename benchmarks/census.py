@@ -5,10 +5,12 @@ refused (per reason), results measured above their bound, bounds not finite or b
 above 10x their measure where the measure is below 1 % of the size (a measure below 1e-6 of the size counted as
 that: exact), results worse than FreeCAD's Part Ruled between the face's opposite sides by more than 2 % (both
 measured by ruled.occ.measure against the face as bounded by its edges, both ways; Part Ruled between each pair
-of opposite sides the fit found, in both orientations, the best of them; both below 1e-6 of the size: both
-exact, a tie), and results whose area (OCCT's) is off the face's by more than 0.5 %.  The measure adds rows of
-points inward of a face's edges where the other's edges lie off their surface (ruled.occ.edgerows): a result
-reaching a file's edges covers the strip between them and the surface, which a grid steps over."""
+of opposite sides the fit found, in both orientations, the best of them, but for one with almost no area,
+between a closed band's seam edge and itself; both below 1e-6 of the size: both exact, a tie), and results
+whose area (OCCT's) is off the face's by more than 0.5 %.  The measure samples a file's edges that lie off their
+surface densely, and rows of points inward of a face's edges where the other's edges lie off their surface
+(ruled.core.edgerows): a result reaching a file's edges covers the strip between them and the surface, which a
+grid steps over."""
 
 from __future__ import annotations
 
@@ -26,6 +28,7 @@ AREA_TOL = 5e-3
 PART_TOL = 0.02     # worse than Part Ruled by more than this fraction: counted
 CLOSE, LOOSE, FLOOR = 1e-2, 10.0, 1e-6
 N = 12              # the measures' samples
+NO_AREA = 0.01      # a Part Ruled with less area than this fraction of the face's is no surface: no rival
 
 
 def _sides(region: dict) -> list:
@@ -46,7 +49,7 @@ def _fit(job: tuple) -> dict:
 
     from ruled.core.errors import RuledError
     from ruled.jobs.face import run_fit
-    from ruled.occ.io import read_faces
+    from ruled.occ.io import face_area, read_faces
     row = {"file": os.path.basename(path), "face": k}
     out = os.path.join(folder, f"{row['file']}_{k}.step")
     t0 = time.process_time()
@@ -68,6 +71,8 @@ def _fit(job: tuple) -> dict:
         except Exception:           # (sides OCCT cannot make a wire of: no Part Ruled between them)
             continue
         for shape in shapes:
+            if face_area(shape, 1e-6) < NO_AREA * face_area(face, 1e-6):
+                continue            # (between a seam edge and itself round a closed band: a curve, not a surface)
             try:
                 part = min(part, measure(face, shape, N))
             except Exception:       # (a Part Ruled OCCT cannot measure: not a rival)

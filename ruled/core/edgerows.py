@@ -4,7 +4,7 @@ hosts' measures take the same points.
 
 A face is its surface's region and its own 3D edges.  Where the edges lie off the surface (within their
 tolerance), they may leave it at spots a measure's n samples per edge step over: such an edge is sampled
-DENSER times as densely.  And a result that reaches those edges (Part Ruled between them, a fit whose rails run
+at DENSE points.  And a result that reaches those edges (Part Ruled between them, a fit whose rails run
 onto them) covers the strip between them and the surface, its points there up to half the strip's width from
 the face: a grid as coarse as a measure's steps over so thin a strip, so the measure adds, on each face, rows
 of points inward of its edges at ROWS of how far the other face's edges lie off its surface, and near each
@@ -20,7 +20,7 @@ import numpy as np
 ROWS = (0.5, 0.25, 0.125)   # the rows' distances inward, as fractions of the other face's edges' offset
 PER_EDGE = 129              # samples of an edge's pcurve image (the polyline its 3D points are measured to)
 LOOKED = 33                 # ... and of its 3D curve
-DENSER = 8                  # an edge off its surface: sampled this many times as densely as the measure's n
+DENSE = 96                  # an edge off its surface: sampled at this many points (at least the measure's n)
 OFF_EDGE = 1e-7             # edges off their surface by less than this (OCCT's confusion tolerance): none of it
 RELATIVE = 1e-6             # ... or by less than this fraction of the face's size
 FD = 1e-6                   # the finite-difference step, a fraction of the parameter ranges
@@ -87,8 +87,8 @@ def edge_offsets(views: list) -> list:
 
 
 def off_edge_points(views: list, offsets: list, n: int) -> np.ndarray:
-    """(N, 3) DENSER x n points along each edge whose offset (edge_offsets) is not 0."""
-    pts = [np.array([e.curve(float(t)) for t in np.linspace(e.a3, e.b3, DENSER * n)])
+    """(N, 3) DENSE points (n where more) along each edge whose offset (edge_offsets) is not 0."""
+    pts = [np.array([e.curve(float(t)) for t in np.linspace(e.a3, e.b3, max(DENSE, n))])
            for e, g in zip(views, offsets) if g > 0]
     return np.concatenate(pts) if pts else np.zeros((0, 3))
 
@@ -112,8 +112,9 @@ def _frame(e: EdgeView, t: float) -> tuple:
 
 def edge_rows(views: list, n: int, offset: float, inside: Callable) -> np.ndarray:
     """(N, 3) points of the face on rows inward of its edges at ROWS of offset (3D distances, to first order),
-    n per edge and row, and near each edge's ends (ROWS of offset along it, on the edge and on each row);
-    inside(uv (N, 2)) -> booleans, the face's classifier (points outside it are dropped).  Empty for offset 0."""
+    n / 2 per edge and row (a strip is widest where its edge leaves the surface most, and changes slowly), and
+    near each edge's ends (ROWS of offset along it, on the edge and on each row); inside(uv (N, 2)) -> booleans,
+    the face's classifier (points outside it are dropped).  Empty for offset 0."""
     if not offset > 0 or not views:
         return np.zeros((0, 3))
     at, along, end = [], [], []
@@ -122,14 +123,15 @@ def edge_rows(views: list, n: int, offset: float, inside: Callable) -> np.ndarra
         rate = [_frame(e, x)[2] for x in (lo, hi)]
         ends = [lo + f * offset / rate[0] for f in ROWS if rate[0] > 0] + \
                [hi - f * offset / rate[1] for f in ROWS if rate[1] > 0]
-        ts = list(np.linspace(e.a, e.b, n + 2)[1:-1]) + [t for t in ends if lo < t < hi]
+        m = max(2, n // 2)
+        ts = list(np.linspace(e.a, e.b, m + 2)[1:-1]) + [t for t in ends if lo < t < hi]
         for i, t in enumerate(ts):
             uv, nrm, _ = _frame(e, float(t))
             if nrm is None:
                 continue
             at.append(uv)
             along.append(nrm)
-            end.append(i >= n)
+            end.append(i >= m)
     if not at:
         return np.zeros((0, 3))
     uv, step, near_end = np.array(at), np.array(along), np.array(end, bool)
@@ -139,4 +141,4 @@ def edge_rows(views: list, n: int, offset: float, inside: Callable) -> np.ndarra
     return np.array([surface(float(u), float(v)) for u, v in cand], float).reshape(-1, 3)
 
 
-__all__ = ["EdgeView", "edge_offsets", "edge_rows", "off_edge_points", "OFF_EDGE", "RELATIVE", "ROWS", "DENSER"]
+__all__ = ["EdgeView", "edge_offsets", "edge_rows", "off_edge_points", "OFF_EDGE", "RELATIVE", "ROWS", "DENSE"]

@@ -53,7 +53,7 @@ def test_an_edge_bowed_into_the_face_in_its_surface_lies_on_the_face():
 
 def test_an_edge_that_leaves_its_surface_at_one_spot_is_found_by_the_measure():
     """The first edge's 3D curve leaves the plane by OFF in a bell 1 % of its length wide at its middle, between
-    the measure's 12 samples along it (at 5/11 and 6/11 of it): the edge is sampled 8 times as densely where it
+    the measure's 12 samples along it (at 5/11 and 6/11 of it): the edge is sampled at 96 points where it
     lies off its surface, so the measure finds most of the spike from the plane (Part Ruled between the two
     edges beside it).  The fit's patch follows the spike (a bump decaying across the face), its bound covers
     the whole spike."""

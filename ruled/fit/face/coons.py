@@ -236,10 +236,11 @@ class CoonsMap:
             u, v = self.omega(S, s, t)
             B.append(S(u, v) + self.offset(s, t, corners))
         E = [c(np.linspace(c.domain[0], c.domain[1], n)) for c in curves]
+        tb, te = [(L, cKDTree(L)) for L in B], [(L, cKDTree(L)) for L in E]
 
         def near(A, lines):         # per point of A, its distance to the nearest of the polylines
-            return np.min([np.linalg.norm(to_polyline(A, L, cKDTree(L)) - A, axis=1) for L in lines], axis=0)
-        return max(max(float(near(X, B).max()) for X in E), max(float(near(P, E).max()) for P in B))
+            return np.min([np.linalg.norm(to_polyline(A, L, tree) - A, axis=1) for L, tree in lines], axis=0)
+        return max(max(float(near(X, tb).max()) for X in E), max(float(near(P, te).max()) for P in B))
 
     def jacobian_signs(self, n: int = 48) -> np.ndarray:
         """det(d Omega / d(s, t)) at the centres of an n x n grid (scaled by the domain's size)."""
