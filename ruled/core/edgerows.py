@@ -17,10 +17,10 @@ from typing import Callable
 
 import numpy as np
 
-ROWS = (0.5, 0.25, 0.125)   # the rows' distances inward, as fractions of the other face's edges' offset
+ROWS = (0.5, 0.25)          # the rows' distances inward, as fractions of the other face's edges' offset
 PER_EDGE = 129              # samples of an edge's pcurve image (the polyline its 3D points are measured to)
 LOOKED = 33                 # ... and of its 3D curve
-DENSE = 96                  # an edge off its surface: sampled at this many points (at least the measure's n)
+DENSE = 64                  # an edge off its surface: sampled at this many points (at least the measure's n)
 OFF_EDGE = 1e-7             # edges off their surface by less than this (OCCT's confusion tolerance): none of it
 RELATIVE = 1e-6             # ... or by less than this fraction of the face's size
 FD = 1e-6                   # the finite-difference step, a fraction of the parameter ranges

@@ -52,12 +52,12 @@ def test_an_edge_bowed_into_the_face_in_its_surface_lies_on_the_face():
 
 
 def test_an_edge_that_leaves_its_surface_at_one_spot_is_found_by_the_measure():
-    """The first edge's 3D curve leaves the plane by OFF in a bell 1 % of its length wide at its middle, between
-    the measure's 12 samples along it (at 5/11 and 6/11 of it): the edge is sampled at 96 points where it
+    """The first edge's 3D curve leaves the plane by OFF in a bell 2 % of its length wide at its middle, between
+    the measure's 12 samples along it (at 5/11 and 6/11 of it): the edge is sampled at 64 points where it
     lies off its surface, so the measure finds most of the spike from the plane (Part Ruled between the two
     edges beside it).  The fit's patch follows the spike (a bump decaying across the face), its bound covers
     the whole spike."""
-    face = sloppy_face(OFF, "up", spike=0.01)
+    face = sloppy_face(OFF, "up", spike=0.02)
     plane = part_ruled(face, [1], [3])[1]                      # (the plane itself: the bell is in edge 0)
     assert 0.7 * OFF <= measure(face, plane, 12) <= 1.01 * OFF
     fit = _fit(face)
@@ -68,18 +68,18 @@ def test_an_edge_that_leaves_its_surface_at_one_spot_is_found_by_the_measure():
 def test_the_extra_samples_are_the_bowed_edges_and_rows_inward_of_the_sides(way):
     """ruled.core.edgerows on the flat face's edges (OCCT's evaluation, as the workbench's is Part's): only the
     bowed edge is off its surface, by OFF (to 5 %: the bell's sampled top), and the rows lie on the plane,
-    inside the square, OFF / 2, OFF / 4 and OFF / 8 from its sides."""
+    inside the square, OFF / 2 and OFF / 4 from its sides."""
     from ruled.core.edgerows import edge_offsets, edge_rows
     from ruled.occ.edgerows import edge_views
     from ruled.occ.measure import _Projector
-    face = sloppy_face(OFF, way, spike=0.01 if way == "up" else 0.0)
+    face = sloppy_face(OFF, way, spike=0.02 if way == "up" else 0.0)
     views = edge_views(face)
     offs = edge_offsets(views)
     assert offs[0] == pytest.approx(OFF, rel=0.05) and max(offs[1:]) == 0.0
     rows = edge_rows(views, 12, OFF, _Projector(face).inside.points)
-    # rows inward of each edge: on the plane, inside the square, at OFF/2, OFF/4, OFF/8 from the sides
+    # rows inward of each edge: on the plane, inside the square, at OFF/2 and OFF/4 from the sides
     assert len(rows) and np.all(np.abs(rows[:, 2]) <= 1e-12)
     assert np.all((rows[:, :2] >= -1e-9) & (rows[:, :2] <= 10 + 1e-9))
     side = np.min(np.concatenate([rows[:, :2], 10 - rows[:, :2]], axis=1), axis=1)
     frac = side[side > 1e-9] / OFF
-    assert np.all(np.min(np.abs(frac[:, None] - np.array([0.5, 0.25, 0.125])[None]), axis=1) <= 2e-3), frac
+    assert np.all(np.min(np.abs(frac[:, None] - np.array([0.5, 0.25])[None]), axis=1) <= 2e-3), frac

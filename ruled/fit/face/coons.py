@@ -145,7 +145,7 @@ class CoonsMap:
             best = None
             for g in (chosen[i], a, b):
                 trial = tuple(chosen[:i]) + (g,) + tuple(chosen[i + 1:])
-                miss = self.boundary_miss(513, trial)
+                miss = self.boundary_miss(257, trial)
                 if best is None or miss < best[0]:
                     best = (miss, g)
             chosen[i] = best[1]
@@ -236,11 +236,13 @@ class CoonsMap:
             u, v = self.omega(S, s, t)
             B.append(S(u, v) + self.offset(s, t, corners))
         E = [c(np.linspace(c.domain[0], c.domain[1], n)) for c in curves]
-        tb, te = [(L, cKDTree(L)) for L in B], [(L, cKDTree(L)) for L in E]
-
-        def near(A, lines):         # per point of A, its distance to the nearest of the polylines
-            return np.min([np.linalg.norm(to_polyline(A, L, tree) - A, axis=1) for L, tree in lines], axis=0)
-        return max(max(float(near(X, tb).max()) for X in E), max(float(near(P, te).max()) for P in B))
+        # the sides in turn are one closed polyline (each ends where the next starts); the edges are kept apart
+        # (a file's edges need not meet: no segment may bridge them)
+        loop = np.concatenate(B)
+        tl = cKDTree(loop)
+        out = max(float(np.linalg.norm(to_polyline(X, loop, tl) - X, axis=1).max()) for X in E)
+        near = np.min([np.linalg.norm(to_polyline(loop, X, cKDTree(X)) - loop, axis=1) for X in E], axis=0)
+        return max(out, float(near.max()))
 
     def jacobian_signs(self, n: int = 48) -> np.ndarray:
         """det(d Omega / d(s, t)) at the centres of an n x n grid (scaled by the domain's size)."""
