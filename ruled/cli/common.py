@@ -88,3 +88,15 @@ def print_files_only(others) -> None:
     for k, v in others:
         if v:
             print(f"{k}: {' ' * (6 - len(k))}{os.path.abspath(v)}")
+
+
+def rails_text(rg: dict) -> str:
+    """Where a face's rulings run, in words, from its region report: between which of its edges (the rails),
+    or, for a closed face folded onto one ruled surface (ruled.fit.face.fold), between its fold lines."""
+    if rg.get("fold"):
+        f = rg["fold"]
+        return (f"across the closed face, between its fold lines {f['axis']} = {f['lines'][0]:.4g} and "
+                f"{f['lines'][1]:.4g} (both its sides folded onto one ruled surface)")
+    return (f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and "
+            f"{','.join(map(str, rg['rails'][1])) or 'a point'}")
+

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 
-from ruled.cli.common import check_measure_samples, cli_text, print_files_only, with_bar
+from ruled.cli.common import check_measure_samples, cli_text, print_files_only, rails_text, with_bar
 from ruled.cli.split import cmd_partition
 from ruled.core.errors import RuledError, positive
 
@@ -72,9 +72,10 @@ def _summary(rep: dict, output: str, report=None, plot=None) -> None:
                  "result is trimmed by its edges)")
     elif rep.get("trim"):
         where = "crossing the face's end edges (the rails run past the face; the result is trimmed by its edges)"
+    elif rg is not None and rg.get("fold"):
+        where = rails_text(rg)
     elif rg is not None and rg["trimmed"]:
-        where = f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and " \
-                f"{','.join(map(str, rg['rails'][1])) or 'a point'} of the trimmed face"
+        where = f"{rails_text(rg)} of the trimmed face"
     print(f"face {rep['face']}: rulings {where}{' (closed)' if rep['closed'] else ''}, "
           f"{len(rep['pairs'])} DP rulings, result {rep['result']['poles'][0]}x{rep['result']['poles'][1]} poles "
           f"degree {rep['result']['degree'][0]}x{rep['result']['degree'][1]}")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 
 from ruled import __version__
-from ruled.cli.common import check_measure_samples, check_outputs, cli_text, print_files_only, with_bar
+from ruled.cli.common import check_measure_samples, check_outputs, cli_text, print_files_only, rails_text, with_bar
 from ruled.core.errors import RuledError
 
 
@@ -133,9 +133,7 @@ def cmd_machine(args) -> int:
         print(f"face {rep['face']}: a ruled result, rulings along {f['direction']}")
     else:
         rg = f.get("region")
-        where = (f"between edges {','.join(map(str, rg['rails'][0])) or 'a point'} and "
-                 f"{','.join(map(str, rg['rails'][1])) or 'a point'}" if rg and rg["trimmed"]
-                 else f"along {f['direction']}")
+        where = rails_text(rg) if rg and rg["trimmed"] else f"along {f['direction']}"
         if m.get("trimmed"):
             where += " (they cross the face's end edges: the result is trimmed by its edges)"
         print(f"face {rep['face']}: ruled fit bound {f['error_bound']:.6g}{meas}, rulings {where}")

@@ -79,6 +79,8 @@ def region_report(res: FitResult) -> dict:
          "hole_span": p.hole_span, "patch_spans": list(p.spans), "face_size": p.face_size}
     if p.sides is not None:
         d["sides"] = [list(p.sides.edges(i)) for i in range(4)]
+    if p.fold is not None:
+        d["fold"] = {"axis": "uv"[p.fold[0]], "lines": [p.fold[1], p.fold[2]]}
     return d
 
 

@@ -189,6 +189,12 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
                                       f"within its size, {size:.4g})")
     if res is None:
         raise why
+    if rails is None and res.error_bound > EXACT * size:
+        # a face closed in one direction: both its sides folded onto one ruled surface (ruled.fit.face.fold)
+        from ruled.fit.face.fold import fit_folded
+        folded = fit_folded(region, size, opts, progress, res.error_bound - _lead(region, res))
+        if folded is not None:
+            return folded
     return res
 
 

@@ -43,6 +43,7 @@ class FacePatch:
     skew: Optional[float] = None       # a parallelogram along the face's straightest direction (its angle, degrees)
     plane: bool = False                # a rectangle of the plane of a planar face (ruled.fit.face.plane)
     inscribed: bool = False            # the surface's whole rectangle for a face inscribed in it (face.inscribed)
+    fold: Optional[tuple] = None       # a closed face folded onto its mid-surface (face.fold): (axis, a, b)
 
     @property
     def trimmed(self) -> bool:
@@ -50,6 +51,8 @@ class FacePatch:
 
     def rails(self, direction: str) -> tuple:
         """The loop edges of the two rails of the fit along direction ('u' or 'v' of the patch)."""
+        if self.fold is not None:         # (the rails are the fold lines, inside the face: no loop edge)
+            return (), ()
         if self.box or self.skew is not None or self.plane:   # the loop edges on the patch's rails (t = 0 and 1)
             on = [(float(st[:, 1].max()) <= 1e-4, float(st[:, 1].min()) >= 1.0 - 1e-4)
                   for st in getattr(self.mask, "edges")]
@@ -74,6 +77,9 @@ class FacePatch:
                     "trimmed by the face's edges")
         if self.trimmed:
             return f"rails past the face ({self.sides.how}), trimmed by the face's edges"
+        if self.fold is not None:
+            return (f"closed across {'uv'[self.fold[0]]}: both sides folded onto one ruled surface through its "
+                    f"middle, its rails on the fold lines")
         if self.inscribed:
             return "its surface's whole (u, v) rectangle, untrimmed, the face inscribed in it"
         return "the face is its surface's whole (u, v) rectangle" if self.identity else self.sides.how

@@ -49,8 +49,9 @@ def loose_bound(res: FitResult, bound: float, measured: float, size: float) -> O
 
 
 def area_ratio(res: FitResult, face_area: float, result_area: Optional[float] = None) -> Optional[float]:
-    """The result's area over the face's (None for a face with holes, which its result spans, and for one
-    inscribed in the surface's rectangle its result is, ruled.fit.face.inscribed): both
+    """The result's area over the face's (None for a face with holes, which its result spans, for one
+    inscribed in the surface's rectangle its result is, ruled.fit.face.inscribed, and for a closed face folded
+    onto one ruled surface, ruled.fit.face.fold, which its two sides share): both
     integrated span by span (ruled.fit.fit2d.span_area), the face's from its surface when it is its
     surface's whole rectangle, else face_area (the CAD kernel's, adaptive).  A trimmed result's area is
     result_area (the CAD kernel's, of the trimmed face), its holes left out like the face's."""
@@ -58,7 +59,7 @@ def area_ratio(res: FitResult, face_area: float, result_area: Optional[float] = 
     p = res.patch
     if res.best.trim is not None:
         return result_area / face_area if result_area is not None and face_area > 0 else None
-    if p is not None and (p.region.holes or p.inscribed):
+    if p is not None and (p.region.holes or p.inscribed or p.fold is not None):
         return None
     a = span_area(p.surface) if p is not None and p.identity else face_area
     return span_area(res.surface) / a if a > 0 else None
