@@ -10,34 +10,21 @@ FreeCAD's command line, the script first:
 
 import os
 import sys
-import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from freecad_bench import cold_cache, finish, impeller_document  # noqa: E402
+
 TARGET_S = 30.0
-# a cold cache: set before the workbench (and numba) load; RULED_BENCH_WARM=1 keeps the usual one
-if not os.environ.get("RULED_BENCH_WARM"):
-    os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="ruled-bench-numba-")
-
-
-def _load_workbench():
-    """The workbench as FreeCAD loads an installed addon: its Init.py, with the repository on sys.path."""
-    sys.path.insert(0, ROOT)
-    with open(os.path.join(ROOT, "Init.py")) as fh:
-        exec(compile(fh.read(), "Init.py", "exec"), {})
+cold_cache()
 
 
 def main() -> int:
-    _load_workbench()
-    import FreeCAD
-    import Part
+    doc, src = impeller_document()
     from ruled_workbench.features import make_ruled_split
 
     from ruled import warm
     from ruled.core import jit
-    doc = FreeCAD.newDocument("Bench")
-    src = doc.addObject("Part::Feature", "Src")
-    src.Shape = Part.read(os.path.join(ROOT, "tests", "data", "kj66_impeller.step"))
     cold = warm.cold("split")
     said = f"says 'first use: preparing the fast kernels, once (about {warm.seconds(cold)} s)'" if cold else \
         "finds the kernels compiled"
@@ -57,13 +44,6 @@ def main() -> int:
     return 0 if sp.isValid() else 1
 
 
-# freecadcmd runs the file under its own module name: no __main__ guard (and os._exit, since freecadcmd
-# exits 0 whatever a script raises)
-_code = 1
-try:
-    _code = main()
-except Exception:
-    import traceback
-    traceback.print_exc()
-sys.stdout.flush()
-os._exit(_code)
+
+# (freecadcmd runs the file under its own module name: no __main__ guard)
+finish(main)

@@ -43,8 +43,45 @@ def cold(capability: str) -> list:
     return [m for m in NEEDS.get(capability, ()) if not _cached(m)]
 
 
+def _measured_path() -> str:
+    """Where the kernels' measured compile times are kept: numba's cache folder (NUMBA_CACHE_DIR when set),
+    else the package's own __pycache__, beside the kernels they time."""
+    import numba
+    folder = getattr(numba.config, "CACHE_DIR", "") or os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                                     "__pycache__")
+    return os.path.join(folder, "ruled-kernel-seconds.json")
+
+
+def _measured() -> dict:
+    import json
+    try:
+        with open(_measured_path()) as fh:
+            got = json.load(fh)
+        return {k: float(v) for k, v in got.items() if isinstance(v, (int, float)) and v > 0}
+    except (OSError, ValueError, ImportError):
+        return {}
+
+
+def _module_seconds(m: str) -> float:
+    """A module's compile time: as measured the last time it compiled here (kept in the cache), else
+    SECONDS's estimate."""
+    return _measured().get(m, SECONDS.get(m, 20))
+
+
 def seconds(modules) -> int:
-    return int(sum(SECONDS.get(m, 20) for m in modules))
+    return int(round(sum(_module_seconds(m) for m in modules)))
+
+
+def _keep(measured: dict) -> None:
+    """The compile times just measured, kept for the next first use (a cache cleared, another numba)."""
+    import json
+    got = {**_measured(), **measured}
+    try:
+        os.makedirs(os.path.dirname(_measured_path()), exist_ok=True)
+        with open(_measured_path(), "w") as fh:
+            json.dump(got, fh)
+    except OSError:         # (a read-only installation: the estimates stay SECONDS's)
+        pass
 
 
 def _job(module: str) -> None:
@@ -64,14 +101,26 @@ def _job(module: str) -> None:
 
 
 def warm(modules, progress=None) -> None:
-    """Compile the modules' kernels, reporting progress(stage, fraction) by their expected seconds."""
-    total, done = max(seconds(modules), 1), 0
+    """Compile the modules' kernels, reporting progress(stage, fraction) by their expected seconds (and, where
+    progress has ``expect``, the whole stage's expected time, so that its display moves while a module compiles);
+    each module's compile timed and kept (_keep) for the next estimate."""
+    import time
+    expect = {m: _module_seconds(m) for m in modules}
+    total, done = max(sum(expect.values()), 1e-9), 0.0
     stage = f"first use: preparing the fast kernels, once (about {seconds(modules)} s)"
+    if progress is not None:
+        progress(stage, 0.0)
+        if hasattr(progress, "expect"):
+            progress.expect(total)
+    took = {}
     for m in modules:
         if progress is not None:
             progress(stage, done / total)
+        t0 = time.perf_counter()
         _job(m)
-        done += SECONDS.get(m, 20)
+        took[m] = time.perf_counter() - t0
+        done += expect[m]
+    _keep(took)
     if progress is not None:
         progress(stage, 1.0)
 

@@ -68,14 +68,14 @@ class BusyFilter(QtCore.QObject):
 
 
 class StatusDisplay:
-    """The computation's progress in FreeCAD's status bar: a bar (0-1000) and the stage, while the filter
+    """The computation's progress in FreeCAD's status bar: a bar (0-100) and the stage, while the filter
     holds the input that must wait."""
 
     def __init__(self, text: str):
         self.text = text
         self.mw = FreeCADGui.getMainWindow()
         self.bar = QtGui.QProgressBar()
-        self.bar.setRange(0, 1000)
+        self.bar.setRange(0, 100)
         self.bar.setFixedWidth(160)
         self.bar.setToolTip("Ruled is computing; Esc or the panel's Cancel stops it")
         self.mw.statusBar().addPermanentWidget(self.bar)
@@ -85,9 +85,10 @@ class StatusDisplay:
         QtGui.QApplication.setOverrideCursor(QtCore.Qt.BusyCursor)
         self.mw.statusBar().showMessage(f"{text} (Esc stops)")
 
-    def show(self, stage: str, overall: float, frac: float) -> None:
-        self.bar.setValue(int(round(1000 * overall)))
-        self.mw.statusBar().showMessage(f"{self.text}: {stage} {int(round(100 * frac))} % (Esc stops)")
+    def show(self, stage: str, pct: int) -> None:
+        """The whole computation's percentage (workbench.progress._Progress.percent), the same the panel shows."""
+        self.bar.setValue(pct)
+        self.mw.statusBar().showMessage(f"{self.text}: {stage}, {pct} % (Esc stops)")
 
     def close(self) -> None:
         QtGui.QApplication.instance().removeEventFilter(self.filter)

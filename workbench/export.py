@@ -174,7 +174,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
 
     from .adapter import face_region, face_to_arrays, surface_to_arrays, surface_to_face
     from .features import value
-    from .measure import distances, face_points, trimmed
+    from .measure import face_points, screened_distances, trimmed
     if len(objects) == 1 and type(getattr(objects[0], "Proxy", None)).__name__ == "RuledWall":
         if str(axis) != "auto":
             raise BadInputError("a wall's machine axis is the normal of its contours: leave the machine axis empty "
@@ -226,8 +226,10 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
             if kerf:     # the offset of the bounded face: the offset surface cut by the face's own wire offset
                 target = src.makeOffsetShape(out_side * kerf, 1e-6).Faces[0]
             n = measure_samples
-            to_cut = distances(face_points(target, n), surface_to_face(swept_surface(mp))).max()
-            to_design = distances(cut_points(mp, 3 * n * n, 11 if keep is None else 41, keep=keep), target).max()
+            # (the largest only: screened, exact where it can be the largest)
+            to_cut = screened_distances(face_points(target, n), surface_to_face(swept_surface(mp))).max()
+            to_design = screened_distances(cut_points(mp, 3 * n * n, 11 if keep is None else 41, keep=keep),
+                                           target).max()
             rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
                           "cut_to_design": float(to_design),
                           "fit_bound": fit_figures["error_bound"],

@@ -190,6 +190,11 @@ class ExportTaskPanel:
         row.addWidget(browse)
         lay.addRow("File", row)
         self.widgets = settings_rows(lay)
+        self.write_button = QtGui.QPushButton("Write")
+        self.write_button.setToolTip("write the file with these settings and show the cut's figures here (the panel "
+                                     "stays open; OK writes and closes)")
+        self.write_button.clicked.connect(self.write)
+        lay.addRow(self.write_button)
         self.result = QtGui.QLabel("")
         self.result.setWordWrap(True)
         lay.addRow(self.result)
@@ -214,14 +219,27 @@ class ExportTaskPanel:
     def _suffix(self) -> str:
         return {"xyuv": ".ngc", "flank": ".apt"}.get(self.kind(), ".step")
 
+    following = False
+
     def _format_changed(self, *_):
-        """Only the settings of the chosen format are enabled; the file's extension follows the format."""
+        """Only the settings of the chosen format are enabled; the file's extension follows the format (unless the
+        format is following the file's extension, write)."""
         kind = self.kind()
         for name, _k, _d, formats, *_ in SETTINGS:
             self.widgets[name].setEnabled(kind in formats)
         base, ext = os.path.splitext(self.path.text())
-        if base and ext.lower() in (".ngc", ".nc", ".apt", ".cls", ".step", ".stp", ""):
+        if base and not self.following and ext.lower() in (".ngc", ".nc", ".apt", ".cls", ".step", ".stp", ""):
             self.path.setText(base + self._suffix())
+
+    @staticmethod
+    def _kind_of(path: str, chosen: str) -> str:
+        """The format a file's extension names (.ngc/.nc: XYUV, .apt/.cls: flank, .step/.stp: STEP), else the
+        chosen one (either STEP for a STEP file)."""
+        ext = os.path.splitext(path)[1].lower()
+        named = {".ngc": "xyuv", ".nc": "xyuv", ".apt": "flank", ".cls": "flank"}.get(ext)
+        if ext in (".step", ".stp"):
+            return chosen if chosen.startswith("step") else "step"
+        return named or chosen
 
     def _browse(self):
         from .export import FORMATS
@@ -247,7 +265,16 @@ class ExportTaskPanel:
         if not path or not os.path.isdir(os.path.dirname(os.path.abspath(path))):
             self.result.setText(f"Cannot write {path or 'nothing'}: choose a file in an existing folder")
             return False
-        kind = v["Format"]
+        kind, said = self._kind_of(path, v["Format"]), ""
+        if kind != v["Format"]:
+            # the file's extension names another format (wall.ngc with STEP chosen): the format follows it
+            from .export import FORMATS
+            self.following = True
+            self.format.setCurrentIndex(self.kinds.index(kind))
+            self.following = False
+            v = self.values()
+            said = (f"The format follows the file's extension {os.path.splitext(path)[1]}: "
+                    f"{[k for k, x in FORMATS.items() if x == kind][0].split(' (')[0]}. ")
         try:
             params = machine_params(v, kind)
             if kind in MACHINE and v["CamStep"]:
@@ -261,7 +288,9 @@ class ExportTaskPanel:
             return False
         save_settings(v)
         self.written = path
-        FreeCAD.Console.PrintMessage(f"Ruled: wrote {path}\n")
+        figures = said + wrote_text(path, rep)
+        FreeCAD.Console.PrintMessage(f"Ruled: {figures}\n")
+        self.result.setText(figures)
         self.fallback = bool(rep and rep.get("fallback"))
         if self.fallback:       # the path does not follow the fit shown: said here, not only in the report view
             self.result.setText(f"Wrote {os.path.basename(path)}, but {in_our_terms(rep['warnings'][0])}. Close the "
@@ -287,6 +316,22 @@ class ExportTaskPanel:
 
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+
+def wrote_text(path: str, rep) -> str:
+    """What the panel and the report view say after writing: the file, and the cut's figures where the export
+    measured them (XYUV: what the wire sweeps against the face, within its bound; flank: the tool's over- and
+    undercut at its positions), in the document's unit (workbench.units)."""
+    from .units import length
+    out = f"Wrote {os.path.basename(path)}"
+    rep = rep or {}
+    cut, env = rep.get("cut"), (rep.get("tool_envelope") or {}).get("cl_positions")
+    if cut:
+        out += (f": the cut measured {length(cut['max'])} from the face, within its bound {length(cut['bound'])} "
+                f"(the fit's {length(rep.get('fit', {}).get('error_bound', 0.0))})")
+    elif env:
+        out += f": the tool's overcut {length(env['overcut'])}, undercut {length(env['undercut'])} at its positions"
+    return out + "."
 
 
 # the defaults of new fits (Edit > Preferences > Ruled), read by features.fit_defaults

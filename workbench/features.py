@@ -19,6 +19,7 @@ import time
 
 import FreeCAD
 
+from .measure import measure_into  # noqa: F401  (objects and walls import it from here)
 from .progress import _Progress
 from .state import LISTENERS, RUNNING, request_cancel  # noqa: F401  (the workbench's names for them)
 
@@ -157,19 +158,6 @@ def add_results(obj, what: str) -> None:
     _add(obj, "App::PropertyString", "Status", RESULT_GROUP, "ok, or what went wrong", "", True)
 
 
-def measure_into(obj, results: list, design, progress=None, parts=None) -> None:
-    """Measure the result faces against the design face into obj.Hausdorff and obj.Deviation (skipped,
-    0 and empty, when obj.MeasureSamples < 2); parts: the results' smooth parts (faces) to measure the
-    design's points against, where a result has creases."""
-    from .measure import hausdorff
-    n = int(obj.MeasureSamples)
-    if n < 2 or not results:
-        obj.Hausdorff, obj.Deviation = 0.0, []
-        return
-    h = hausdorff(results, design, n, progress, parts)
-    obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)
-
-
 def ruling_lines(fits) -> list:
     """The DP rulings of the fits (FitResult) as end points, two per ruling."""
     return [FreeCAD.Vector(*map(float, p)) for f in fits for p in f.best.rulings.reshape(-1, 3)]
@@ -221,7 +209,7 @@ class _Feature:
         return face, opts, face_to_arrays(face), _Progress(f"Ruled: {verb} {obj.Label}", capability=self.capability)
 
     def execute(self, obj):
-        from ruled.core.errors import RuledError
+        from ruled.core.errors import CancelledError, RuledError
         _RESTORER.restore()      # (the report's error output, off while FreeCAD reported an earlier refusal)
         t0 = time.perf_counter()
         RUNNING.append(obj.Name)
@@ -231,7 +219,9 @@ class _Feature:
         except RuledError as exc:
             obj.Status = in_our_terms(exc)
             obj.Seconds = time.perf_counter() - t0
-            FreeCAD.Console.PrintError(f"{obj.Label}: {obj.Status}\n")
+            # the user's own cancel is no error: said as a message, not in the report's red
+            say = FreeCAD.Console.PrintMessage if isinstance(exc, CancelledError) else FreeCAD.Console.PrintError
+            say(f"{obj.Label}: {obj.Status}\n")
             _quiet_traceback()
             raise RuntimeError(obj.Status) from None        # FreeCAD marks the object invalid with this message
         finally:

@@ -96,6 +96,69 @@ def distances(points: np.ndarray, face, progress=None) -> np.ndarray:
     return out
 
 
+SEEDS = 48      # a face's grid of seeds for the quick projections, per direction
+EXACT_CAP = 400     # at most this many points measured exactly per call (the command line's measure's cap)
+
+
+def upper_distances(points: np.ndarray, face) -> np.ndarray:
+    """Each point's distance to a point of the bounded face, at least the distance to the face and, where the
+    point's foot lies inside it, equal to it: the engine's projection onto each face's B-spline surface (from
+    the nearest of a grid of seeds) where the foot is inside the face (its classifier), else the nearest of the
+    face's edge samples (points of the face too).  Part's surfaces evaluate the points kept."""
+    from scipy.spatial import cKDTree
+
+    from ruled.core.distance import project_points
+
+    from .arrays import surface_to_arrays
+    X = np.asarray(points, float).reshape(-1, 3)
+    best = np.full(len(X), np.inf)
+    edge = _edge_points(face, 64)
+    if len(edge):
+        best = np.minimum(best, cKDTree(edge).query(X)[0])
+    for f in face.Faces:
+        if not isinstance(f.Surface, Part.BSplineSurface):
+            try:                # (a plane, a cylinder: its B-spline form, points of the same face)
+                f = f.toNurbs().Faces[0]
+            except Exception:   # (Part raises its own types; the exact pass measures such a face)
+                continue
+        s = f.Surface
+        S = surface_to_arrays(s)
+        u0, u1, v0, v1 = face_bounds(f)
+        us, vs = np.linspace(u0, u1, SEEDS), np.linspace(v0, v1, SEEDS)
+        UU, VV = np.meshgrid(us, vs, indexing="ij")
+        seeds = np.stack([UU.ravel(), VV.ravel()], axis=1)
+        k = cKDTree(S(seeds[:, 0], seeds[:, 1])).query(X)[1]
+        uv, _ = project_points(S, X, seeds[k], 8)
+        inside = (uv[:, 0] >= u0) & (uv[:, 0] <= u1) & (uv[:, 1] >= v0) & (uv[:, 1] <= v1)
+        inside[inside] = classifier(f).points(uv[inside])
+        for i in np.nonzero(inside)[0]:         # (Part's point, not the engine's: a point of the face)
+            p = s.value(float(uv[i, 0]), float(uv[i, 1]))
+            best[i] = min(best[i], float(np.linalg.norm(np.array((p.x, p.y, p.z)) - X[i])))
+    return best
+
+
+def screened_distances(points: np.ndarray, face, progress=None) -> np.ndarray:
+    """Each point's distance to the bounded face (distances' figure wherever a point can hold the largest):
+    every point's upper_distances, then distances in decreasing order of them while one exceeds the largest
+    exact distance found (at most EXACT_CAP: beyond, the upper values stand, which can only raise the largest).
+    The largest is distances' own largest over all the points, with a few exact searches instead of one a
+    point (the command line's measure screens alike, ruled.occ.measure.screened)."""
+    X = np.asarray(points, float).reshape(-1, 3)
+    if progress is not None:
+        progress(0.0)
+    d = upper_distances(X, face)
+    top = 0.0
+    order = np.argsort(-d, kind="stable")[:EXACT_CAP]
+    for n, i in enumerate(order):
+        if d[i] <= top:
+            break
+        d[i] = min(d[i], float(distances(X[i:i + 1], face)[0]))
+        top = max(top, d[i])
+        if progress is not None and n % 16 == 0:
+            progress(min(1.0, n / max(len(order), 1)))
+    return d
+
+
 def edge_views(face) -> list:
     """The face's edges with a pcurve, as the measures' EdgeViews (ruled.core.edgerows; Part's evaluation, as
     the command line's OCCT one)."""
@@ -156,10 +219,10 @@ def _result_side(f, design, n: int, progress) -> tuple:
     or for a trimmed result m x m, about n x n inside its edges, and values outside from the nearest inside;
     the distances measured: inside its edges and along them for a trimmed result)."""
     if not trimmed(f):
-        d = distances(grid(f, n), design, progress)
+        d = screened_distances(grid(f, n), design, progress)
         return d, d
     m, keep, pts = _inside(f, n)
-    d = distances(np.concatenate([pts, _edge_points(f, n)]), design, progress)
+    d = screened_distances(np.concatenate([pts, _edge_points(f, n)]), design, progress)
     full = np.zeros(m * m)
     full[keep] = d[:len(pts)]
     return _filled(full, keep, m), d
@@ -182,13 +245,25 @@ def hausdorff(results: list, design, n: int = 24, progress=None, parts=None) -> 
         dab.append(d)
         rows = _extra(f, n, g_design)
         if len(rows):
-            dab.append(distances(rows, design))
+            dab.append(screened_distances(rows, design))
         done += n * n
     dab = np.concatenate(dab) if dab else np.zeros(0)
     pb = np.concatenate([np.concatenate([face_points(f, n), _extra(f, n, g_results)])
                          for f in design.Faces])      # (a face, or a wall's faces)
-    dba = distances(pb, Part.Compound(parts or results),
+    dba = screened_distances(pb, Part.Compound(parts or results),
                     None if progress is None else (lambda x: progress(0.5 + 0.5 * x)))
     alld = np.concatenate([dab, dba])
     return Hausdorff(float(alld.max()), float(alld.mean()), float(dab.max()), float(dba.max()), int(alld.size),
                      tuple(np.concatenate(colours)) if colours else ())
+
+
+def measure_into(obj, results: list, design, progress=None, parts=None) -> None:
+    """Measure the result faces against the design face into obj.Hausdorff and obj.Deviation (skipped,
+    0 and empty, when obj.MeasureSamples < 2); parts: the results' smooth parts (faces) to measure the
+    design's points against, where a result has creases."""
+    n = int(obj.MeasureSamples)
+    if n < 2 or not results:
+        obj.Hausdorff, obj.Deviation = 0.0, []
+        return
+    h = hausdorff(results, design, n, progress, parts)
+    obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)

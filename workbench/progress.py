@@ -28,6 +28,9 @@ class _Progress:
         state.CANCEL[0] = False
         self.text, self.stage, self.frac, self.steps = text, None, 0.0, steps
         self.stages = -1
+        self.shown = 0                      # the percentage shown last (it never goes back)
+        self.started = time.perf_counter()  # when the current stage started ...
+        self.expected = None                # ... and how long it takes, where known (the first-use stage)
         self.cancelled = False
         self.main = threading.get_ident()
         self.pumped = 0.0
@@ -47,6 +50,7 @@ class _Progress:
         if stage != self.stage:
             self.stage = stage
             self.stages += 1
+            self.started, self.expected = time.perf_counter(), None
         self.frac = frac
         if state.CANCEL[0] or self.cancelled:
             self.cancelled = True
@@ -54,10 +58,27 @@ class _Progress:
         if threading.get_ident() == self.main:      # (a worker only records it: the main thread shows it)
             self.show()
 
+    def expect(self, seconds: float) -> None:
+        """The current stage takes about this long (the kernels' first compile: ruled.warm): its fraction moves
+        with the time while its one long step runs."""
+        self.started, self.expected = time.perf_counter(), float(seconds)
+
+    def percent(self) -> int:
+        """The whole computation's percentage, one figure for every display (the panel's bar, the status bar's
+        text and its bar): each stage a share, the current one's fraction (or its time against what it is
+        expected to take), never going back, 99 at most until it ends."""
+        frac = self.frac
+        if self.expected:
+            frac = max(frac, min(0.99, (time.perf_counter() - self.started) / self.expected))
+        overall = (max(self.stages, 0) + frac) / max(self.STAGES, self.stages + 1)
+        self.shown = max(self.shown, min(99, int(100 * overall)))
+        return self.shown
+
     def show(self) -> None:
         """The progress on the bars; in the GUI, pending events processed (at most every PUMP seconds)."""
         from ruled.core.errors import CancelledError
-        overall = (self.stages + self.frac) / max(self.STAGES, self.stages + 1)
+        pct = self.percent()
+        overall = pct / 100.0
         if self.bar is not None:
             want = int(overall * self.steps * 0.999)
             while self.done < want:
@@ -70,9 +91,10 @@ class _Progress:
         if time.perf_counter() - self.pumped > self.PUMP:
             self.pumped = time.perf_counter()
             if self.stage is not None:
-                self.display.show(self.stage, overall, self.frac)
+                self.display.show(self.stage, pct)
                 for listener in state.LISTENERS:
-                    listener(self.stage, self.frac)
+                    listener(self.stage, overall)
+                state.SHOWN[:] = [self.stage, pct]
             from PySide import QtGui
             QtGui.QApplication.processEvents()
         if state.CANCEL[0]:
@@ -111,6 +133,7 @@ class _Progress:
         if todo:
             FreeCAD.Console.PrintMessage(f"Ruled: first use: preparing the fast kernels, once (about "
                                          f"{warm.seconds(todo)} s; later runs load them)\n")
+            self.expected = None
             self.run(warm.warm, todo, self)
 
     def stop(self) -> None:

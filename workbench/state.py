@@ -6,7 +6,8 @@ state import this; none of them imports a panel."""
 
 from __future__ import annotations
 
-LISTENERS: list = []     # callables (stage, fraction): a task panel's progress display
+LISTENERS: list = []     # callables (stage, fraction of the whole computation): a task panel's progress display
+SHOWN: list = []         # the stage and percentage shown last (every display shows the same: scripts and tests)
 RUNNING: list = []       # the objects being computed now (a panel's Cancel asks them to stop)
 CANCEL = [False]         # the cancel request (a list: set and read through this module's one object)
 ACTIVE = None            # the open Ruled task panel (for Esc, scripts and tests)
@@ -26,4 +27,4 @@ def set_active(panel) -> None:
     ACTIVE = panel
 
 
-__all__ = ["LISTENERS", "RUNNING", "CANCEL", "ACTIVE", "PANELS", "request_cancel", "set_active"]
+__all__ = ["LISTENERS", "SHOWN", "RUNNING", "CANCEL", "ACTIVE", "PANELS", "request_cancel", "set_active"]

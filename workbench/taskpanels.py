@@ -14,6 +14,7 @@ from PySide import QtGui
 from . import state
 from .features import make_ruled_fit, make_ruled_split, value
 from .state import LISTENERS
+from .units import length
 
 
 class _Panel:
@@ -39,16 +40,22 @@ class _Panel:
         return lay
 
     def _progress(self, stage: str, frac: float) -> None:
-        """The running computation's stage and its fraction, in the panel (Cancel stops it)."""
-        self.progress_seen.append((stage, int(round(100 * frac))))
-        self.bar.setFormat(f"{stage}: %p%")
-        self.bar.setValue(int(round(100 * frac)))
+        """The running computation's stage (its own line: a long one wraps) and the whole computation's
+        percentage, the status bar's own (Cancel stops it)."""
+        pct = int(round(100 * frac))
+        self.progress_seen.append((stage, pct))
+        self.stage_label.setText(stage)
+        self.stage_label.show()
+        self.bar.setValue(pct)
 
     def _progress_bar(self, lay) -> None:
         self.progress_seen = []
-        self.bar = QtGui.QProgressBar()
-        self.bar.setRange(0, 100)
-        self.bar.setToolTip("the running computation's stage; Cancel stops it")
+        self.stage_label = QtGui.QLabel()
+        self.stage_label.setWordWrap(True)
+        self.stage_label.hide()
+        lay.addRow(self.stage_label)
+        self.bar = QtGui.QProgressBar()        # (0 to 100, "%p%": Qt's defaults)
+        self.bar.setToolTip("the running computation's progress, its stage above; Cancel stops it")
         self.bar.hide()
         lay.addRow(self.bar)
 
@@ -87,6 +94,7 @@ class _Panel:
             LISTENERS.remove(self._progress)
             self.busy = False
             self.bar.hide()
+            self.stage_label.hide()
             self.preview_button.setEnabled(True)
         self._done = self.obj.isValid() and self.obj.Status == "ok"
         if self.closing:                 # Cancel was pressed while it ran: close now, as it was
@@ -235,9 +243,9 @@ class FitTaskPanel(_Panel):
     verb = "fit"
 
     def describe(self, o) -> str:
-        return (f"{o.Rulings} rulings, certified bound {value(o.ErrorBound):.6g} mm, measured Hausdorff "
-                f"{value(o.Hausdorff):.6g} mm ({o.Seconds:.2f} s).\nColours: distance to the face, blue 0 ... red "
-                f"{value(o.Hausdorff):.4g} mm (the legend in the view).")
+        return (f"{o.Rulings} rulings, certified bound {length(o.ErrorBound)}, measured Hausdorff "
+                f"{length(o.Hausdorff)} ({o.Seconds:.2f} s).\nColours: distance to the face, blue 0 ... red "
+                f"{length(o.Hausdorff)} (the legend in the view).")
 
 
 class SplitTaskPanel(_Panel):
@@ -279,8 +287,8 @@ class SplitTaskPanel(_Panel):
 
     def describe(self, o) -> str:
         what = "the face needs no split: its fit is" if o.Chosen == "none" else f"kept the {o.Chosen} split: bound"
-        return (f"{what} {value(o.ErrorBound):.6g} mm (one strip: {value(o.WholeBound):.6g} mm; " + ", ".join(
-            o.Candidates) + f"), measured Hausdorff {value(o.Hausdorff):.6g} mm, in {o.Seconds:.1f} s.")
+        return (f"{what} {length(o.ErrorBound)} (one strip: {length(o.WholeBound)}; " + ", ".join(
+            o.Candidates) + f"), measured Hausdorff {length(o.Hausdorff)}, in {o.Seconds:.1f} s.")
 
 
 def _spin(low: int, high: int, value: int, tip: str) -> QtGui.QSpinBox:
@@ -325,7 +333,7 @@ class PartitionTaskPanel(_Panel):
     def describe(self, o) -> str:
         return (f"{o.Strips} strips ({o.Used} splitting; uniform iso-parametric needs "
                 f"{o.UniformStrips or 'more than ' + str(o.MaxStrips)}), largest certified bound "
-                f"{value(o.ErrorBound):.6g} mm, measured Hausdorff {value(o.Hausdorff):.6g} mm ({o.Seconds:.1f} s).")
+                f"{length(o.ErrorBound)}, measured Hausdorff {length(o.Hausdorff)} ({o.Seconds:.1f} s).")
 
     verb = "partition"
 
@@ -372,8 +380,8 @@ class ConeTaskPanel(_Panel):
 
     def describe(self, o) -> str:
         return (f"{o.Patches} patches in {o.Pieces} piece(s), developable: {'yes' if o.Developable else 'no'}, largest "
-                f"angle between patches {o.MaxG1Angle:.2g} deg; bound {value(o.ErrorBound):.6g} mm (cone "
-                f"{value(o.ConeBound):.6g} + fit {value(o.FitBound):.6g}), measured {value(o.Hausdorff):.6g} mm.")
+                f"angle between patches {o.MaxG1Angle:.2g} deg; bound {length(o.ErrorBound)} (cone "
+                f"{length(o.ConeBound)} + fit {length(o.FitBound)}), measured {length(o.Hausdorff)}.")
 
     verb = "make the cone spline"
 
@@ -472,8 +480,8 @@ class CurveTaskPanel(_Panel):
         super()._leave()
 
     def describe(self, o) -> str:
-        return (f"{o.Segments} pieces, certified within {value(o.ErrorBound):.3g} mm of the exact image; measured: "
-                f"{value(o.Hausdorff):.3g} mm from it, {value(o.OnFace):.2g} mm from the face.")
+        return (f"{o.Segments} pieces, certified within {length(o.ErrorBound)} of the exact image; measured: "
+                f"{length(o.Hausdorff)} from it, {length(o.OnFace)} from the face.")
 
     verb = "build the curve"
 

@@ -8,30 +8,10 @@ from __future__ import annotations
 import FreeCAD
 import numpy as np
 
-
-def colour_ramp(t: np.ndarray) -> np.ndarray:
-    """0 -> blue, 0.5 -> green, 1 -> red (N, 3)."""
-    t = np.clip(np.asarray(t, float), 0.0, 1.0)
-    r = np.clip(2.0 * t - 0.5, 0.0, 1.0)
-    g = np.clip(1.5 - np.abs(2.0 * t - 1.0) * 1.5, 0.0, 1.0)
-    b = np.clip(1.5 - 2.0 * t, 0.0, 1.0)
-    return np.stack([r, g, b], axis=1)
-
+from .legend import LEGENDS, colour_ramp, exact_bound, hide_legend, show_legend  # noqa: F401  (re-exported)
 
 # the colour scale never spans less than this fraction of the face's size (round-off on an exact fit)
 FLOOR = 1e-6
-LEGENDS = {}             # document name -> (object name, the legend's Coin node, its label texts, the view)
-
-
-def legend_labels(top: float) -> list:
-    """Five values from 0 to top, three significant digits each, in the unit the user's schema gives top
-    (e.g. '0 µm' ... '1.46 µm'): the top label reads as the Hausdorff property does."""
-    try:
-        _, factor, unit = FreeCAD.Units.Quantity(float(top), FreeCAD.Units.Length).getUserPreferred()
-        factor = float(factor) or 1.0
-    except Exception:
-        factor, unit = 1.0, "mm"
-    return [f"{top * t / factor:.3g} {unit}" for t in np.linspace(0.0, 1.0, 5)]
 
 
 def colour_range(dev: np.ndarray, size: float, hausdorff: float = 0.0) -> float:
@@ -43,90 +23,48 @@ def colour_range(dev: np.ndarray, size: float, hausdorff: float = 0.0) -> float:
     return max(top, FLOOR * size, 1e-12)
 
 
-def _legend_node(top: float, title: str):
-    """A colour bar at the right edge of the view (its own orthographic camera: it stays put when the
-    model turns), blue 0 at the bottom to red ``top``, with five labels and a title."""
-    from pivy import coin
-    root = coin.SoAnnotation()           # drawn last, over the model (no depth test)
-    cam = coin.SoOrthographicCamera()
-    cam.viewportMapping = getattr(coin.SoCamera, "LEAVE_AS_IS", 4)   # not exposed by every pivy
-    cam.position = (0.0, 0.0, 1.0)
-    cam.height = 2.0
-    cam.nearDistance, cam.farDistance = 0.5, 1.5
-    root.addChild(cam)
-    light = coin.SoLightModel()
-    light.model = coin.SoLightModel.BASE_COLOR
-    root.addChild(light)
-    # (the view's x and y each run from -1 to 1 across it: the bar at its right edge, the labels to the bar's
-    # left and the title above it, right-aligned, so that nothing reaches past the edge at any window size,
-    # the bar's top a third of the way down, under the navigation cube, its foot above the axis cross)
-    x0, x1, y0, y1, n = 0.90, 0.94, -0.72, 0.35, 32
-    ts = np.linspace(0.0, 1.0, n + 1)
-    cols = colour_ramp(ts)
-    pts, colours, idx = [], [], []
-    for k, t in enumerate(ts):
-        y = y0 + (y1 - y0) * t
-        pts += [(x0, y, 0.0), (x1, y, 0.0)]
-        colours += [tuple(map(float, cols[k]))] * 2
-        if k:
-            a = 2 * (k - 1)
-            idx += [a, a + 1, a + 3, a + 2, -1]
-    mat = coin.SoMaterial()
-    mat.diffuseColor.setValues(0, len(colours), colours)
-    bind = coin.SoMaterialBinding()
-    bind.value = coin.SoMaterialBinding.PER_VERTEX_INDEXED
-    coords = coin.SoCoordinate3()
-    coords.point.setValues(0, len(pts), pts)
-    faces = coin.SoIndexedFaceSet()
-    faces.coordIndex.setValues(0, len(idx), idx)
-    faces.materialIndex.setValues(0, len(idx), idx)
-    for node in (mat, bind, coords, faces):
-        root.addChild(node)
-    labels = [title] + legend_labels(top)
-    text_col = coin.SoBaseColor()
-    text_col.rgb = (0.1, 0.1, 0.1)
-    root.addChild(text_col)
-    font = coin.SoFont()
-    font.size = 13
-    root.addChild(font)
-    places = [(x1, y1 + 0.05)] + [(x0 - 0.012, y0 + (y1 - y0) * t - 0.012) for t in np.linspace(0, 1, 5)]
-    for text, (x, y) in zip(labels, places):
-        sep = coin.SoSeparator()
-        tr = coin.SoTranslation()
-        tr.translation = (x, y, 0.0)
-        t2 = coin.SoText2()
-        t2.string = text
-        t2.justification = coin.SoText2.RIGHT
-        sep.addChild(tr)
-        sep.addChild(t2)
-        root.addChild(sep)
-    return root, labels
+class _LegendObserver:
+    """The legend goes with its object however it goes (undo of its creation, a deletion by script), not only
+    through the view provider's onDelete; registered once, with the first view provider (GUI only)."""
+
+    def slotDeletedObject(self, obj):
+        try:
+            hide_legend(obj.Document.Name, obj.Name)
+        except Exception:       # (an observer must never raise into FreeCAD)
+            pass
+
+    def slotDeletedDocument(self, doc):
+        LEGENDS.pop(getattr(doc, "Name", None), None)
+
+    def slotUndoDocument(self, doc):
+        self._relegend(doc)
+
+    def slotRedoDocument(self, doc):
+        self._relegend(doc)
+
+    @staticmethod
+    def _relegend(doc):
+        """After undo or redo, the legend of the last visible Ruled result of the document, where it has none
+        (a redo brings an object back without attaching its view provider again)."""
+        try:
+            if doc.Name in LEGENDS:
+                return
+            for obj in reversed(doc.Objects):
+                vp = getattr(getattr(obj, "ViewObject", None), "Proxy", None)
+                if isinstance(vp, ViewProviderRuledFit) and obj.ViewObject.Visibility and hasattr(vp, "root"):
+                    vp._rebuild(obj)
+                    return
+        except Exception:       # (an observer must never raise into FreeCAD)
+            pass
 
 
-def show_legend(obj, top: float) -> None:
-    """The document's colour legend for obj (one per document: the last one drawn or shown takes it)."""
-    import FreeCADGui
-    hide_legend(obj.Document.Name)
-    gdoc = FreeCADGui.getDocument(obj.Document.Name)
-    view = getattr(gdoc, "ActiveView", None) if gdoc else None
-    if view is None or not hasattr(view, "getSceneGraph"):
-        return
-    what = "the wall" if type(getattr(obj, "Proxy", None)).__name__ == "RuledWall" else "the face"
-    node, labels = _legend_node(top, f"{obj.Label}: distance to {what}")
-    view.getSceneGraph().addChild(node)
-    LEGENDS[obj.Document.Name] = (obj.Name, node, labels, view)
+_OBSERVER: list = []
 
 
-def hide_legend(doc_name: str, owner: str = None) -> None:
-    """Remove the document's legend (only if it is owner's, when given)."""
-    entry = LEGENDS.get(doc_name)
-    if entry is None or (owner is not None and entry[0] != owner):
-        return
-    LEGENDS.pop(doc_name)
-    try:
-        entry[3].getSceneGraph().removeChild(entry[1])
-    except Exception:       # the view was closed
-        pass
+def _observe() -> None:
+    if not _OBSERVER:
+        _OBSERVER.append(_LegendObserver())
+        FreeCAD.addDocumentObserver(_OBSERVER[0])
 
 
 class _Editable:
@@ -203,6 +141,7 @@ class ViewProviderRuledFit(_Editable):
 
     def attach(self, vobj):
         from pivy import coin
+        _observe()
         self.vobj = vobj
         self.root = coin.SoSeparator()
         self.mesh = coin.SoSeparator()
@@ -262,6 +201,8 @@ class ViewProviderRuledFit(_Editable):
         else:
             hide_legend(obj.Document.Name, obj.Name)
         m = max(n, MESH * (4 if type(getattr(obj, "Proxy", None)).__name__ == "RuledWall" else 1))   # (round a part)
+        if dev is not None and exact_bound(obj) is not None:
+            dev = np.zeros_like(dev)        # an exact result: one colour (its legend says 'exact'), not round-off's
         for k, face in enumerate(faces):
             if trimmed(face):     # a result trimmed by the face's edges: shown inside them
                 grid = None if dev is None else dev[k * n * n:(k + 1) * n * n].reshape(n, n) / top

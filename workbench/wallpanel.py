@@ -9,8 +9,8 @@ import FreeCADGui
 from PySide import QtGui
 
 from . import state
-from .features import value
 from .taskpanels import _Panel
+from .units import length
 
 
 class WallTaskPanel(_Panel):
@@ -61,7 +61,7 @@ class WallTaskPanel(_Panel):
         pieces = "one periodic fit" if o.Pieces == 1 else f"{o.Pieces} pieces between its corners"
         each = ", one piece per face" if o.PerFace else ""
         return (f"{len(o.Faces)} faces as one closed ruled surface ({pieces}{each}): certified bound "
-                f"{value(o.ErrorBound):.6g} mm, measured Hausdorff {value(o.Hausdorff):.6g} mm.")
+                f"{length(o.ErrorBound)}, measured Hausdorff {length(o.Hausdorff)}.")
 
 
 class WallRefusal:

@@ -305,6 +305,30 @@ def main():
     # Export for machining: one panel, the files the command line writes with the same settings
     mfit = make_ruled_fit(doc, imp, "Face7", MeasureSamples=0)      # the defaults: 2d, 40 samples
     doc.recompute()
+    # STEP still chosen, the file named wall.ngc: the format follows the extension (said in the panel), and the
+    # panel's Write (a real click) shows the cut's figures, the panel open
+    from guitools import click
+    sel.clearSelection()
+    sel.addSelection(mfit)
+    toolbar_run("Ruled_Export")
+    ep = exportpanel.ACTIVE
+    ep.format.setCurrentIndex(ep.kinds.index("step"))
+    ngc = os.path.join(OUT, "panel_as_wire.ngc")
+    ep.path.setText(ngc)
+    for key, val in {"Axis": "", "Units": "mm", "ChordTol": 0.01, "Kerf": 0.0, "Side": "outside", "Planes": "",
+                     "Lead": 2.0, "Feed": 50.0, "CamStep": False}.items():
+        exportpanel._put(ep.widgets[key], val)
+    click(ep.write_button)
+    for _ in range(5):
+        FreeCADGui.updateGui()
+    with open(ngc) as fh:
+        head = fh.read(200)
+    res["export_by_extension"] = {"kind": ep.kind(), "text": ep.result.text(), "open": exportpanel.ACTIVE is ep,
+                                  "gcode": head.startswith("(ruled XYUV"),
+                                  "shot": grab(mw, "ruled_export_figures.png")}
+    with open(os.path.join(OUT, "panel_as_wire.json")) as fh:
+        res["export_by_extension"]["cut"] = json.load(fh).get("cut")
+    ep.reject()
     exports = {}
     for fmt, path, settings in (
             ("xyuv", os.path.join(OUT, "panel_wire.ngc"), {"Axis": "", "Units": "inch", "ChordTol": 0.01, "Kerf": 0.1,

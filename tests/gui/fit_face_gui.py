@@ -46,11 +46,14 @@ def extra_checks(doc, imp, obj, res):
         doc.removeObject(o.Name)
     doc.recompute()
     # a fit of several seconds: the status bar's progress bar, read every 100 ms while it runs
-    seen = []
+    seen, same = [], []
 
     def poll():
         bars = [b for b in mw.findChildren(QtGui.QProgressBar) if b.isVisible()]
         seen.append(tuple((b.value(), b.maximum()) for b in bars))
+        # the status bar's text and bar and the panel's bar at one instant (issue 59: one progress)
+        ours = [b.value() for b in bars if b.toolTip().startswith(("Ruled is computing", "the running computation"))]
+        same.append([mw.statusBar().currentMessage(), ours])
     timer = QtCore.QTimer()
     timer.timeout.connect(poll)
     timer.start(100)
@@ -75,6 +78,7 @@ def extra_checks(doc, imp, obj, res):
     timer.stop()
     res["progress_readings"] = sorted({v for v in seen if v})
     res["panel_progress"] = sorted(set(p2.progress_seen))
+    res["progress_same"] = [x for x in same if len(x[1]) == 2 and " % (Esc stops)" in x[0]]
     p2.reject()
     # Cancel while a fit of tens of seconds runs, by real input (QTest's mouse and key events through the
     # application): meanwhile the window takes clicks (the combo view's Model tab, the tree, the 3D view),

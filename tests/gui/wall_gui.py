@@ -55,6 +55,7 @@ def main():
     walls = [o for o in doc.Objects if type(getattr(o, "Proxy", None)).__name__ == "RuledWall"]
     res["made"] = len(doc.Objects) - before
     w = walls[0]
+    res["state_after_create"] = list(w.State)
     vp = w.ViewObject.Proxy
     res["wall"] = {"valid": w.isValid(), "status": w.Status, "bound": value(w.ErrorBound),
                    "hausdorff": value(w.Hausdorff), "faces": list(w.Faces), "pieces": w.Pieces,
@@ -123,6 +124,12 @@ def main():
     # undo: the RuledWall goes, the part stays
     doc.undo()
     res["after_undo"] = sorted(o.Name for o in doc.Objects)
+    res["legend_after_undo"] = doc.Name in viewproviders.LEGENDS
+    # redo: the wall back, with its legend
+    doc.redo()
+    FreeCADGui.updateGui()
+    res["after_redo"] = sorted(o.Name for o in doc.Objects)
+    res["legend_after_redo"] = viewproviders.LEGENDS.get(doc.Name, (None,))[0]
 
 
 run_and_exit(main, res, "wall.json")

@@ -120,6 +120,13 @@ def _check_everyday_use(r):
     # progress of a fit of several seconds: the status bar's bar and the panel's, many readings each
     assert r["progress_ok"] and r["progress_fit_s"] > 2
     assert len(r["progress_readings"]) >= 3 and len(r["panel_progress"]) >= 3
+    # one progress (issue 59): the status bar's text, its bar and the panel's bar read the same percentage at every
+    # reading, and it never goes back
+    same = r["progress_same"]
+    assert len(same) >= 3, same
+    pcts = [int(msg.rsplit(", ", 1)[1].split(" %")[0]) for msg, _ in same]
+    assert all([p, p] == bars for p, (_, bars) in zip(pcts, same)), same
+    assert pcts == sorted(pcts), pcts
     # Cancel and Esc while a fit of tens of seconds runs (real clicks and key presses): the panel closed within
     # 1 s of the click, the document as before (no object, no legend left); meanwhile the combo view's tab, the
     # tree and the 3D view each took a click within 0.5 s
@@ -148,6 +155,15 @@ def _cli_machine(tmp_path, *args):
 
 def _lines(path, skip):
     return [x for x in open(path).read().splitlines() if not x.startswith(skip)]
+
+
+UNITS = {"mm": 1.0, "µm": 1e-3, "nm": 1e-6, "m": 1e3}
+
+
+def _length_after(text: str, key: str) -> float:
+    """The length printed after key in a panel's text (a number and its unit, workbench.units), in mm."""
+    number, unit = text.split(key, 1)[1].split()[:2]
+    return float(number) * UNITS[unit.rstrip(").,;")]
 
 
 def _words(line: str) -> str:
@@ -223,10 +239,16 @@ def test_commands_and_the_export_panel(tmp_path):
         assert cf["text"].startswith("Cannot make the cone spline:") and "\n" not in cf["status"]
         assert "--" not in cf["status"] and "AllowCreases" in cf["status"]
     else:       # issue 55: made from the RuledFit's own result, its figure in the panel
-        assert cf["fit_bound"] == pytest.approx(cf["fit"], rel=1e-9) and f"fit {cf['fit']:.6g}" in cf["text"], cf
+        assert cf["fit_bound"] == pytest.approx(cf["fit"], rel=1e-9), cf
+        assert _length_after(cf["text"], "fit ") == pytest.approx(cf["fit"], rel=5e-4), cf   # (4 digits, its unit)
     fb = r["fallback"]         # the panel says when the path cannot follow the fit shown, with both figures
     assert not fb["ok"] and fb["open"] and fb["exists"], fb
     assert "corner-pinned fit (bound " in fb["text"] and f"the trimmed fit is bound {fb['bound']:.4g}" in fb["text"]
+    eb = r["export_by_extension"]     # STEP chosen, the file .ngc: G-code written, the panel says so and the figures
+    assert eb["kind"] == "xyuv" and eb["gcode"] and eb["open"], eb
+    assert "The format follows the file's extension .ngc: XYUV G-code" in eb["text"], eb["text"]
+    assert eb["cut"] and _length_after(eb["text"], "the cut measured ") == pytest.approx(eb["cut"]["max"], rel=5e-4)
+    assert _length_after(eb["text"], "within its bound ") == pytest.approx(eb["cut"]["bound"], rel=5e-4), eb
     ef = r["export_fit"]       # the panel's G-code follows the RuledFit's own (trimmed) result
     assert "trimmed" in ef["ends"] and ef["report"] == pytest.approx(ef["object"], rel=1e-12), ef
     # Curve on face: from the sketch, on the face, within its bound; through the picked points
@@ -326,19 +348,22 @@ def test_fit_wall_in_the_gui(tmp_path):
     assert w["hausdorff"] <= w["bound"] <= 1e-6 * 56, w             # exactly ruled: within the edge tolerance
     assert w["vp"] == "ViewProviderRuledFit" and w["legend_owner"] and w["deviation"] == 16 * 16, w
     assert os.path.getsize(r["shot"]) > 20_000
-    # the legend: its top label reads as the Hausdorff property (three digits), its title names the wall;
-    # screenshots of the window at three sizes (look at them: the legend whole, clear of the navigation cube)
+    # the legend: the wall is exact (measured within round-off): one colour, and the legend says so with its bound
+    # as the panel prints it (four digits, the document's unit), not a rainbow of round-off; its title names the
+    # wall; screenshots of the window at three sizes (look at them: the legend whole, clear of the navigation cube)
     title, *values = r["legend_labels"]
-    assert "distance to the wall" in title and len(values) == 5
-    number, unit = values[-1].split()
+    assert "distance to the wall" in title and len(values) == 1 and values[0].startswith("exact, within "), values
+    number, unit = values[0][len("exact, within "):].split()
     scale = {"mm": 1.0, "µm": 1e-3, "nm": 1e-6, "m": 1e3}[unit]
-    assert float(number) * scale == pytest.approx(w["hausdorff"], rel=5e-3), (values, w["hausdorff"])
+    assert float(number) * scale == pytest.approx(w["bound"], rel=5e-4), (values, w["bound"])
+    assert "Touched" not in r["state_after_create"], r["state_after_create"]      # made up to date
     for size in r["sizes"]:
         assert os.path.getsize(size["shot"]) > 20_000, size
         for name, (width, combo, shot) in size["panels"].items():      # whole on first open, at every size
             assert width <= combo and os.path.getsize(shot) > 20_000, (name, size)
     assert r["export_clicked"] and r["export_ok"] and r["export_exists"], r["export_text"]
-    assert r["after_undo"] == ["Part"]
+    assert r["after_undo"] == ["Part"] and not r["legend_after_undo"]         # undo takes the legend too
+    assert len(r["after_redo"]) == 2 and r["legend_after_redo"] in r["after_redo"]    # ... and redo brings it back
     cli = tmp_path / "cli.ngc"
     run = subprocess.run([sys.executable, "-m", "ruled.cli", "machine", step, "--wall", "auto", "--xyuv",
                           "--chord-tol", "0.01", "--kerf", "0.15", "--side", "outside", "--lead", "2", "-o", str(cli),
