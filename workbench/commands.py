@@ -127,9 +127,9 @@ class CurveCommand:
         if obj is None:
             _say(sub)
             return
-        from . import taskpanels
         from .busy import show_panel
-        show_panel(taskpanels.CurveTaskPanel(obj, sub, sketch=sketch))
+        from .curvepanel import CurveTaskPanel
+        show_panel(CurveTaskPanel(obj, sub, sketch=sketch))
 
 
 def selected_faces():
@@ -248,8 +248,10 @@ class ReplaceCommand:
 
 
 def _recomputed(obj):
+    """obj recomputed alone, and left up to date (not Touched, as a document's recompute leaves it)."""
     try:
-        obj.recompute()
+        if obj.recompute():
+            obj.purgeTouched()
     except Exception:  # refused: the object is invalid, its Status says why
         pass
     return obj
@@ -278,6 +280,6 @@ NAMES = list(COMMANDS)
 
 def register() -> None:
     """The commands added to FreeCAD, and the task panels loaded (each registers the objects it edits)."""
-    from . import taskpanels, wallpanel  # noqa: F401
+    from . import curvepanel, taskpanels, wallpanel  # noqa: F401
     for name, kind in COMMANDS.items():
         FreeCADGui.addCommand(name, kind())

@@ -27,13 +27,17 @@ RESULT_GROUP = "Result"
 FIT_GROUP = "Fit"
 
 
+# the data behind the view's colours and lines, not figures to read (a list of 0.00 mm): out of the property editor
+HIDDEN = ("Deviation", "RulingLines")
+
+
 def _add(obj, kind, name, group, doc, value=None, readonly=False):
     if name not in obj.PropertiesList:
         obj.addProperty(kind, name, group, doc)
         if value is not None:
             setattr(obj, name, value)
     if readonly:
-        obj.setEditorMode(name, 1)
+        obj.setEditorMode(name, 2 if name in HIDDEN else 1)
 
 
 def _enum(obj, name, group, doc, values, default):

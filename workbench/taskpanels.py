@@ -386,106 +386,6 @@ class ConeTaskPanel(_Panel):
     verb = "make the cone spline"
 
 
-class CurveTaskPanel(_Panel):
-    """A curve on the face from a sketch or from points picked on the face: with Pick points on, each
-    click on the face adds a point."""
-
-    title = "Curve on face"
-
-    def __init__(self, source, subname: str, obj=None, sketch=None):
-        from .objects import make_ruled_curve
-        lay = self._open(source, lambda d, s, n: make_ruled_curve(d, s, n, sketch=sketch), subname, obj)
-        o = self.obj
-        self.source, self.subname = o.Source[0], (o.Source[1] or [""])[0]
-        self.mapping = self._tip(QtGui.QComboBox(), "how the sketch's x, y become the face's (u, v): unit square, "
-                                 "0..1 across its parameter range; parameters, x = u and y = v")
-        self.mapping.addItems(["unit square", "parameters"])
-        self.mapping.setCurrentIndex(self.mapping.findText(o.Mapping))
-        self.mapping.setEnabled(o.Sketch is not None)
-        self.tol = self._tip(_length_box("auto"), "largest distance from the exact image of the (u, v) curve (auto: "
-                             "1e-5 of the face's size)")
-        self.tol.setValue(value(o.Tolerance))
-        self.angle = self._tip(QtGui.QDoubleSpinBox(), "largest angle between the curve's pieces at their joints")
-        self.angle.setRange(0.01, 45.0)
-        self.angle.setSuffix(" deg")
-        self.angle.setValue(float(getattr(o.Angle, "Value", o.Angle)))
-        self.pick_button = self._tip(QtGui.QPushButton("Pick points on the face"), "then click on the face in the 3D "
-                                     "view: the curve runs through the points in order")
-        self.pick_button.setCheckable(True)
-        self.pick_button.setEnabled(o.Sketch is None)
-        self.clear_button = self._tip(QtGui.QPushButton("Clear points"), "forget the picked points")
-        self.points_label = QtGui.QLabel()
-        self.points = [FreeCAD.Vector(p) for p in o.Points]
-        self.preview_button = self._tip(QtGui.QPushButton("Preview"), "build the curve on the face")
-        self.result = QtGui.QLabel("Preview builds the curve." if o.Sketch is not None else
-                                   "Pick points on the face, then Preview.")
-        self.result.setWordWrap(True)
-        lay.addRow("Sketch mapping", self.mapping)
-        lay.addRow("Tolerance", self.tol)
-        lay.addRow("Joint angle", self.angle)
-        lay.addRow(self.pick_button)
-        lay.addRow(self.clear_button, self.points_label)
-        lay.addRow(self.preview_button)
-        self._progress_bar(lay)
-        lay.addRow(self.result)
-        self._show_points()
-        self.callback = None
-        self.pick_button.toggled.connect(self._picking)
-        self.clear_button.clicked.connect(self._clear)
-        self.preview_button.clicked.connect(self.preview)
-
-    def _show_points(self):
-        self.points_label.setText(f"{len(self.points)} points" if self.obj.Sketch is None else "from the sketch")
-
-    def _clear(self):
-        self.points = []
-        self._show_points()
-
-    def _picking(self, on: bool):
-        from pivy import coin
-        view = FreeCADGui.ActiveDocument.ActiveView
-        if on and self.callback is None:
-            self.callback = view.addEventCallbackPivy(coin.SoMouseButtonEvent.getClassTypeId(), self._clicked)
-        elif not on and self.callback is not None:
-            view.removeEventCallbackPivy(coin.SoMouseButtonEvent.getClassTypeId(), self.callback)
-            self.callback = None
-
-    def _clicked(self, cb):
-        from pivy import coin
-        ev = cb.getEvent()
-        if ev.getButton() == coin.SoMouseButtonEvent.BUTTON1 and ev.getState() == coin.SoMouseButtonEvent.DOWN:
-            if self.pick(tuple(ev.getPosition().getValue())):
-                cb.setHandled()
-
-    def pick(self, pos) -> bool:
-        """Add the point of the source face under the view position pos (pixels, from the lower left), also
-        where its edges are drawn over it (a thin face shows little but its edges until zoomed in)."""
-        hits = FreeCADGui.ActiveDocument.ActiveView.getObjectsInfo((int(pos[0]), int(pos[1]))) or []
-        info = next((h for h in hits if h.get("Object") == self.source.Name and h.get("Component") == self.subname),
-                    None)
-        if info is None:
-            return False
-        self.points.append(FreeCAD.Vector(info["x"], info["y"], info["z"]))
-        self._show_points()
-        return True
-
-    def _apply(self):
-        self._set(self.obj, Mapping=self.mapping.currentText(), Tolerance=self.tol.value(),
-                  Angle=self.angle.value())
-        if [tuple(p) for p in self.obj.Points] != [tuple(p) for p in self.points]:
-            self.obj.Points = self.points
-
-    def _leave(self):
-        self._picking(False)
-        super()._leave()
-
-    def describe(self, o) -> str:
-        return (f"{o.Segments} pieces, certified within {length(o.ErrorBound)} of the exact image; measured: "
-                f"{length(o.Hausdorff)} from it, {length(o.OnFace)} from the face.")
-
-    verb = "build the curve"
-
-
 def _editor(panel):
     """The panel editing an existing object of its kind (its view provider's setEdit)."""
     def edit(obj):
@@ -496,4 +396,4 @@ def _editor(panel):
 
 state.PANELS.update({name: _editor(p) for name, p in (
     ("RuledFit", FitTaskPanel), ("RuledSplit", SplitTaskPanel), ("RuledPartition", PartitionTaskPanel),
-    ("RuledConeSpline", ConeTaskPanel), ("RuledCurveOnFace", CurveTaskPanel))})
+    ("RuledConeSpline", ConeTaskPanel))})

@@ -169,7 +169,8 @@ def main():
                           "all_closed": all(x.isClosed() and x.isValid() for x in r0.Shape.Solids),
                           "volume": r0.Shape.Volume, "source_volume": imp.Shape.Volume,
                           "tol": value(r0.EdgeTolerance), "bound": value(fit.ErrorBound), "ruled_faces": len(ruled),
-                          "label": r0.Label, "hidden": [not imp.ViewObject.Visibility, not fit.ViewObject.Visibility]}
+                          "label": r0.Label, "hidden": [not imp.ViewObject.Visibility, not fit.ViewObject.Visibility],
+                          "state": list(r0.State)}
         shown = {o.Name: o.ViewObject.Visibility for o in doc.Objects if getattr(o, "ViewObject", None)}
         only(doc, r0)
         face_on(view, face7)
@@ -246,6 +247,9 @@ def main():
                 targets.append(tuple(q))
                 break
     res["picked"] = picked
+    # each pick marked in the 3D view, numbered (issue 59): as many markers as points
+    res["pick_marks"] = {"marks": k2.marks.getChild(1).point.getNum() if k2.marks is not None else 0,
+                         "points": len(k2.points), "shot": shoot("ruled_curve_picks.png")}
     # seen edge-on, a face shows as little more than its edges: a click there takes the face under them
     fu0, fu1, fv0, fv1 = face7.ParameterRange
     mid = face7.valueAt(0.5 * (fu0 + fu1), 0.5 * (fv0 + fv1))

@@ -220,6 +220,7 @@ def test_commands_and_the_export_panel(tmp_path):
     assert rp["faces"] == rp["source_faces"] and rp["solids"] == rp["source_solids"] and rp["ruled_faces"] == 1, rp
     assert abs(rp["volume"] - rp["source_volume"]) <= rp["bound"] * 13.0, rp       # face 7's area: 12.8
     assert 0 < rp["tol"] <= 1.1 * rp["bound"] and rp["hidden"] == [True, True], rp
+    assert "Touched" not in rp["state"], rp["state"]              # up to date once made (issue 59)
     assert rp["label"] == "Impeller ruled" and os.path.getsize(r["replace_shot"]) > 20_000
     assert r["partition_toolbar"] and r["cone_toolbar"] and r["curve_toolbar"]     # clicked in the toolbar
     # Fit to tolerance: every strip within the tolerance (certified, against the face as bounded)
@@ -251,6 +252,9 @@ def test_commands_and_the_export_panel(tmp_path):
     assert _length_after(eb["text"], "within its bound ") == pytest.approx(eb["cut"]["bound"], rel=5e-4), eb
     ef = r["export_fit"]       # the panel's G-code follows the RuledFit's own (trimmed) result
     assert "trimmed" in ef["ends"] and ef["report"] == pytest.approx(ef["object"], rel=1e-12), ef
+    # Curve on face, picking (issue 59): a marker at each picked point
+    pm = r["pick_marks"]
+    assert pm["points"] >= 3 and pm["marks"] == pm["points"], pm
     # Curve on face: from the sketch, on the face, within its bound; through the picked points
     k = r["curve"]
     assert r["curve_preview"] and k["valid"] and k["edges"] == 2 and not r["curve_pick_enabled_with_sketch"]

@@ -32,6 +32,7 @@ from ruled.fit.options import Direction, FitOptions
 from ruled.fit.surface import fit_surface
 
 CANDIDATE_LINES = 16    # iso lines across the closed direction tried as fold lines (pairs of them)
+WORTH = 0.5             # the fold is fitted where its halves lie closer than this fraction of the other's bound
 
 
 def closed_axis(S: Surface) -> Optional[int]:
@@ -128,13 +129,14 @@ def fit_folded(region: Region, size: float, opts: FitOptions, progress: Progress
                cutoff: float = np.inf) -> Optional[FitResult]:
     """The folded fit of the module doc, for a face that is its surface's whole rectangle closed in one direction;
     None for any other face, where it cannot be sampled or fitted, or where it cannot beat ``cutoff`` (another
-    candidate's bound; not tried where the halves lie farther apart than that, half_gap)."""
+    candidate's bound; not tried where the halves lie farther apart than WORTH of it, half_gap: a fold is worth its
+    cost where it may halve the error)."""
     S = region.surface
     axis = closed_axis(S)
     if axis is None or not region.is_rectangle():
         return None
     a, b = fold_lines(S, axis)
-    if not b > a or not half_gap(S, axis, a, b) < cutoff:
+    if not b > a or not half_gap(S, axis, a, b) < WORTH * cutoff:
         return None
     tol, accept = PATCH_TOL * size, PATCH_ACCEPT * size
     try:
@@ -153,7 +155,7 @@ def fit_folded(region: Region, size: float, opts: FitOptions, progress: Progress
             continue
         bound, cert = 0.0, None
         for h in halves:
-            got = certified_bound(h.surface, c.pairing, c.boundaries, c.surface, *GRID_FINE)
+            got = certified_bound(h.surface, c.pairing, c.boundaries, c.surface, *GRID_FINE, cutoff)
             got = replace(got, bound=got.bound + h.deviation + gap, map_deviation=h.deviation + gap)
             if cert is None or got.bound > bound:
                 bound, cert = got.bound, got

@@ -152,7 +152,8 @@ def edge_share(res: FitResult, bound: float) -> Optional[str]:
     if p is None or not (p.edge_gap > 0.1 * bound > 0 and bound > FLOOR * p.face_size):
         return None
     tol = max(p.region.tolerances, default=0.0)
-    return Text(f"{p.edge_gap:.3g} of the bound {bound:.4g} is how far the face's edges lie off its surface"
+    # (the bound itself is not repeated: the report's line beside this one gives it, to its own digits)
+    return Text(f"{p.edge_gap:.3g} of the bound is how far the face's edges lie off its surface"
                 + (f" (their tolerance in the file is up to {tol:.3g})" if tol > 0 else ""))
 
 
