@@ -223,7 +223,8 @@ def _finer_trim(c, mask, deviation: float = 0.0, progress: Progress = None):
     if progress:
         progress("certifying the trimmed result on a finer grid", 0.0)
     t0 = time.perf_counter()
-    cert = certified_bound(c.oriented, c.pairing, c.boundaries, c.surface, *GRID_TRIM)
+    # (a certificate at or above c's whole bound cannot bring it down, whatever the trim: its refinement stops there)
+    cert = certified_bound(c.oriented, c.pairing, c.boundaries, c.surface, *GRID_TRIM, c.error_bound)
     finer = with_trim(replace(c, certificate=cert, trim=None), mask)
     if finer is None or finer.error_bound >= c.error_bound:
         return c
