@@ -17,9 +17,6 @@ def colour_ramp(t: np.ndarray) -> np.ndarray:
     return np.stack([r, g, b], axis=1)
 
 
-# the colour scale never spans less than this fraction of the face's size (round-off on an exact fit)
-
-
 LEGENDS = {}             # document name -> (object name, the legend's Coin node, its label texts, the view)
 
 
@@ -39,8 +36,8 @@ def exact_bound(obj):
     """The bound of an exact result (measured within EXACT of its size, or certified within the source's own
     tolerance, the file's edges'), None for any other: such a result's colours would be a rainbow of
     round-off."""
-    h = float(getattr(getattr(obj, "Hausdorff", 0.0), "Value", getattr(obj, "Hausdorff", 0.0)) or 0.0)
-    bound = float(getattr(getattr(obj, "ErrorBound", 0.0), "Value", getattr(obj, "ErrorBound", 0.0)) or 0.0)
+    from .units import magnitude
+    h, bound = magnitude(getattr(obj, "Hausdorff", 0.0)), magnitude(getattr(obj, "ErrorBound", 0.0))
     if obj.Shape.isNull() or bound <= 0.0:
         return None
     tol = 0.0

@@ -139,24 +139,14 @@ def upper_distances(points: np.ndarray, face) -> np.ndarray:
 
 def screened_distances(points: np.ndarray, face, progress=None) -> np.ndarray:
     """Each point's distance to the bounded face (distances' figure wherever a point can hold the largest):
-    every point's upper_distances, then distances in decreasing order of them while one exceeds the largest
-    exact distance found (at most EXACT_CAP: beyond, the upper values stand, which can only raise the largest).
-    The largest is distances' own largest over all the points, with a few exact searches instead of one a
-    point (the command line's measure screens alike, ruled.occ.measure.screened)."""
-    X = np.asarray(points, float).reshape(-1, 3)
-    if progress is not None:
-        progress(0.0)
-    d = upper_distances(X, face)
-    top = 0.0
-    order = np.argsort(-d, kind="stable")[:EXACT_CAP]
-    for n, i in enumerate(order):
-        if d[i] <= top:
-            break
-        d[i] = min(d[i], float(distances(X[i:i + 1], face)[0]))
-        top = max(top, d[i])
-        if progress is not None and n % 16 == 0:
-            progress(min(1.0, n / max(len(order), 1)))
-    return d
+    upper_distances for every point, distances in decreasing order of them while one can exceed the largest
+    exact distance found (ruled.core.hostform.screened, the command line's measure's screen; at most EXACT_CAP)."""
+    from types import SimpleNamespace
+
+    from ruled.core.hostform import screened
+    proj = SimpleNamespace(upper=lambda X: upper_distances(X, face),
+                           distance=lambda x: float(distances(x.reshape(1, 3), face)[0]))
+    return screened(proj, points, EXACT_CAP, progress)
 
 
 def edge_views(face) -> list:

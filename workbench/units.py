@@ -10,17 +10,22 @@ import FreeCAD
 DIGITS = 4
 
 
+def magnitude(value) -> float:
+    """A length property (a Quantity) or a number as a float in model units (0 for None)."""
+    return float(getattr(value, "Value", value) or 0.0)
+
+
 def length(value, digits: int = DIGITS) -> str:
     """The length value (model units, mm) in the user's preferred unit, e.g. '462.6 nm'; 'no limit' is the
     caller's to say for a 0 that means none."""
-    v = float(getattr(value, "Value", value))
+    v = magnitude(value)
     factor, unit = unit_of(v)
     return f"{v / factor:.{digits}g} {unit}"
 
 
 def unit_of(value) -> tuple:
     """(factor, unit) of the user's preferred unit for a length of this size."""
-    v = float(getattr(value, "Value", value))
+    v = magnitude(value)
     try:
         _, factor, unit = FreeCAD.Units.Quantity(v, FreeCAD.Units.Length).getUserPreferred()
         return float(factor) or 1.0, unit
@@ -28,4 +33,4 @@ def unit_of(value) -> tuple:
         return 1.0, "mm"
 
 
-__all__ = ["length", "unit_of", "DIGITS"]
+__all__ = ["length", "magnitude", "unit_of", "DIGITS"]

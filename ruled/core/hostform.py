@@ -271,3 +271,26 @@ def grid_size(n: int, frac: float) -> int:
     """The side of a (u, v) grid of a face's bounds that puts about n x n points inside a face covering
     the share frac of its bounds (n when it covers nearly all of them; at most 8 n)."""
     return n if frac > 0.97 else int(min(8 * n, np.ceil(n / np.sqrt(max(frac, 1.0 / (64 * n * n))))))
+
+
+def screened(proj, X: np.ndarray, cap: int = 400, progress=None) -> np.ndarray:
+    """Distances from the points X to what proj measures (an object with a vectorized ``upper`` and an
+    exact, slower ``distance``).  Every value is the distance to an actual point of the face, so at
+    least the true one.  The exact search runs on the points in decreasing order of their upper value
+    while that exceeds the largest exact distance found so far: the maximum is then the exact
+    search's own maximum over all points, found with a few hundred exact projections instead of one
+    per point (at most ``cap``; beyond, the upper values stand, which can only raise the maximum)."""
+    X = np.asarray(X, float).reshape(-1, 3)
+    d = proj.upper(X)
+    if progress is not None:      # (the exact searches' share of cap, at most)
+        progress(0.0)
+    top = 0.0
+    order = np.argsort(-d, kind="stable")
+    for n, i in enumerate(order[:cap]):
+        if d[i] <= top:
+            break
+        d[i] = min(d[i], proj.distance(X[i]))
+        top = max(top, d[i])
+        if progress is not None and n % 16 == 0:
+            progress(n / cap)
+    return d

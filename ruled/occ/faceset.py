@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from ruled.core.distance import _golden_min, to_lines  # noqa: F401  (to_lines: its home was here)
-from ruled.occ.measure import _Projector, face_points, face_samples, screened
+from ruled.core.hostform import screened
+from ruled.occ.measure import _Projector, face_points, face_samples
 
 
 # ------------------------------------------------------------------------------ several faces

@@ -20,7 +20,7 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
 from ruled.core.distance import _golden_min
-from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size
+from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size, screened
 from ruled.occ.curve_measure import _p3
 from ruled.occ.edgerows import face_bounds
 from ruled.occ.edgerows import face_edges as _face_edges
@@ -431,25 +431,6 @@ def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
     pa = np.concatenate([pa, edge_rows(va, n, max(ob, default=0.0), to_a.inside.points), off_edge_points(va, oa, n)])
     pb = np.concatenate([pb, edge_rows(vb, n, max(oa, default=0.0), to_b.inside.points), off_edge_points(vb, ob, n)])
     return replace(two_sided(pa, pb, to_a, to_b), resolution=max(ra, rb))
-
-
-def screened(proj, X: np.ndarray, cap: int = 400) -> np.ndarray:
-    """Distances from the points X to what proj measures (an object with a vectorized ``upper`` and an
-    exact, slower ``distance``).  Every value is the distance to an actual point of the face, so at
-    least the true one.  The exact search runs on the points in decreasing order of their upper value
-    while that exceeds the largest exact distance found so far: the maximum is then the exact
-    search's own maximum over all points, found with a few hundred exact projections instead of one
-    per point (at most ``cap``; beyond, the upper values stand, which can only raise the maximum)."""
-    X = np.asarray(X, float).reshape(-1, 3)
-    d = proj.upper(X)
-    top = 0.0
-    order = np.argsort(-d, kind="stable")
-    for i in order[:cap]:
-        if d[i] <= top:
-            break
-        d[i] = min(d[i], proj.distance(X[i]))
-        top = max(top, d[i])
-    return d
 
 
 def two_sided(pa: np.ndarray, pb: np.ndarray, to_a, to_b) -> Hausdorff:
