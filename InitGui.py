@@ -31,6 +31,10 @@ class RuledWorkbench(FreeCADGui.Workbench):
         self.appendToolbar("Ruled", commands.NAMES)
         self.appendMenu("Ruled", commands.NAMES)
 
+    def Activated(self):
+        from ruled_workbench import greyed
+        greyed.install()       # a click on a greyed Ruled command says why in the status bar
+
     def GetClassName(self):
         return "Gui::PythonWorkbench"
 

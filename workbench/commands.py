@@ -40,7 +40,18 @@ def selected_face():
     return obj, name
 
 
-class FitCommand:
+class _Command:
+    """A command active when why_not() has nothing to say: what it says is the reason it is greyed (shown in the
+    status bar when its greyed menu entry or button is clicked, workbench.greyed)."""
+
+    def why_not(self) -> str:
+        return ""
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and not self.why_not()
+
+
+class FitCommand(_Command):
     """A face selected, a task panel opened on it (the subclasses name their panel and their selection)."""
 
     panel = "FitTaskPanel"
@@ -50,8 +61,9 @@ class FitCommand:
         return resources("fit.svg", "Fit ruled surface", "Fit the best ruled surface to the selected face, with a "
                          "certified error", "one face of a part (click it in the 3D view)")
 
-    def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and self.select()[0] is not None
+    def why_not(self) -> str:
+        obj, why = self.select()
+        return why if obj is None else ""
 
     def Activated(self):
         obj, sub = self.select()
@@ -114,13 +126,14 @@ def selected_face_and_sketch():
     return faces[0][0], faces[0][1], (sketches[0] if sketches else None)
 
 
-class CurveCommand:
+class CurveCommand(_Command):
     def GetResources(self):
         return resources("curve.svg", "Curve on face", "A curve lying on the selected face: through points you pick "
                          "on it, or from a sketch mapped onto its (u, v)", "one face, and a sketch if you drew one")
 
-    def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and selected_face_and_sketch()[0] is not None
+    def why_not(self) -> str:
+        obj, why, _ = selected_face_and_sketch()
+        return why if obj is None else ""
 
     def Activated(self):
         obj, sub, sketch = selected_face_and_sketch()
@@ -148,7 +161,7 @@ def selected_faces():
     return out, ""
 
 
-class FitManyCommand:
+class FitManyCommand(_Command):
     """One RuledFit per selected face, with the default parameters, in one undo step; a face the engine
     refuses becomes an invalid object with its reason (the others are kept)."""
 
@@ -157,8 +170,9 @@ class FitManyCommand:
                          "parameters, one RuledFit each; edit any of them afterwards by double-click)",
                          "the faces (Ctrl+click adds one)")
 
-    def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and selected_faces()[0] is not None
+    def why_not(self) -> str:
+        faces, why = selected_faces()
+        return why if faces is None else ""
 
     def Activated(self):
         faces, why = selected_faces()
@@ -197,7 +211,7 @@ def selected_wall():
     return parts[0], [n for _, n in faces]
 
 
-class WallCommand:
+class WallCommand(_Command):
     """The selected faces (a part's wall) as one closed ruled surface: the Fit wall panel (a parametric RuledWall
     made in one undo step), or the panel saying why the faces are no side wall."""
 
@@ -206,8 +220,18 @@ class WallCommand:
                          "bottom and top contours) as one closed ruled surface, for one wire path round the part",
                          "every face of the wall (Ctrl+click adds one)")
 
-    def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and selected_wall()[0] is not None
+    def why_not(self) -> str:
+        """Greyed unless the selection is a ring of faces of one part (the topology's answer kept for the
+        selection it was asked of: FreeCAD asks after every change)."""
+        part, subs = selected_wall()
+        if part is None:
+            return subs
+        key = (part.Document.Name, part.Name, tuple(subs), part.Shape.hashCode())
+        if key not in _RINGS:
+            from .wallpanel import wall_refusal
+            _RINGS.clear()
+            _RINGS[key] = (wall_refusal(part, subs) or "").replace("Cannot fit a wall: ", "", 1)
+        return _RINGS[key]
 
     def Activated(self):
         part, subs = selected_wall()
@@ -221,7 +245,7 @@ class WallCommand:
         return None
 
 
-class ReplaceCommand:
+class ReplaceCommand(_Command):
     """The selected RuledFit's result put back into its part in place of its face: a parametric RuledReplace."""
 
     def GetResources(self):
@@ -229,14 +253,15 @@ class ReplaceCommand:
                          "place of its face, bounded by the face's own edges: a parametric copy of the part",
                          "one Ruled fit in the tree")
 
-    def IsActive(self):
+    def why_not(self) -> str:
         sel = FreeCADGui.Selection.getSelection()
-        return len(sel) == 1 and _is_fit(sel[0])
+        return "" if len(sel) == 1 and _is_fit(sel[0]) else \
+            "select one Ruled fit (a RuledFit object in the tree) to put back into its part"
 
     def Activated(self):
         sel = FreeCADGui.Selection.getSelection()
-        if not (len(sel) == 1 and _is_fit(sel[0])):
-            _say("select one Ruled fit (a RuledFit object) to put back into its part")
+        if self.why_not():
+            _say(self.why_not())
             return
         from .replace import make_ruled_replace
         doc = sel[0].Document
@@ -257,14 +282,15 @@ def _recomputed(obj):
     return obj
 
 
-class ExportCommand:
+class ExportCommand(_Command):
     def GetResources(self):
         return resources("export.svg", "Export for machining...", "Write the selected ruled results for machining: "
                          "STEP (with or without rulings), XYUV G-code for a 4-axis wire, or flank-milling CL data "
                          "(APT)", "Ruled results in the tree (a Ruled fit or wall for machine data)")
 
-    def IsActive(self):
-        return any(hasattr(o, "Shape") for o in FreeCADGui.Selection.getSelection())
+    def why_not(self) -> str:
+        return "" if any(hasattr(o, "Shape") for o in FreeCADGui.Selection.getSelection()) else \
+            "select the Ruled results to write in the tree (a Ruled fit or wall for machine data)"
 
     def Activated(self):
         from .busy import show_panel
@@ -276,10 +302,22 @@ COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Spl
             "Ruled_Partition": PartitionCommand, "Ruled_Cone": ConeCommand, "Ruled_Curve": CurveCommand,
             "Ruled_Wall": WallCommand, "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand}
 NAMES = list(COMMANDS)
+_RINGS: dict = {}          # {the wall selection: why its faces are no ring, "" when they are one}
 
 
 def register() -> None:
     """The commands added to FreeCAD, and the task panels loaded (each registers the objects it edits)."""
     from . import curvepanel, taskpanels, wallpanel  # noqa: F401
     for name, kind in COMMANDS.items():
-        FreeCADGui.addCommand(name, kind())
+        INSTANCES[name] = kind()
+        FreeCADGui.addCommand(name, INSTANCES[name])
+
+
+INSTANCES: dict = {}      # {name: the command FreeCAD runs}
+
+
+def why_greyed(name: str) -> str:
+    """Why the command name is greyed now, in words for the status bar ("" when it is active)."""
+    cmd = INSTANCES.get(name) or COMMANDS[name]()
+    why = "open a document and select in it" if FreeCAD.ActiveDocument is None else cmd.why_not()
+    return f"{cmd.GetResources()['MenuText']}: {why}" if why else ""

@@ -55,7 +55,7 @@ class CurveTaskPanel(_Panel):
         lay.addRow(self.preview_button)
         self._progress_bar(lay)
         lay.addRow(self.result)
-        self.callback = self.marks = None
+        self.callback = self.marks = self.role = None
         self._show_points()
         self.pick_button.toggled.connect(self._picking)
         self.clear_button.clicked.connect(self._clear)
@@ -71,13 +71,21 @@ class CurveTaskPanel(_Panel):
         self._show_points()
 
     def _picking(self, on: bool):
+        """Picking on: every left click in the 3D view comes to _clicked, and the view's selection is off (its
+        selection node would take the button's release, an edge's or another face's included)."""
         from pivy import coin
         view = FreeCADGui.ActiveDocument.ActiveView
+        role = view.getSceneGraph().getField("selectionRole")
         if on and self.callback is None:
             self.callback = view.addEventCallbackPivy(coin.SoMouseButtonEvent.getClassTypeId(), self._clicked)
+            self.role = str(role.get()).strip() if role is not None else None
+            if role is not None:
+                role.set("FALSE")
         elif not on and self.callback is not None:
             view.removeEventCallbackPivy(coin.SoMouseButtonEvent.getClassTypeId(), self.callback)
             self.callback = None
+            if role is not None and self.role is not None:
+                role.set(self.role)
 
     def _clicked(self, cb):
         """While picking, every left click is the panel's (the selection never changes): on the face, a point;
@@ -93,13 +101,22 @@ class CurveTaskPanel(_Panel):
 
     def pick(self, pos) -> bool:
         """Add the point of the source face under the view position pos (pixels, from the lower left), also
-        where its edges are drawn over it (a thin face shows little but its edges until zoomed in)."""
+        where its edges are drawn over it (a thin face shows little but its edges until zoomed in); a click on
+        one of the face's own edges alone snaps onto the face (its nearest point)."""
         hits = FreeCADGui.ActiveDocument.ActiveView.getObjectsInfo((int(pos[0]), int(pos[1]))) or []
-        info = next((h for h in hits if h.get("Object") == self.source.Name and h.get("Component") == self.subname),
-                    None)
-        if info is None:
-            return False
-        self.points.append(FreeCAD.Vector(info["x"], info["y"], info["z"]))
+        mine = [h for h in hits if h.get("Object") == self.source.Name]
+        info = next((h for h in mine if h.get("Component") == self.subname), None)
+        face = self.source.Shape.getElement(self.subname)
+        if info is not None:
+            point = FreeCAD.Vector(info["x"], info["y"], info["z"])
+        else:
+            edges = [h for h in mine if str(h.get("Component", "")).startswith("Edge")
+                     and any(e.isSame(self.source.Shape.getElement(h["Component"])) for e in face.Edges)]
+            if not edges:
+                return False
+            import Part
+            point = face.distToShape(Part.Vertex(edges[0]["x"], edges[0]["y"], edges[0]["z"]))[1][0][0]
+        self.points.append(point)
         self._show_points()
         return True
 

@@ -9,7 +9,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click_view, run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
@@ -236,17 +236,21 @@ def main():
     along = sorted(grid, key=lambda g: g[1])         # along the blade, one way
     spread = along[::max(1, len(along) // 6)]
     inside = [(u0 + a * (u1 - u0), v0 + b * (v1 - v0)) for a, b in spread]
-    height = view.getSize()[1]
     picked, targets = [], []
-    for uv in inside[:6]:
+    for uv in inside[:6]:          # real clicks on the view (issue 59)
         q = face7.valueAt(*uv)
-        x, y = view.getPointOnScreen(q)
-        for pos in ((x, y), (x, height - y)):        # pixels from the lower left (Coin's), whichever it is
-            if k2.pick(pos):
-                picked.append(list(pos))
-                targets.append(tuple(q))
-                break
+        before = len(k2.points)
+        click_view(view, view.getPointOnScreen(q))
+        if len(k2.points) > before:
+            picked.append(list(view.getPointOnScreen(q)))
+            targets.append(tuple(q))
     res["picked"] = picked
+    res["pick_selection"] = [(s.ObjectName, list(s.SubElementNames)) for s in sel.getSelectionEx()]
+    width, height = view.getSize()
+    n = len(k2.points)
+    click_view(view, (3, height - 3))           # the background, in a corner: no point, a word, no selection
+    res["background_click"] = {"points": len(k2.points) - n, "status": mw.statusBar().currentMessage(),
+                               "selection": [s.ObjectName for s in sel.getSelectionEx()]}
     # each pick marked in the 3D view, numbered (issue 59): as many markers as points
     res["pick_marks"] = {"marks": k2.marks.getChild(1).point.getNum() if k2.marks is not None else 0,
                          "points": len(k2.points), "shot": shoot("ruled_curve_picks.png")}
@@ -256,13 +260,25 @@ def main():
     du = face7.Surface.getDN(0.5 * (fu0 + fu1), 0.5 * (fv0 + fv1), 1, 0)
     view.setViewDirection((du.x, du.y, du.z))
     FreeCADGui.updateGui()
-    ex, ey = view.getPointOnScreen(mid)
-    snapped = [k2.pick(pos) for pos in ((ex, ey), (ex, height - ey))]
-    res["edge_pick"] = {"taken": any(snapped), "on_face": face7.distToShape(Part.Vertex(k2.points[-1]))[0]
-                        if any(snapped) else None}
-    if any(snapped):
+    n = len(k2.points)
+    sel.clearSelection()
+    click_view(view, view.getPointOnScreen(mid))
+    taken = len(k2.points) > n
+    res["edge_pick"] = {"taken": taken, "on_face": face7.distToShape(Part.Vertex(k2.points[-1]))[0]
+                        if taken else None, "selection": [s.ObjectName for s in sel.getSelectionEx()]}
+    if taken:
         k2.points.pop()
     face_on(view, face7)
+    FreeCADGui.updateGui()
+    # a click on one of the face's edges, face on: snapped onto the face, the selection unchanged
+    n = len(k2.points)
+    rim = blade.Shape.Edges[0]
+    click_view(view, view.getPointOnScreen(rim.valueAt(sum(rim.ParameterRange) / 2)))
+    taken = len(k2.points) > n
+    res["rim_pick"] = {"taken": taken, "on_face": face7.distToShape(Part.Vertex(k2.points[-1]))[0]
+                       if taken else None, "selection": [s.ObjectName for s in sel.getSelectionEx()]}
+    if taken:
+        k2.points.pop()
     k2.tol.setValue(0.001)
     res["points_preview"] = k2.preview()
     ko2 = k2.obj

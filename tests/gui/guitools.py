@@ -148,3 +148,52 @@ def grab_window(path: str) -> str:
     g = mw.frameGeometry()
     QtGui.QGuiApplication.primaryScreen().grabWindow(0, g.x(), g.y(), g.width(), g.height()).save(path)
     return path
+
+
+def click_view(view, xy, button=None) -> None:
+    """A real mouse click (QTest: move, press, release) on the 3D view's viewport at xy, in Coin's pixels from the
+    lower left (as view.getPointOnScreen gives them; the viewport's Qt pixels may be fewer)."""
+    import FreeCADGui
+    from PySide2 import QtCore, QtWidgets
+    from PySide2.QtTest import QTest
+    quarter = [w for w in FreeCADGui.getMainWindow().findChildren(QtWidgets.QWidget)
+               if w.metaObject().className().endswith("QuarterWidget") and w.isVisible()][0]
+    port = quarter.viewport()
+    width, height = view.getSize()
+    pos = QtCore.QPoint(round(xy[0] * port.width() / width), round((height - xy[1]) * port.height() / height))
+    QTest.mouseMove(port, pos)
+    QTest.mouseClick(port, button or QtCore.Qt.LeftButton, QtCore.Qt.NoModifier, pos)
+    for _ in range(3):
+        FreeCADGui.updateGui()
+
+
+def click_greyed(name: str, where: str = "toolbar") -> dict:
+    """A real click (QTest) on the Ruled command name's entry in the Ruled toolbar or menu, once FreeCAD has
+    updated its state: {"enabled": its state, "status": the status bar's message after the click}."""
+    import time
+
+    import FreeCADGui
+    from PySide2 import QtCore, QtWidgets
+    from PySide2.QtTest import QTest
+    from ruled_workbench.greyed import ruled_bars
+    mw = FreeCADGui.getMainWindow()
+    for _ in range(10):                         # FreeCAD updates the commands' state on a timer
+        QtWidgets.QApplication.processEvents()
+        time.sleep(0.05)
+    mw.statusBar().clearMessage()
+    bars = [b for b in ruled_bars() if isinstance(b, QtWidgets.QMenu) == (where == "menu")]
+    bar = bars[0]
+    action = [a for a in bar.actions() if a.objectName() == name][0]
+    if where == "menu":
+        bar.popup(mw.mapToGlobal(QtCore.QPoint(200, 200)))
+        QtWidgets.QApplication.processEvents()
+        widget, pos = bar, bar.actionGeometry(action).center()
+    else:
+        widget = bar.widgetForAction(action)
+        pos = widget.rect().center()
+    QTest.mouseClick(widget, QtCore.Qt.LeftButton, QtCore.Qt.NoModifier, pos)
+    QtWidgets.QApplication.processEvents()
+    out = {"enabled": action.isEnabled(), "status": mw.statusBar().currentMessage()}
+    if where == "menu":
+        bar.hide()
+    return out

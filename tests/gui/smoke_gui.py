@@ -6,7 +6,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, run_and_exit, toolbar_actions, toolbar_run  # noqa: E402
+from guitools import Results, click_greyed, run_and_exit, toolbar_actions, toolbar_run  # noqa: E402
 
 res = Results()
 
@@ -29,6 +29,9 @@ def main():
     actions = toolbar_actions()
     res["toolbar"] = [a.objectName() for a in actions]
     res["enabled_on_nothing"] = [a.objectName() for a in actions if a.isEnabled()]
+    # a real click on a greyed command's menu entry and toolbar button says why in the status bar (issue 59)
+    res["greyed_menu"] = click_greyed("Ruled_Fit", "menu")
+    res["greyed_button"] = click_greyed("Ruled_Replace")
     FreeCADGui.Selection.addSelection(imp, "Face7")
     res["clicked"] = toolbar_run("Ruled_Fit")
     panel = state.ACTIVE

@@ -7,7 +7,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, grab_window, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click_greyed, grab_window, run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 res = Results()
@@ -29,11 +29,14 @@ def main():
     sel.clearSelection()
     sel.addSelection(part, faces[0])
     res["one_face"] = toolbar_run("Ruled_Wall")           # one face is no wall: the button stays greyed
-    # two faces that are not one side wall: the panel says so in one line, and no object is made
-    from ruled_workbench import state, wallpanel
+    # two faces that are not one side wall: the button is greyed, a real click on it says why in the status bar
+    # (issue 59); run anyway (a script's runCommand), the panel says so in one line, and no object is made
+    from ruled_workbench import commands, state, wallpanel
     sel.addSelection(part, faces[2])
     before = len(doc.Objects)
     res["unrelated_clicked"] = toolbar_run("Ruled_Wall")
+    res["unrelated_greyed"] = click_greyed("Ruled_Wall")
+    commands.INSTANCES["Ruled_Wall"].Activated()
     for _ in range(5):
         FreeCADGui.updateGui()
     res["refusal"] = None if wallpanel.REFUSED is None else wallpanel.REFUSED.message.text()

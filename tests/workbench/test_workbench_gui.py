@@ -38,7 +38,9 @@ def run_gui(script: str, home, screen: str = "1280x1024", **env_more):
 
 def test_the_workbench_in_the_gui(tmp_path):
     """The quick GUI check (the loop while you work): the workbench activates, its toolbar holds every
-    command, none enabled with nothing selected, and a click on Fit with a face selected opens its panel."""
+    command, none enabled with nothing selected (a real click on a greyed one says why in the status bar), and a
+    click on Fit with a face selected opens its panel."""
+    needs_qttest()
     run = run_gui("smoke_gui.py", tmp_path / "home")
     r = json.load(open(os.path.join(OUT, "smoke.json")))
     assert r["toolbar"] == r["names"] and len(r["names"]) == 9, r
@@ -47,6 +49,11 @@ def test_the_workbench_in_the_gui(tmp_path):
     # greyed, each button says what to select, in its tooltip and in the status bar
     for name, (tip, status) in r["tips"].items():
         assert "Select " in tip and "Select " in status, (name, tip, status)
+    # ... and a real click on a greyed entry says why in the status bar, the menu's and the toolbar's
+    assert r["greyed_menu"] == {"enabled": False, "status": "Fit ruled surface: nothing is selected: select one face "
+                                "of a part in the 3D view"}, r["greyed_menu"]
+    assert r["greyed_button"] == {"enabled": False, "status": "Replace in part: select one Ruled fit (a RuledFit "
+                                  "object in the tree) to put back into its part"}, r["greyed_button"]
     # the preferences dialog opened, the Ruled page with its icon
     assert r["prefs_dialog"] and "Cannot find icon: preferences-ruled" not in run.stdout + run.stderr
 
@@ -267,6 +274,13 @@ def test_commands_and_the_export_panel(tmp_path):
     assert max(pt["turns"]) <= pt["angle"], pt
     assert 0 < pt["bound"] and pt["hausdorff"] <= pt["bound"], pt
     assert r["edge_pick"]["taken"] and r["edge_pick"]["on_face"] <= 0.01, r["edge_pick"]     # (on the tessellation)
+    # real clicks (issue 59): the selection never changes while picking (the part's edge clicked: nothing
+    # selected; the face, then the background: the face selected before the panel opened, still alone)
+    assert r["edge_pick"]["selection"] == [] and r["pick_selection"] == [["Blade", ["Face1"]]], r
+    rim = r["rim_pick"]        # a click on the face's own edge snaps onto the face
+    assert rim["taken"] and rim["on_face"] <= 1e-6 and rim["selection"] == [], rim
+    bg = r["background_click"]
+    assert bg["points"] == 0 and "click on the face itself" in bg["status"] and bg["selection"] == ["Blade"], bg
     for key in ("partition_shot", "cone_shot", "curve_shot"):
         assert os.path.getsize(r[key]) > 10_000
     for width, combo in [r["export_width"]] + r["widths"]:      # every panel fits the combo view
@@ -340,11 +354,13 @@ def test_fit_wall_in_the_gui(tmp_path):
             RULED_WALL_FACES=",".join(ring_names))
     r = json.load(open(os.path.join(OUT, "wall.json")))
     assert r["one_face"] is False and r["clicked"] and r["made"] == 1, r
-    assert r["unrelated_clicked"] and r["refusal_made"] == 0, r          # no object for faces that are no wall
-    assert r["refusal"] == (f"Cannot fit a wall: faces {ring_names[0]},{ring_names[2]} of the wall do not each meet "
-                            f"two others of it edge to edge (a wall is a ring of faces between two contours); "
-                            f"select the faces of one side wall (the ring of faces between the part's bottom and top "
-                            f"contours)"), r["refusal"]
+    why = (f"faces {ring_names[0]},{ring_names[2]} of the wall do not each meet two others of it edge to edge (a "
+           f"wall is a ring of faces between two contours); select the faces of one side wall (the ring of faces "
+           f"between the part's bottom and top contours)")
+    # faces that are no wall: Fit wall greyed, a click on it says why; run anyway, no object and the panel says why
+    assert r["unrelated_clicked"] is False and r["unrelated_greyed"] == {"enabled": False,
+                                                                         "status": "Fit wall: " + why}, r
+    assert r["refusal_made"] == 0 and r["refusal"] == "Cannot fit a wall: " + why, r["refusal"]
     assert r["panel"] == "WallTaskPanel" and r["accepted"], r
     w = r["wall"]
     assert w["valid"] and w["status"] == "ok" and w["shape_valid"] and w["n_faces"] == 1 and w["closed"], w
