@@ -19,12 +19,15 @@ import time
 
 import FreeCAD
 
+from . import quiet
 from .measure import measure_into  # noqa: F401  (objects and walls import it from here)
 from .progress import _Progress
 from .state import LISTENERS, RUNNING, request_cancel  # noqa: F401  (the workbench's names for them)
+from .units import length, lengths_in
 
 RESULT_GROUP = "Result"
 FIT_GROUP = "Fit"
+LIMITS = ("no limit", "at most Max Error")       # RuledFit's ErrorLimit
 
 
 # the data behind the view's colours and lines, not figures to read (a list of 0.00 mm): out of the property editor
@@ -69,63 +72,6 @@ def source_face(obj):
     except Exception:  # Part raises IndexError / OCCError for stale names
         raise BadInputError(f"{src.Label} has no {subs[0]} any more (its shape changed); pick the face again") \
             from None
-
-
-class _TracebackRestorer:
-    """FreeCAD reports an exception raised by execute() with its Python traceback and a line
-    "<class 'RuntimeError'>: ..." of its own.  A refusal of bad input is one line, the object's, not a crash:
-    while FreeCAD reports it, sys.tracebacklimit is 0 and the console's and report view's error output are
-    off; both come back when the object's (or the document's) recompute ends."""
-
-    saved = None
-    armed = False
-    registered = False
-    OUTPUTS = ("Console", "ReportOutput")     # FreeCAD's console observers: the terminal, the report view
-    errors: dict = {}
-
-    def arm(self) -> None:
-        import sys
-        if not self.registered:
-            FreeCAD.addDocumentObserver(self)
-            self.registered = True
-        if not self.armed:
-            self.saved = getattr(sys, "tracebacklimit", None)
-            self.errors = {}
-            for name in self.OUTPUTS:
-                try:
-                    self.errors[name] = FreeCAD.Console.GetStatus(name, "Err")
-                    FreeCAD.Console.SetStatus(name, "Err", False)
-                except Exception:     # (no such observer here: freecadcmd has no report view)
-                    continue
-            self.armed = True
-        sys.tracebacklimit = 0
-
-    def restore(self) -> None:
-        import sys
-        if not self.armed:
-            return
-        if self.saved is None:
-            if hasattr(sys, "tracebacklimit"):
-                del sys.tracebacklimit
-        else:
-            sys.tracebacklimit = self.saved
-        for name, on in self.errors.items():
-            if on is not None:
-                FreeCAD.Console.SetStatus(name, "Err", bool(on))
-        self.armed = False
-
-    def slotRecomputedObject(self, obj) -> None:
-        self.restore()
-
-    def slotRecomputedDocument(self, doc) -> None:
-        self.restore()
-
-
-_RESTORER = _TracebackRestorer()
-
-
-def _quiet_traceback() -> None:
-    _RESTORER.arm()
 
 
 _KERNELS_SAID = False
@@ -184,11 +130,12 @@ def _camel(key: str) -> str:
     return "".join(w.capitalize() for w in key.split("_"))
 
 
-def in_our_terms(message) -> str:
+def in_our_terms(message, shown: dict | None = None) -> str:
     """An engine error, warning or note as FreeCAD says it: the options it names are this object's
-    properties."""
+    properties, its lengths in the user's unit (workbench.units.lengths_in: shown, {the engine's figure: the one
+    the object shows})."""
     from ruled.core.errors import in_terms, names_from
-    return in_terms(message, names_from(PROPERTIES, _camel, " = "))
+    return lengths_in(in_terms(message, names_from(PROPERTIES, _camel, " = ")), shown)
 
 
 class _Feature:
@@ -214,7 +161,7 @@ class _Feature:
 
     def execute(self, obj):
         from ruled.core.errors import CancelledError, RuledError
-        _RESTORER.restore()      # (the report's error output, off while FreeCAD reported an earlier refusal)
+        quiet.RESTORER.restore()      # (the report's error output, off while FreeCAD reported an earlier refusal)
         t0 = time.perf_counter()
         RUNNING.append(obj.Name)
         try:
@@ -226,7 +173,7 @@ class _Feature:
             # the user's own cancel is no error: said as a message, not in the report's red
             say = FreeCAD.Console.PrintMessage if isinstance(exc, CancelledError) else FreeCAD.Console.PrintError
             say(f"{obj.Label}: {obj.Status}\n")
-            _quiet_traceback()
+            quiet.RESTORER.arm()
             raise RuntimeError(obj.Status) from None        # FreeCAD marks the object invalid with this message
         finally:
             RUNNING.remove(obj.Name)
@@ -256,6 +203,9 @@ class RuledFit(_Feature):
               ["sum", "max"], "sum")
         _add(obj, "App::PropertyLength", "MaxError", FIT_GROUP, "forbid rulings farther than this from the face "
              "(0: no limit)", 0.0)
+        _enum(obj, "ErrorLimit", FIT_GROUP, "no limit, or forbid rulings farther than Max Error from the face (shown "
+              "then)", list(LIMITS), LIMITS[value(obj.MaxError) > 0])
+        obj.setEditorMode("MaxError", 0 if obj.ErrorLimit == LIMITS[1] else 2)
         _enum(obj, "Direction", FIT_GROUP, "which pair of opposite sides of the face the rulings join: v, its "
               "sides 0 and 2 (the v-min and v-max edges of an untrimmed face); u, sides 1 and 3; auto: the better",
               ["auto", "u", "v"], "auto")
@@ -294,11 +244,21 @@ class RuledFit(_Feature):
     def options(self, obj):
         from ruled import FitOptions
         return FitOptions(samples=int(obj.Samples), objective=str(obj.Objective),
-                          max_error=value(obj.MaxError) if value(obj.MaxError) > 0 else None,
+                          max_error=value(obj.MaxError) if obj.ErrorLimit == LIMITS[1] and value(obj.MaxError) > 0
+                          else None,
                           direction=str(obj.Direction), refine=bool(obj.Refine), method=str(obj.Method),
                           elevations=int(obj.Elevations) if obj.Method == "4d" else None,
                           step=value(obj.Step) if obj.Method == "4d" and value(obj.Step) > 0 else None,
                           metric=str(obj.Metric), ends=str(obj.Ends)).checked()
+
+    def onChanged(self, obj, prop):
+        """'no limit' says so (Max Error hidden); a Max Error set (by the panel, by Python) sets the limit with it."""
+        if "ErrorLimit" not in obj.PropertiesList or "Restore" in obj.State:
+            return
+        if prop == "MaxError" and obj.ErrorLimit != LIMITS[value(obj.MaxError) > 0]:
+            obj.ErrorLimit = LIMITS[value(obj.MaxError) > 0]
+        elif prop == "ErrorLimit":
+            obj.setEditorMode("MaxError", 0 if obj.ErrorLimit == LIMITS[1] else 2)
 
     def onDocumentRestored(self, obj):
         before = "Ends" not in obj.PropertiesList
@@ -333,11 +293,15 @@ class RuledFit(_Feature):
                                              area_ratio(res, float(face.Area), float(result.Area)))
         try:
             res, result, more = first_consistent(progress.run(fit_region, face_region(face, S), opts, progress), built)
-            for w in tuple(res.patch.warnings) + tuple(more):
-                FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
+            p = res.patch      # (the fit's bound read as the object's: the same figure in the panel and here)
+            figures = [p.edge_gap, p.deviation, p.face_size, value(obj.Hausdorff)] + \
+                [c.error_bound for c in res.candidates.values() if hasattr(c, "error_bound")]
+            shown = {(res.error_bound, value(obj.ErrorBound)): obj.ErrorBound, **{f: f for f in figures}}
+            for w in tuple(p.warnings) + tuple(more):
+                FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w, shown)}\n")
             for note in res.notes:          # what the fit decided (the iso surface, the next candidate)
-                FreeCAD.Console.PrintMessage(f"{obj.Label}: {in_our_terms(note)}\n")
-            obj.EndsUsed = next((in_our_terms(n) for n in reversed(res.notes) if "rail" in n or "corners" in n),
+                FreeCAD.Console.PrintMessage(f"{obj.Label}: {in_our_terms(note, shown)}\n")
+            obj.EndsUsed = next((in_our_terms(n, shown) for n in reversed(res.notes) if "rail" in n or "corners" in n),
                                 "trimmed by the face's edges" if res.best.trim is not None else
                                 "pinned at the face's corners")
         finally:
@@ -415,8 +379,8 @@ class RuledSplit(_Feature):
             obj.RulingLines = ruling_lines([fit])
             obj.Shape, obj.Chosen, obj.ErrorBound, obj.WholeBound = result, "none", bound, bound
             obj.SplitCurve = []
-            FreeCAD.Console.PrintMessage(f"{obj.Label}: the face needs no split: its fit is {bound:.4g} mm (the best "
-                                         f"split's worse side is {best.bound + dev:.4g} mm)\n")
+            FreeCAD.Console.PrintMessage(f"{obj.Label}: the face needs no split: its fit is {length(bound)} (the best "
+                                         f"split's worse side is {length(best.bound + dev)})\n")
             return
         cos = approximate(S, input_curve(best.curve, res.transposed), EDGE_TOL * S.diagonal(), 10.0)
         fits = [surface_to_face(side.fit.surface) for side in best.sides]

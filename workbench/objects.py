@@ -34,6 +34,7 @@ from .features import (
     source_face,
     value,
 )
+from .units import length
 
 
 class RuledPartition(_Feature):
@@ -88,9 +89,9 @@ class RuledPartition(_Feature):
                 FreeCAD.Console.PrintWarning(f"{obj.Label}: {in_our_terms(w)}\n")
             S, dev = patch.surface, float(patch.deviation)
             if dev >= 0.5 * tol:
-                raise BadInputError(f"the Tolerance {tol:.4g} mm is too tight for this trimmed face: its own "
-                                    f"four-sided patch, which the strips split, is {dev:.3g} mm from it; raise the "
-                                    f"Tolerance above {2 * dev:.3g} mm")
+                raise BadInputError(f"the Tolerance {length(tol)} is too tight for this trimmed face: its own "
+                                    f"four-sided patch, which the strips split, is {length(dev)} from it; raise the "
+                                    f"Tolerance above {length(2 * dev)}")
             p = progress.run(partition, S, tol - dev, opts, progress)     # the strips within tol of the face as bounded
             fits = [surface_to_face(s.fit.surface) for s in p.strips]
             measure_into(obj, fits, face, lambda f: progress("measuring (distances to the source)", f))
@@ -332,7 +333,7 @@ class RuledCurveOnFace(_Feature):
         for k, p in enumerate(obj.Points):
             d = face.distToShape(Part.Vertex(p))[0]
             if d > PICK_TOL * size:     # picks land on the face's tessellation, close to it
-                raise BadInputError(f"point {k + 1} ({p.x:.4g}, {p.y:.4g}, {p.z:.4g}) is {d:.3g} mm from the face: "
+                raise BadInputError(f"point {k + 1} ({p.x:.4g}, {p.y:.4g}, {p.z:.4g}) is {length(d)} from the face: "
                                     f"pick the points on the face")
             u, v = face.Surface.parameter(p)
             uv.append([u, v])

@@ -83,7 +83,8 @@ def make_ruled_replace(doc, fit):
     obj.Fit = fit
     obj.Label = f"{fit.Source[0].Label} ruled"
     if FreeCAD.GuiUp:
-        obj.ViewObject.Proxy = 0
+        from .viewproviders import attach_view_provider
+        attach_view_provider(obj)
         fit.Source[0].ViewObject.Visibility = False
         fit.ViewObject.Visibility = False
     return obj

@@ -243,6 +243,11 @@ class FitTaskPanel(_Panel):
     verb = "fit"
 
     def describe(self, o) -> str:
+        from .legend import exact_bound
+        if exact_bound(o) is not None:       # (a plane, a face that is ruled: its figures are round-off's)
+            return (f"Exact: the face is ruled. {o.Rulings} rulings, certified within {length(o.ErrorBound)}, "
+                    f"measured Hausdorff {length(o.Hausdorff)} ({o.Seconds:.2f} s).\nColours: one, exact (the "
+                    f"legend in the view).")
         return (f"{o.Rulings} rulings, certified bound {length(o.ErrorBound)}, measured Hausdorff "
                 f"{length(o.Hausdorff)} ({o.Seconds:.2f} s).\nColours: distance to the face, blue 0 ... red "
                 f"{length(o.Hausdorff)} (the legend in the view).")

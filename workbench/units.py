@@ -5,6 +5,9 @@ shown."""
 
 from __future__ import annotations
 
+import math
+import re
+
 import FreeCAD
 
 DIGITS = 4
@@ -26,6 +29,8 @@ def length(value, digits: int = DIGITS) -> str:
 def unit_of(value) -> tuple:
     """(factor, unit) of the user's preferred unit for a length of this size."""
     v = magnitude(value)
+    if 0.0 < abs(v) < 1e-9:          # (below the schema's smallest unit's range: in that unit, as its neighbours)
+        v = 1e-9
     try:
         _, factor, unit = FreeCAD.Units.Quantity(v, FreeCAD.Units.Length).getUserPreferred()
         return float(factor) or 1.0, unit
@@ -33,4 +38,38 @@ def unit_of(value) -> tuple:
         return 1.0, "mm"
 
 
-__all__ = ["length", "magnitude", "unit_of", "DIGITS"]
+_UNITS = r"(?:mm|µm|nm|cm|m|km|in|ft|thou|mil)"      # (a figure already with its unit is left as it is)
+_NUMBER = re.compile(r"(?<![\w.])(\d+(?:\.\d*)?(?:[eE][+-]?\d+)?)(?![\w.%])(?! degree| times)(?! ?" + _UNITS + r"\b)")
+_LENGTH_WORD = re.compile(r"(?:bound|trimmed|pinned|otherwise|up to) $")
+
+
+def _digits(figure: str) -> int:
+    """Significant digits of a printed figure ('0.0004626': 4)."""
+    return max(1, len(figure.lower().split("e")[0].replace(".", "").lstrip("0")))
+
+
+def lengths_in(text: str, shown: dict | None = None) -> str:
+    """text (an engine's note, warning or error, its lengths bare numbers in model units) with its lengths printed
+    as length() prints them: each figure that is one of the lengths in shown ({the engine's figure, or (low, high)
+    of it: the figure the workbench shows for it, e.g. (the fit's bound, the object's): the object's ErrorBound})
+    to the digits it was printed with,
+    and each figure right after 'bound', 'trimmed', 'pinned', 'otherwise' or 'up to'."""
+    known = []
+    for k, show in (shown or {}).items():
+        lo, hi = (min(k), max(k)) if isinstance(k, tuple) else (k, k)
+        if lo and lo > 0:
+            known.append((float(lo), float(hi), show))
+
+    def one(m) -> str:
+        figure = m.group(1)
+        v = float(figure)
+        if v > 0 and _digits(figure) >= 2:
+            half = 0.51 * 10 ** (math.floor(math.log10(v)) - _digits(figure) + 1)
+            for lo, hi, show in known:
+                if lo - half <= v <= hi + half:
+                    return length(show)
+        return length(v) if _LENGTH_WORD.search(text[:m.start()]) else figure
+    return _NUMBER.sub(one, str(text))
+
+
+__all__ = ["length", "lengths_in", "magnitude", "unit_of", "DIGITS"]

@@ -107,7 +107,8 @@ class _Editable:
 
 
 ICONS = {"RuledFit": "fit.svg", "RuledSplit": "split.svg", "RuledPartition": "partition.svg",
-         "RuledConeSpline": "cone.svg", "RuledCurveOnFace": "curve.svg", "RuledWall": "wall.svg"}
+         "RuledConeSpline": "cone.svg", "RuledCurveOnFace": "curve.svg", "RuledWall": "wall.svg",
+         "RuledReplace": "replace.svg"}
 
 
 def _icon(vobj_or_obj) -> str:
@@ -127,6 +128,11 @@ class ViewProviderRuledCurve(_Editable):
 
     def getIcon(self):
         return _icon(self.vobj)
+
+
+class ViewProviderRuledReplace(ViewProviderRuledCurve):
+    """RuledReplace: Part's display of the part, its own icon (a proxy of its own: FreeCAD 0.20 shows a
+    FeaturePython's view provider without one again on reopening, whatever its saved visibility)."""
 
 
 class ViewProviderRuledFit(_Editable):
@@ -328,7 +334,9 @@ def _polylines(edges, colour, width):
 def attach_view_provider(obj) -> None:
     if not FreeCAD.GuiUp:
         return
-    if type(obj.Proxy).__name__ == "RuledCurveOnFace":
+    if type(obj.Proxy).__name__ == "RuledReplace":
+        ViewProviderRuledReplace(obj.ViewObject)
+    elif type(obj.Proxy).__name__ == "RuledCurveOnFace":
         ViewProviderRuledCurve(obj.ViewObject)
         obj.ViewObject.LineColor = (0.85, 0.1, 0.1)
         obj.ViewObject.LineWidth = 4.0

@@ -9,7 +9,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_view, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click_view, run_and_exit, shortcut, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
@@ -110,9 +110,9 @@ def main():
     face_on(view, face7)
     res["partition_shot"] = shoot("ruled_partition.png", o)
     n = len(doc.Objects)
-    doc.undo()
+    shortcut("Std_Undo")          # the keyboard's Undo and Redo, for real
     res["partition_undo"] = [len(doc.Objects) == n - 1, doc.getObject(name) is None]
-    doc.redo()
+    shortcut("Std_Redo")
     res["partition_undo"].append(doc.getObject(name) is not None)
 
     # Cone spline of a cone's face, through the panel
@@ -395,6 +395,8 @@ def main():
     ruled = [o for o in doc.Objects if hasattr(o, "ErrorBound") and o.isValid() and o.Status == "ok"]
     before = {o.Name: value(o.ErrorBound) for o in ruled}
     path = os.path.join(OUT, "commands.FCStd")
+    imp.ViewObject.Visibility = False        # as Replace in part left it (issue 59: visible again after reopen)
+    shown = {o.Name: o.ViewObject.Visibility for o in doc.Objects if getattr(o, "ViewObject", None) is not None}
     doc.saveAs(path)
     FreeCAD.closeDocument(doc.Name)
     FreeCADGui.updateGui()
@@ -404,9 +406,13 @@ def main():
     FreeCADGui.updateGui()
     text = report[0].toPlainText() if report else ""
     objs = [d2.getObject(n) for n in before]
+    reopened = {o.Name: o.ViewObject.Visibility for o in d2.Objects if getattr(o, "ViewObject", None) is not None}
     for o in objs:
         o.touch()
     d2.recompute()
+    FreeCADGui.updateGui()
+    res["visibility"] = {"saved": shown, "reopened": reopened, "recomputed": {
+        o.Name: o.ViewObject.Visibility for o in d2.Objects if getattr(o, "ViewObject", None) is not None}}
     res["reopen"] = {"text": text[-1500:], "clean": bool(report) and "Traceback" not in text and "Error" not in text,
                      "valid": [o.isValid() for o in objs],
                      # (within 1e-5: a trimmed result's bound moves by up to 2e-6 of itself with the last digits

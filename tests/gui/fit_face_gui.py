@@ -281,6 +281,19 @@ def main():
                        "report": [x for x in report[0].toPlainText().splitlines() if x.strip()]}
     bad_panel.reject()
     res["after_cancel"] = [o.Name for o in doc.Objects]
+    # a planar face (issue 59): answered at once, exact: the panel says so, one colour, the legend 'exact'
+    import time
+
+    from ruled_workbench import viewproviders
+    sel.clearSelection()
+    sel.addSelection(imp, "Face4")
+    toolbar_run("Ruled_Fit")
+    pp = state.ACTIVE
+    t0 = time.monotonic()
+    ok = pp.preview()
+    res["planar"] = {"preview": ok, "seconds": time.monotonic() - t0, "text": pp.result.text(),
+                     "legend": list(viewproviders.LEGENDS.get(doc.Name, (None, None, []))[2])}
+    pp.reject()
     step = os.path.join(OUT, "ruled_fit.step")
     from ruled_workbench.export import export_step
     export_step([obj], step)

@@ -46,11 +46,7 @@ def run_and_exit(main, res: dict, name: str) -> None:
 
 def toolbar_actions() -> list:
     """The buttons of the Ruled toolbar (its named actions), in their order."""
-    import FreeCADGui
-    from PySide import QtGui
-    bars = [b for b in FreeCADGui.getMainWindow().findChildren(QtGui.QToolBar)
-            if b.objectName() == "Ruled" or b.windowTitle() == "Ruled"]
-    return [a for b in bars for a in b.actions() if a.objectName()]
+    return [a for b in _bars() for a in b.actions() if a.objectName()]
 
 
 def toolbar_run(name):
@@ -64,8 +60,9 @@ def toolbar_run(name):
 
 
 def _click(action, wait: float = 3.0) -> bool:
-    """Trigger the action once FreeCAD has enabled it (it updates the buttons' state on a timer after the
-    selection changes); False when it stays disabled."""
+    """Click the action's toolbar button (a real click; its action triggered where the button is out of sight)
+    once FreeCAD has enabled it (it updates the buttons' state on a timer after the selection changes); False
+    when it stays disabled."""
     import time
 
     from PySide import QtGui
@@ -75,8 +72,42 @@ def _click(action, wait: float = 3.0) -> bool:
         time.sleep(0.05)
     if not action.isEnabled():
         return False
-    action.trigger()
+    button = next((b.widgetForAction(action) for b in _bars() if b.widgetForAction(action) is not None), None)
+    if button is not None and button.isVisible():        # a real click on the toolbar's button (QTest)
+        from PySide2 import QtCore
+        from PySide2.QtTest import QTest
+        QTest.mouseClick(button, QtCore.Qt.LeftButton, QtCore.Qt.NoModifier, button.rect().center())
+    else:
+        action.trigger()
     return True
+
+
+def _bars() -> list:
+    import FreeCADGui
+    from PySide import QtGui
+    return [b for b in FreeCADGui.getMainWindow().findChildren(QtGui.QToolBar)
+            if b.objectName() == "Ruled" or b.windowTitle() == "Ruled"]
+
+
+def shortcut(command: str) -> str:
+    """The FreeCAD command's own keyboard shortcut pressed for real (QTest) where the keyboard's focus is (e.g.
+    Std_Undo: Ctrl+Z); the shortcut, as text."""
+    import time
+
+    import FreeCADGui
+    from PySide2.QtTest import QTest
+    from PySide2.QtWidgets import QAction, QApplication
+    mw = FreeCADGui.getMainWindow()
+    action = next(a for a in mw.findChildren(QAction) if a.objectName() == command)
+    end = time.time() + 3.0
+    while not action.isEnabled() and time.time() < end:       # (FreeCAD enables it on a timer)
+        QApplication.processEvents()
+        time.sleep(0.05)
+    seq = action.shortcut()
+    QTest.keySequence(QApplication.focusWidget() or mw, seq)
+    for _ in range(3):
+        FreeCADGui.updateGui()
+    return seq.toString()
 
 
 # ------------------------------------------------------------------------------ real input (QTest events)

@@ -7,7 +7,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_greyed, grab_window, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click_greyed, grab_window, run_and_exit, shortcut, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 res = Results()
@@ -125,12 +125,12 @@ def main():
     res["export_ok"] = ep.accept()
     res["export_exists"] = os.path.exists(path)
     # undo: the RuledWall goes, the part stays
-    doc.undo()
+    FreeCADGui.getMainWindow().activateWindow()
+    res["undo_key"] = shortcut("Std_Undo")            # (the keyboard's Undo: Ctrl+Z)
     res["after_undo"] = sorted(o.Name for o in doc.Objects)
     res["legend_after_undo"] = doc.Name in viewproviders.LEGENDS
     # redo: the wall back, with its legend
-    doc.redo()
-    FreeCADGui.updateGui()
+    res["redo_key"] = shortcut("Std_Redo")
     res["after_redo"] = sorted(o.Name for o in doc.Objects)
     res["legend_after_redo"] = viewproviders.LEGENDS.get(doc.Name, (None,))[0]
 

@@ -21,6 +21,7 @@ SCRIPT = textwrap.dedent("""
         import numpy as np, FreeCAD, Part
         from ruled_workbench.features import make_ruled_fit
         from ruled_workbench.adapter import surface_to_face, face_to_arrays
+        from ruled_workbench.units import length
         from ruled.examples import elber_ex2
         from ruled.core.nurbs import Surface
         out = {{}}
@@ -34,6 +35,12 @@ SCRIPT = textwrap.dedent("""
         fit = make_ruled_fit(doc, src, "Face1", Samples=16, MeasureSamples=10)
         doc.recompute()
         out["first"] = props(fit)
+        limit = lambda: [fit.ErrorLimit, fit.getEditorMode("MaxError")]
+        out["limits"] = [limit()]
+        fit.MaxError = 0.5
+        out["limits"].append(limit())
+        fit.MaxError = 0.0
+        out["limits"].append(limit())
         fit.Samples = 24
         doc.recompute()
         out["samples24"] = props(fit)
@@ -75,7 +82,8 @@ SCRIPT = textwrap.dedent("""
                            rails=list(k.Rails), trimmed=k.Trimmed, patch=float(k.PatchDeviation),
                            ends=k.Ends, ends_used=k.EndsUsed, result_valid=k.Shape.isValid(),
                            rail_edges=[[imp.Shape.getElement(n).isSame(e) for e in imp.Shape.getElement("Face7").Edges]
-                                       for r in k.Rails for n in r.split(" + ")])
+                                       for r in k.Rails for n in r.split(" + ")],
+                           bound_text=length(k.ErrorBound), label=k.Label)
         json.dump(out, open({out!r}, "w"))
         code = 0
     except Exception:
@@ -96,6 +104,8 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     r = json.loads(out.read_text())
     first = r["first"]
     assert first["valid"] and first["status"] == "ok" and first["faces"] == 1 and first["dev"] == 100
+    # no limit says so, Max Error hidden; a Max Error set sets the limit and shows it (issue 59)
+    assert r["limits"] == [["no limit", ["Hidden"]], ["at most Max Error", []], ["no limit", ["Hidden"]]], r["limits"]
     assert first["bound"] >= first["hausdorff"] > 0
     # the same fit as the engine's in this venv (numba here, NumPy in FreeCAD)
     from ruled import FitOptions, fit_surface
@@ -113,10 +123,10 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert not apex["valid"] and apex["status"] and "\n" not in apex["status"]
     assert not none["valid"] and "no source face" in none["status"]
     assert r["limit_after"] == "unset"
-    re = r["reopened"]
-    assert re["proxy"] == "ruled_workbench.features.RuledFit" and re["samples"] == 24
-    assert re["bound"] == pytest.approx(r["moved"]["bound"], rel=1e-12) and re["faces"] == 1   # saved with 16 digits
-    assert r["reopened_recomputed"]["valid"] and r["reopened_recomputed"]["bound"] != re["bound"]
+    ro = r["reopened"]
+    assert ro["proxy"] == "ruled_workbench.features.RuledFit" and ro["samples"] == 24
+    assert ro["bound"] == pytest.approx(r["moved"]["bound"], rel=1e-12) and ro["faces"] == 1   # saved with 16 digits
+    assert r["reopened_recomputed"]["valid"] and r["reopened_recomputed"]["bound"] != ro["bound"]
     # the command line on the same face (index 6 = Face7): the same bound and measured distance
     rep = tmp_path / "cli.json"
     # (both at their default ends, auto: here the result trimmed by the face's edges)
@@ -137,6 +147,10 @@ def test_ruled_fit_object_in_freecadcmd(tmp_path):
     assert len(st["rails"]) == 2 and all(r.startswith("Edge") for r in st["rails"])
     assert all(any(hits) for hits in st["rail_edges"])          # each rail is an edge of the source face
     assert st["bound"] >= st["hausdorff"] and 0 < st["patch"] < st["bound"]
+    # the report view's notes give the object's bound, in the user's unit, as the panel prints it (issue 59)
+    notes = [line for line in (run.stdout + run.stderr).splitlines() if line.startswith(st["label"] + ": ")]
+    assert any(f"bound {st['bound_text']}" in line for line in notes), (st["bound_text"], notes)
+    assert not any(re.search(r"(bound|trimmed|pinned) \d[\d.e-]*(?! ?[µnm]m)[ ,)]", line) for line in notes), notes
 
 
 SPLIT_SCRIPT = textwrap.dedent("""

@@ -95,6 +95,10 @@ def test_fit_through_the_task_panel(tmp_path):
     lines = r["bad_face"]["report"]
     assert len(lines) == 1 and "degenerate face" in lines[0] and "<class" not in lines[0], lines
     assert sorted(r["after_cancel"]) == ["Impeller", "RuledFit", "Sphere"]
+    # a planar face: exact, the panel says so, one colour (its time: benchmarks/workbench_first_fit.py)
+    pl = r["planar"]
+    assert pl["preview"] and pl["text"].startswith("Exact: the face is ruled."), pl
+    assert len(pl["legend"]) == 2 and pl["legend"][1].startswith("exact, within "), pl
     # "Split for ruling": previewed and accepted; on the blade its best split (on the face's four-sided patch) is
     # worse than the face's own fit trimmed by its edges (issue 55): the face needs no split, and that fit is
     # the result, its bound the object's
@@ -251,7 +255,8 @@ def test_commands_and_the_export_panel(tmp_path):
         assert _length_after(cf["text"], "fit ") == pytest.approx(cf["fit"], rel=5e-4), cf   # (4 digits, its unit)
     fb = r["fallback"]         # the panel says when the path cannot follow the fit shown, with both figures
     assert not fb["ok"] and fb["open"] and fb["exists"], fb
-    assert "corner-pinned fit (bound " in fb["text"] and f"the trimmed fit is bound {fb['bound']:.4g}" in fb["text"]
+    assert "corner-pinned fit (bound " in fb["text"]          # (its figures in the user's unit, issue 59)
+    assert _length_after(fb["text"], "the trimmed fit is bound ") == pytest.approx(fb["bound"], rel=5e-4), fb
     eb = r["export_by_extension"]     # STEP chosen, the file .ngc: G-code written, the panel says so and the figures
     assert eb["kind"] == "xyuv" and eb["gcode"] and eb["open"], eb
     assert "The format follows the file's extension .ngc: XYUV G-code" in eb["text"], eb["text"]
@@ -289,6 +294,8 @@ def test_commands_and_the_export_panel(tmp_path):
     assert ro["clean"] and all(ro["valid"]) and ro["same"], ro
     assert ro["kinds"] == ["RuledConeSpline", "RuledCurveOnFace", "RuledFit", "RuledPartition"], ro["kinds"]
     assert ro["view_providers"] == ["ViewProviderRuledCurve", "ViewProviderRuledFit"]
+    vis = r["visibility"]       # what was hidden (the part Replace in part hid) stays hidden, reopened and recomputed
+    assert not vis["saved"]["Impeller"] and vis["reopened"] == vis["saved"] == vis["recomputed"], vis
     # the export panel: the settings of its format only, tooltips, then the files of 'ruled machine'
     ex = r["export"]
     for fmt, on, off in (("xyuv", ("Kerf", "Planes", "Lead"), ("ToolRadius", "Taper")),
