@@ -198,7 +198,7 @@ def test_bad_input_parametric_and_undo(made):
     assert "Tolerance" in tol0[1]
     assert "FitFirst" in not_ruled[1] and "not ruled" in not_ruled[1]
     assert "pick at least two points" in no_curve[1]
-    assert "4.284 mm from the face: pick the points on the face" in outside[1], outside[1]     # (the user's unit, four digits)
+    assert "4.284 mm from the face: pick the points on the face" in outside[1], outside[1]   # (4 digits)
     assert "domain" in leaves[1] or "leaves" in leaves[1] or "outside" in leaves[1], leaves[1]
     assert "exactly one face" in edge[1]
     ch = r["changed"]
