@@ -6,7 +6,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click_preview, run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
@@ -73,7 +73,7 @@ def extra_checks(doc, imp, obj, res):
     p2.samples.setValue(60)
     p2.measure.setValue(30)
     t0 = time.time()
-    res["progress_ok"] = p2.preview()
+    res["progress_ok"] = click_preview(p2)
     res["progress_fit_s"] = time.time() - t0
     timer.stop()
     res["progress_readings"] = sorted({v for v in seen if v})
@@ -231,8 +231,12 @@ def main():
     res["panel"] = panel is not None
     panel.samples.setValue(16)
     panel.measure.setValue(24)
-    res["preview"] = panel.preview()
+    res["preview"] = click_preview(panel)
     res["panel_text"] = panel.result.text()
+    FreeCADGui.updateGui()       # the report view's lines of this fit (its notes and warnings: queued till now)
+    from PySide import QtGui as _QtGui
+    views = [w for w in FreeCADGui.getMainWindow().findChildren(_QtGui.QTextEdit) if "Report" in w.objectName()]
+    res["fit_report"] = [x for x in views[0].toPlainText().splitlines() if panel.obj.Label + ": " in x]
     # OK right after Preview keeps what Preview computed: every run writes its own time in Seconds
     fit_obj, seconds = panel.obj, panel.obj.Seconds
     res["accept"] = panel.accept()
@@ -290,7 +294,7 @@ def main():
     toolbar_run("Ruled_Fit")
     pp = state.ACTIVE
     t0 = time.monotonic()
-    ok = pp.preview()
+    ok = click_preview(pp)
     res["planar"] = {"preview": ok, "seconds": time.monotonic() - t0, "text": pp.result.text(),
                      "legend": list(viewproviders.LEGENDS.get(doc.Name, (None, None, []))[2])}
     pp.reject()

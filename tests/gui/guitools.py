@@ -228,3 +228,10 @@ def click_greyed(name: str, where: str = "toolbar") -> dict:
     if where == "menu":
         bar.hide()
     return out
+
+
+def click_preview(panel) -> bool:
+    """The panel's Preview clicked for real (QTest; its computation runs meanwhile, the click returns when it is
+    done): True when its object came out valid (as panel.preview() says)."""
+    click(panel.preview_button)
+    return bool(getattr(panel, "_done", False))
