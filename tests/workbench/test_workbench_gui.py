@@ -3,8 +3,8 @@ repository linked into a fresh user Mod folder, a face of kj66_impeller.step sel
 through its task panel, the result object and its properties, bad selections refused with a
 message, and a screenshot of the coloured result with its rulings in artifacts/gui/ (look at it)."""
 import json
-import re
 import os
+import re
 import shutil
 import subprocess
 
