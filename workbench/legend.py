@@ -23,9 +23,9 @@ LEGENDS = {}             # document name -> (object name, the legend's Coin node
 def legend_labels(top: float) -> list:
     """Five values from 0 to top, in the unit the user's schema gives top and to the digits every figure of the
     workbench has (workbench.units, e.g. '0 µm' ... '1.462 µm'): the top label reads as the panel's Hausdorff."""
-    from .units import DIGITS, unit_of
-    factor, unit = unit_of(top)
-    return [f"{top * t / factor:.{DIGITS}g} {unit}" for t in np.linspace(0.0, 1.0, 5)]
+    from .units import length, unit_of
+    unit = unit_of(top)
+    return [length(top * t, unit=unit) for t in np.linspace(0.0, 1.0, 5)[:-1]] + [length(top)]
 
 
 # a result measured within this fraction of its size is exact (round-off): drawn in one colour, its legend says so

@@ -1,7 +1,8 @@
-"""Lengths as the user reads them (no GUI imports): in the unit FreeCAD's unit schema prefers for the value (the
-property editor's own, e.g. µm for a bound of 0.0004 mm), to four significant digits, everywhere the workbench
-prints one (the task panels, the colour legend, the report view), so that a figure reads the same wherever it is
-shown."""
+"""Lengths as the user reads them (no GUI imports): as FreeCAD's property editor prints them (its unit schema's
+UserString: the unit it prefers for the value, e.g. nm for a bound of 0.0004 mm, with its Decimals preference),
+wherever that carries at least four significant digits, else to four significant digits in that unit; everywhere
+the workbench prints one (the task panels, the colour legend, the report view), so that a figure reads the same
+wherever it is shown."""
 
 from __future__ import annotations
 
@@ -18,12 +19,21 @@ def magnitude(value) -> float:
     return float(getattr(value, "Value", value) or 0.0)
 
 
-def length(value, digits: int = DIGITS) -> str:
-    """The length value (model units, mm) in the user's preferred unit, e.g. '462.6 nm'; 'no limit' is the
-    caller's to say for a 0 that means none."""
+def length(value, digits: int = DIGITS, unit=None) -> str:
+    """The length value (model units, mm) in the user's preferred unit: the property editor's own text where it has
+    at least digits significant digits ('462.62 nm'), else digits of them ('1.862 µm' where the editor says
+    '1.86 µm'); unit: (factor, name) to print it in instead (a legend's values, in its top's unit).  'no limit' is
+    the caller's to say for a 0 that means none."""
     v = magnitude(value)
-    factor, unit = unit_of(v)
-    return f"{v / factor:.{digits}g} {unit}"
+    factor, name = unit or unit_of(v)
+    if unit is None and abs(v) >= 1e-9:
+        try:
+            text = FreeCAD.Units.Quantity(v, FreeCAD.Units.Length).UserString
+            if len(re.sub(r"\D", "", text.rsplit(" ", 1)[0]).lstrip("0")) >= digits:
+                return text
+        except Exception:       # (no unit schema)
+            pass
+    return f"{v / factor:.{digits}g} {name}"
 
 
 def unit_of(value) -> tuple:
