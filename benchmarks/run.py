@@ -1,7 +1,7 @@
 """Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
     .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data|wall|wavy
-                                                |census [--ends auto|pinned]]
+                                                |engine [--against COMMIT]|census [--ends auto|pinned]]
                                        [--n 50 100 200] [--surface ex2] [--no-numpy]
 
 2D target: n = 100 end to end (both directions tried, refined, rebuilt, certified) in <= 0.5 s.
@@ -10,7 +10,8 @@ back-tracking): SSHB n = 50 with 41 levels <= 1.5 s and n = 100 with 21 levels <
 memory <= 400 MB for both; LSAD n = 50 with 49 levels <= 0.6 s.  Curves on surfaces: see
 benchmarks/cos.py; cone splines: benchmarks/cone.py; the split DP: benchmarks/split.py; machine
 outputs: benchmarks/machine.py; trimmed faces: benchmarks/trimmed.py; the user's whole job (processes'
-CPU seconds, the engine at n = 100): benchmarks/job.py; the whole-part batch (--jobs 1 against
+CPU seconds, the engine at n = 100): benchmarks/job.py; the engine's figures beside a named commit's, in one
+run: benchmarks/engine.py; the whole-part batch (--jobs 1 against
 --jobs 2): benchmarks/batch.py; the fixed fuzz runs (300 faces in 2D, 50 in 4D): benchmarks/fuzz.py; every
 face of the data files, re-measured by OCCT alone: benchmarks/data.py; every B-spline face fitted, its
 refusals and results that do not cover it counted (--suite census, not in all): benchmarks/census.py; a part's
@@ -49,9 +50,11 @@ TARGET_MB = 400
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--suite", choices=["all", "2d", "4d", "cos", "cone", "split", "machine", "trimmed", "job",
-                                        "batch", "fuzz", "data", "census", "wall", "wavy"],
+                                        "engine", "batch", "fuzz", "data", "census", "wall", "wavy"],
                     default="all")
     ap.add_argument("--slow", action="store_true", help="with --suite job: the closed 4D fit at n = 100 too")
+    ap.add_argument("--against", metavar="COMMIT", help="with --suite engine or job: a commit's figures beside "
+                    "today's, in one run")
     ap.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
                     help="with --suite census: the fit's ends (pinned: the fit before issue 35)")
     ap.add_argument("--n", type=int, nargs="+", default=[50, 100, 200])
@@ -87,7 +90,10 @@ def main(argv=None) -> int:
         bench_trimmed()
     if args.suite in ("all", "job"):
         from job import bench_job
-        bench_job(args.slow)
+        bench_job(args.slow, args.against)
+    if args.suite in ("all", "engine"):
+        from engine import bench_engine
+        bench_engine(args.against)
     if args.suite in ("all", "batch"):
         from batch import bench_batch
         bench_batch()
