@@ -88,8 +88,8 @@ def _face6_beside(commit: str) -> None:
     figures = {}
     with tempfile.TemporaryDirectory() as d:
         for rnd in range(4):
-            for k, root in roots.items():
-                rep = os.path.join(d, f"{len(figures)}-{rnd}.json")
+            for i, (k, root) in enumerate(roots.items()):
+                rep = os.path.join(d, f"{i}-{rnd}.json")
                 cmd = [sys.executable, "-m", "ruled.cli", "fit", DATA, "--face", "6", "-o", os.path.join(d, "f.step"),
                        "--report", rep, "--quiet"]
                 wall, c, rc = _child(cmd, {**USER_ENV, "PYTHONPATH": root})
@@ -138,25 +138,15 @@ def _exact_measure(result_step: str, fast_max: float) -> None:
 
 
 def _engine() -> None:
-    from ruled import FitOptions, fit_surface
-    from ruled.examples import EXAMPLES
+    """The engine's figures (benchmarks/engine.py's measure, in this process) against their targets."""
+    from engine import measure
+    got = measure()
     for name in ("ex1", "ex2"):
-        S = EXAMPLES[name]()
-        fit_surface(S, FitOptions(samples=20))
-        cpu = []
-        for _ in range(3):
-            t0 = time.process_time()
-            r = fit_surface(S, FitOptions(samples=100))
-            cpu.append(time.process_time() - t0)
-        c = sorted(cpu)[1]
+        c, _, bound = got[f"2d {name} n=100"]
         _line(f"engine 2D fit n=100 {name} (refined, certified; median of 3)", c, 0.2, "CPU s")
-        print(f"      bound {r.error_bound:.5g}; IRIT's UserRuledSrfFit {IRIT_S} CPU s: {IRIT_S / c:.1f}x faster "
+        print(f"      bound {bound:.5g}; IRIT's UserRuledSrfFit {IRIT_S} CPU s: {IRIT_S / c:.1f}x faster "
               f"(target >= 20x)")
-    S = EXAMPLES["ex2"]()
-    fit_surface(S, FitOptions(samples=10, method="4d", elevations=3, metric="sshb"))
-    t0 = time.perf_counter()
-    r = fit_surface(S, FitOptions(samples=50, method="4d", elevations=20, metric="sshb"))
-    _line("4D SSHB fit n=50, 41 levels, ex2 (whole fit, certified)", time.perf_counter() - t0, 1.5)
+    _line("4D SSHB fit n=50, 41 levels, ex2 (certified; median of 3)", got["4d ex2 n=50/41"][1], 1.5)
 
 
 def _closed_4d() -> None:

@@ -221,17 +221,11 @@ class WallCommand(_Command):
                          "every face of the wall (Ctrl+click adds one)")
 
     def why_not(self) -> str:
-        """Greyed unless the selection is a ring of faces of one part (the topology's answer kept for the
-        selection it was asked of: FreeCAD asks after every change)."""
+        """Greyed unless the selection is a ring of faces of one part."""
         part, subs = selected_wall()
         if part is None:
             return subs
-        key = (part.Document.Name, part.Name, tuple(subs), part.Shape.hashCode())
-        if key not in _RINGS:
-            from .wallpanel import wall_refusal
-            _RINGS.clear()
-            _RINGS[key] = (wall_refusal(part, subs) or "").replace("Cannot fit a wall: ", "", 1)
-        return _RINGS[key]
+        return (_ring_refusal(part, subs) or "").replace("Cannot fit a wall: ", "", 1)
 
     def Activated(self):
         part, subs = selected_wall()
@@ -239,10 +233,21 @@ class WallCommand(_Command):
             _say(subs)
             return None
         from .busy import show_panel
-        from .wallpanel import WallRefusal, WallTaskPanel, wall_refusal
-        why = wall_refusal(part, subs)       # (faces that are no side wall: said in the panel, no object made)
+        from .wallpanel import WallRefusal, WallTaskPanel
+        why = _ring_refusal(part, subs)       # (faces that are no side wall: said in the panel, no object made)
         show_panel(WallRefusal(why) if why else WallTaskPanel(part, subs))
         return None
+
+
+def _ring_refusal(part, subs: list):
+    """wallpanel.wall_refusal of the faces subs of part, kept for the selection it was asked of (FreeCAD asks
+    whether Fit wall is active after every change)."""
+    key = (part.Document.Name, part.Name, tuple(subs), part.Shape.hashCode())
+    if key not in _RINGS:
+        from .wallpanel import wall_refusal
+        _RINGS.clear()
+        _RINGS[key] = wall_refusal(part, subs)
+    return _RINGS[key]
 
 
 class ReplaceCommand(_Command):
@@ -259,9 +264,9 @@ class ReplaceCommand(_Command):
             "select one Ruled fit (a RuledFit object in the tree) to put back into its part"
 
     def Activated(self):
-        sel = FreeCADGui.Selection.getSelection()
-        if self.why_not():
-            _say(self.why_not())
+        sel, why = FreeCADGui.Selection.getSelection(), self.why_not()
+        if why:
+            _say(why)
             return
         from .replace import make_ruled_replace
         doc = sel[0].Document
@@ -302,7 +307,7 @@ COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Spl
             "Ruled_Partition": PartitionCommand, "Ruled_Cone": ConeCommand, "Ruled_Curve": CurveCommand,
             "Ruled_Wall": WallCommand, "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand}
 NAMES = list(COMMANDS)
-_RINGS: dict = {}          # {the wall selection: why its faces are no ring, "" when they are one}
+_RINGS: dict = {}          # {the wall selection: why its faces are no ring, None when they are one}
 
 
 def register() -> None:

@@ -57,4 +57,4 @@ def _install() -> None:
             continue
 
 
-__all__ = ["install", "ruled_bars", "why_greyed"]
+__all__ = ["install", "ruled_bars"]

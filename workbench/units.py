@@ -29,7 +29,7 @@ def length(value, digits: int = DIGITS, unit=None) -> str:
     if unit is None and abs(v) >= 1e-9:
         try:
             text = FreeCAD.Units.Quantity(v, FreeCAD.Units.Length).UserString
-            if len(re.sub(r"\D", "", text.rsplit(" ", 1)[0]).lstrip("0")) >= digits:
+            if _digits(text.rsplit(" ", 1)[0]) >= digits:
                 return text
         except Exception:       # (no unit schema)
             pass
@@ -54,16 +54,16 @@ _LENGTH_WORD = re.compile(r"(?:bound|trimmed|pinned|otherwise|up to) $")
 
 
 def _digits(figure: str) -> int:
-    """Significant digits of a printed figure ('0.0004626': 4)."""
-    return max(1, len(figure.lower().split("e")[0].replace(".", "").lstrip("0")))
+    """Significant digits of a printed figure ('0.0004626': 4; '1,234.56': 6, whatever the separators)."""
+    return max(1, len(re.sub(r"\D", "", figure.lower().split("e")[0]).lstrip("0")))
 
 
 def lengths_in(text: str, shown: dict | None = None) -> str:
     """text (an engine's note, warning or error, its lengths bare numbers in model units) with its lengths printed
     as length() prints them: each figure that is one of the lengths in shown ({the engine's figure, or (low, high)
     of it: the figure the workbench shows for it, e.g. (the fit's bound, the object's): the object's ErrorBound})
-    to the digits it was printed with,
-    and each figure right after 'bound', 'trimmed', 'pinned', 'otherwise' or 'up to'."""
+    to the digits it was printed with, and each figure right after 'bound', 'trimmed', 'pinned', 'otherwise' or
+    'up to'."""
     known = []
     for k, show in (shown or {}).items():
         lo, hi = (min(k), max(k)) if isinstance(k, tuple) else (k, k)
@@ -72,9 +72,9 @@ def lengths_in(text: str, shown: dict | None = None) -> str:
 
     def one(m) -> str:
         figure = m.group(1)
-        v = float(figure)
-        if v > 0 and _digits(figure) >= 2:
-            half = 0.51 * 10 ** (math.floor(math.log10(v)) - _digits(figure) + 1)
+        v, digits = float(figure), _digits(figure)
+        if v > 0 and digits >= 2:
+            half = 0.51 * 10 ** (math.floor(math.log10(v)) - digits + 1)
             for lo, hi, show in known:
                 if lo - half <= v <= hi + half:
                     return length(show)

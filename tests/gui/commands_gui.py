@@ -9,7 +9,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_view, run_and_exit, shortcut, toolbar_run  # noqa: E402
+from guitools import Results, click_view, part_document, run_and_exit, shortcut, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
@@ -66,15 +66,11 @@ def main():
     import FreeCADGui
     import Part
     from PySide import QtGui
-    FreeCADGui.activateWorkbench("RuledWorkbench")
+    doc, imp = part_document("Cmds")
     from ruled_workbench import commands, exportpanel, state
     from ruled_workbench.features import make_ruled_fit, value
     mw = FreeCADGui.getMainWindow()
     res["commands"] = [c for c in commands.NAMES if c in FreeCADGui.listCommands()]
-    doc = FreeCAD.newDocument("Cmds")
-    imp = doc.addObject("Part::Feature", "Impeller")
-    imp.Shape = Part.read(os.environ["RULED_STEP"])
-    doc.recompute()
     sel = FreeCADGui.Selection
     view = FreeCADGui.ActiveDocument.ActiveView
     imp.ViewObject.Transparency = 70

@@ -8,25 +8,19 @@ import sys
 import time
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click, grab_window, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click, grab_window, part_document, run_and_exit, toolbar_run  # noqa: E402
 
 res = Results()
 OUT = os.environ["RULED_GUI_OUT"]
 
 
 def main():
-    import FreeCAD
     import FreeCADGui
-    import Part
     from PySide import QtCore
-    FreeCADGui.activateWorkbench("RuledWorkbench")
+    doc, imp = part_document("FirstUse")
     from ruled_workbench import state
 
     from ruled import warm
-    doc = FreeCAD.newDocument("FirstUse")
-    imp = doc.addObject("Part::Feature", "Impeller")
-    imp.Shape = Part.read(os.environ["RULED_STEP"])
-    doc.recompute()
     FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
     FreeCADGui.ActiveDocument.ActiveView.fitAll()
     res["announced"] = warm.seconds(warm.cold("fit"))

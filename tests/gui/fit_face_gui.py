@@ -6,7 +6,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_preview, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click_preview, part_document, run_and_exit, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
@@ -204,13 +204,9 @@ def main():
     import FreeCAD
     import FreeCADGui
     import Part
-    FreeCADGui.activateWorkbench("RuledWorkbench")
+    doc, imp = part_document("Gui")
     from ruled_workbench import commands, state
     res["commands"] = [c for c in commands.NAMES if c in FreeCADGui.listCommands()]
-    doc = FreeCAD.newDocument("Gui")
-    imp = doc.addObject("Part::Feature", "Impeller")
-    imp.Shape = Part.read(os.environ["RULED_STEP"])
-    doc.recompute()
     sel = FreeCADGui.Selection
     # bad selections: nothing, an edge, a vertex -> the command is disabled and says why
     bad = []

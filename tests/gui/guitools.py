@@ -44,6 +44,21 @@ def run_and_exit(main, res: dict, name: str) -> None:
     os._exit(code)
 
 
+def part_document(doc_name: str, part_name: str = "Impeller", step_env: str = "RULED_STEP"):
+    """(a new document, its Part::Feature part_name holding the STEP file $step_env), the workbench activated."""
+    import os
+
+    import FreeCAD
+    import FreeCADGui
+    import Part
+    FreeCADGui.activateWorkbench("RuledWorkbench")
+    doc = FreeCAD.newDocument(doc_name)
+    part = doc.addObject("Part::Feature", part_name)
+    part.Shape = Part.read(os.environ[step_env])
+    doc.recompute()
+    return doc, part
+
+
 def toolbar_actions() -> list:
     """The buttons of the Ruled toolbar (its named actions), in their order."""
     return [a for b in _bars() for a in b.actions() if a.objectName()]
@@ -59,10 +74,9 @@ def toolbar_run(name):
     return False
 
 
-def _click(action, wait: float = 3.0) -> bool:
-    """Click the action's toolbar button (a real click; its action triggered where the button is out of sight)
-    once FreeCAD has enabled it (it updates the buttons' state on a timer after the selection changes); False
-    when it stays disabled."""
+def _enabled(action, wait: float = 3.0) -> bool:
+    """Whether the action is enabled once FreeCAD has updated the commands' state (on a timer, after the
+    selection or the document changes), waiting up to wait seconds for it."""
     import time
 
     from PySide import QtGui
@@ -70,39 +84,38 @@ def _click(action, wait: float = 3.0) -> bool:
     while not action.isEnabled() and time.time() < end:
         QtGui.QApplication.processEvents()
         time.sleep(0.05)
-    if not action.isEnabled():
+    return action.isEnabled()
+
+
+def _click(action) -> bool:
+    """Click the action's toolbar button (a real click; its action triggered where the button is out of sight)
+    once FreeCAD has enabled it; False when it stays disabled."""
+    if not _enabled(action):
         return False
     button = next((b.widgetForAction(action) for b in _bars() if b.widgetForAction(action) is not None), None)
     if button is not None and button.isVisible():        # a real click on the toolbar's button (QTest)
-        from PySide2 import QtCore
-        from PySide2.QtTest import QTest
-        QTest.mouseClick(button, QtCore.Qt.LeftButton, QtCore.Qt.NoModifier, button.rect().center())
+        click(button)
     else:
         action.trigger()
     return True
 
 
 def _bars() -> list:
-    import FreeCADGui
+    """The Ruled toolbar(s) (the workbench's own list of its menu and toolbars)."""
     from PySide import QtGui
-    return [b for b in FreeCADGui.getMainWindow().findChildren(QtGui.QToolBar)
-            if b.objectName() == "Ruled" or b.windowTitle() == "Ruled"]
+    from ruled_workbench.greyed import ruled_bars
+    return [b for b in ruled_bars() if isinstance(b, QtGui.QToolBar)]
 
 
 def shortcut(command: str) -> str:
     """The FreeCAD command's own keyboard shortcut pressed for real (QTest) where the keyboard's focus is (e.g.
-    Std_Undo: Ctrl+Z); the shortcut, as text."""
-    import time
-
+    Std_Undo: Ctrl+Z), once FreeCAD has enabled it; the shortcut, as text."""
     import FreeCADGui
     from PySide2.QtTest import QTest
     from PySide2.QtWidgets import QAction, QApplication
     mw = FreeCADGui.getMainWindow()
     action = next(a for a in mw.findChildren(QAction) if a.objectName() == command)
-    end = time.time() + 3.0
-    while not action.isEnabled() and time.time() < end:       # (FreeCAD enables it on a timer)
-        QApplication.processEvents()
-        time.sleep(0.05)
+    _enabled(action)
     seq = action.shortcut()
     QTest.keySequence(QApplication.focusWidget() or mw, seq)
     for _ in range(3):
@@ -181,7 +194,7 @@ def grab_window(path: str) -> str:
     return path
 
 
-def click_view(view, xy, button=None) -> None:
+def click_view(view, xy) -> None:
     """A real mouse click (QTest: move, press, release) on the 3D view's viewport at xy, in Coin's pixels from the
     lower left (as view.getPointOnScreen gives them; the viewport's Qt pixels may be fewer)."""
     import FreeCADGui
@@ -193,7 +206,7 @@ def click_view(view, xy, button=None) -> None:
     width, height = view.getSize()
     pos = QtCore.QPoint(round(xy[0] * port.width() / width), round((height - xy[1]) * port.height() / height))
     QTest.mouseMove(port, pos)
-    QTest.mouseClick(port, button or QtCore.Qt.LeftButton, QtCore.Qt.NoModifier, pos)
+    click(port, pos)
     for _ in range(3):
         FreeCADGui.updateGui()
 
@@ -201,16 +214,11 @@ def click_view(view, xy, button=None) -> None:
 def click_greyed(name: str, where: str = "toolbar") -> dict:
     """A real click (QTest) on the Ruled command name's entry in the Ruled toolbar or menu, once FreeCAD has
     updated its state: {"enabled": its state, "status": the status bar's message after the click}."""
-    import time
-
     import FreeCADGui
     from PySide2 import QtCore, QtWidgets
-    from PySide2.QtTest import QTest
     from ruled_workbench.greyed import ruled_bars
     mw = FreeCADGui.getMainWindow()
-    for _ in range(10):                         # FreeCAD updates the commands' state on a timer
-        QtWidgets.QApplication.processEvents()
-        time.sleep(0.05)
+    _enabled([a for b in ruled_bars() for a in b.actions() if a.objectName() == name][0], 0.5)   # (its state now)
     mw.statusBar().clearMessage()
     bars = [b for b in ruled_bars() if isinstance(b, QtWidgets.QMenu) == (where == "menu")]
     bar = bars[0]
@@ -222,7 +230,7 @@ def click_greyed(name: str, where: str = "toolbar") -> dict:
     else:
         widget = bar.widgetForAction(action)
         pos = widget.rect().center()
-    QTest.mouseClick(widget, QtCore.Qt.LeftButton, QtCore.Qt.NoModifier, pos)
+    click(widget, pos)
     QtWidgets.QApplication.processEvents()
     out = {"enabled": action.isEnabled(), "status": mw.statusBar().currentMessage()}
     if where == "menu":

@@ -6,23 +6,17 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_greyed, run_and_exit, toolbar_actions, toolbar_run  # noqa: E402
+from guitools import Results, click_greyed, part_document, run_and_exit, toolbar_actions, toolbar_run  # noqa: E402
 
 res = Results()
 
 
 def main():
-    import FreeCAD
     import FreeCADGui
-    import Part
     from PySide import QtGui
-    FreeCADGui.activateWorkbench("RuledWorkbench")
+    doc, imp = part_document("Smoke")
     from ruled_workbench import commands, state
     res["names"] = list(commands.NAMES)
-    doc = FreeCAD.newDocument("Smoke")
-    imp = doc.addObject("Part::Feature", "Impeller")
-    imp.Shape = Part.read(os.environ["RULED_STEP"])
-    doc.recompute()
     FreeCADGui.Selection.clearSelection()
     for _ in range(20):                   # FreeCAD updates the buttons' state on a timer
         QtGui.QApplication.processEvents()

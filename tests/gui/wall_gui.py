@@ -7,23 +7,17 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_greyed, grab_window, run_and_exit, shortcut, toolbar_run  # noqa: E402
+from guitools import Results, click_greyed, grab_window, part_document, run_and_exit, shortcut, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 res = Results()
 
 
 def main():
-    import FreeCAD
     import FreeCADGui
-    import Part
-    FreeCADGui.activateWorkbench("RuledWorkbench")
+    doc, part = part_document("Wall", "Part", "RULED_WALL_STEP")
     from ruled_workbench import exportpanel, viewproviders
     from ruled_workbench.features import value
-    doc = FreeCAD.newDocument("Wall")
-    part = doc.addObject("Part::Feature", "Part")
-    part.Shape = Part.read(os.environ["RULED_WALL_STEP"])
-    doc.recompute()
     sel = FreeCADGui.Selection
     faces = os.environ["RULED_WALL_FACES"].split(",")
     sel.clearSelection()
