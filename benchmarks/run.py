@@ -1,7 +1,8 @@
 """Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
     .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data|wall|wavy
-                                                |engine [--against COMMIT]|census [--ends auto|pinned]]
+                                                |engine|census [--ends auto|pinned]]
+                                       [--against COMMIT (engine, job, batch)]
                                        [--n 50 100 200] [--surface ex2] [--no-numpy]
 
 2D target: n = 100 end to end (both directions tried, refined, rebuilt, certified) in <= 0.5 s.
@@ -53,7 +54,7 @@ def main(argv=None) -> int:
                                         "engine", "batch", "fuzz", "data", "census", "wall", "wavy"],
                     default="all")
     ap.add_argument("--slow", action="store_true", help="with --suite job: the closed 4D fit at n = 100 too")
-    ap.add_argument("--against", metavar="COMMIT", help="with --suite engine or job: a commit's figures beside "
+    ap.add_argument("--against", metavar="COMMIT", help="with --suite engine, job or batch: a commit's figures beside "
                     "today's, in one run")
     ap.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
                     help="with --suite census: the fit's ends (pinned: the fit before issue 35)")
@@ -95,8 +96,8 @@ def main(argv=None) -> int:
         from engine import bench_engine
         bench_engine(args.against)
     if args.suite in ("all", "batch"):
-        from batch import bench_batch
-        bench_batch()
+        from batch import bench_batch, bench_batch_against
+        bench_batch_against(args.against) if args.against else bench_batch()
     if args.suite in ("all", "wall"):
         from wall import bench_wall
         bench_wall()

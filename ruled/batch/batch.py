@@ -477,10 +477,9 @@ def _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume,
             if name.startswith(".face_") and ".part" in name:
                 with contextlib.suppress(OSError):
                     os.unlink(os.path.join(folder, name))
-    rows, run = [], []
-    for job in todo:
-        row = done_row(job) if resume else None
-        (rows.append(row) if row is not None else run.append(job))
+    finished = [done_row(job) if resume else None for job in todo]
+    rows, run = [r for r in finished if r is not None], [j for j, r in zip(todo, finished) if r is None]
+    run.sort(key=lambda j: -(j["trimmed_pct"] or 0.0))    # the longest (most trimmed) first: a short tail
     total, t0 = len(todo), time.perf_counter()
 
     def on_row(row):

@@ -47,11 +47,13 @@ def to_polyline(P: np.ndarray, X: np.ndarray, tree) -> np.ndarray:
     """(N, 3) the nearest points to P on the polyline X: the segments beside its three nearest vertices
     (a closed polyline's two ends are both near its closing point)."""
     best = X[tree.query(P)[1]].copy()
+    far = np.linalg.norm(best - P, axis=1)          # |best - P|, kept as best moves
     for i in tree.query(P, k=min(3, len(X)))[1].T:
         for j in (np.maximum(i - 1, 0), np.minimum(i + 1, len(X) - 1)):
             a, d = X[i], X[j] - X[i]
             w = np.clip(((P - a) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0.0, 1.0)
             Q = a + w[:, None] * d
-            closer = np.linalg.norm(Q - P, axis=1) < np.linalg.norm(best - P, axis=1)
-            best[closer] = Q[closer]
+            dq = np.linalg.norm(Q - P, axis=1)
+            closer = dq < far
+            best[closer], far[closer] = Q[closer], dq[closer]
     return best

@@ -3,6 +3,7 @@ curve, and the angles at its joints, against OCCT's own evaluation and projectio
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,15 +39,25 @@ def _p3(p) -> np.ndarray:
     return np.array((p.X(), p.Y(), p.Z()))
 
 
+def distance_to(curve, x):
+    """f(t): the distance from the point x to curve.Value(t), in plain floats (the searches call it tens of
+    thousands of times per measure: numpy's per-call cost was most of theirs)."""
+    x0, x1, x2 = (float(c) for c in x)
+    sqrt = math.sqrt
+
+    def f(t):
+        p = curve.Value(float(t))
+        a, b, c = p.X() - x0, p.Y() - x1, p.Z() - x2
+        return sqrt(a * a + b * b + c * c)
+    return f
+
+
 def _seeded(curve, ts, pts, x, iters: int = 60) -> float:
     """Distance from x to a curve (anything with Value(t)): golden-section search around the
     nearest of the dense samples pts (at parameters ts)."""
     k = int(np.argmin(np.linalg.norm(pts - x, axis=1)))
     a, b = ts[max(k - 1, 0)], ts[min(k + 1, ts.size - 1)]
-
-    def f(t):
-        return float(np.linalg.norm(_p3(curve.Value(float(t))) - x))
-    return min(_golden_min(f, a, b, iters), float(np.linalg.norm(pts[k] - x)))
+    return min(_golden_min(distance_to(curve, x), a, b, iters), float(np.linalg.norm(pts[k] - x)))
 
 
 def _angle(a: gp_Vec, b: gp_Vec) -> float:

@@ -21,7 +21,7 @@ from OCP.TopoDS import TopoDS
 
 from ruled.core.distance import _golden_min
 from ruled.core.hostform import Hausdorff, PolygonClassifier, grid_size, screened
-from ruled.occ.curve_measure import _p3
+from ruled.occ.curve_measure import _p3, distance_to
 from ruled.occ.edgerows import face_bounds
 from ruled.occ.edgerows import face_edges as _face_edges
 
@@ -409,10 +409,7 @@ class _Projector:
         same = self.edge_id == self.edge_id[k]
         lo = self.edge_t[k - 1] if k > 0 and same[k - 1] else self.edge_t[k]
         hi = self.edge_t[k + 1] if k + 1 < self.edge_t.size and same[k + 1] else self.edge_t[k]
-
-        def f(t):
-            return np.linalg.norm(_p3(c.Value(float(t))) - x)
-        return _golden_min(f, lo, hi, 40)
+        return _golden_min(distance_to(c, x), lo, hi, 40)
 
 
 def hausdorff(face_a, face_b, n: int = 40) -> Hausdorff:
