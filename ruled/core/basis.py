@@ -147,18 +147,28 @@ class SpanRangeMax:
     def __init__(self, knots: np.ndarray, p: int, vals: np.ndarray):
         self.knots, self.p = knots, p
         self.n = knots.shape[0] - p - 1
+        # a sparse table: T[k, i] = max(vals[i : i + 2^k]) (padded); a range's max is that of two overlapping
+        # power-of-two runs (exact: a max rounds nothing)
         m = vals.shape[0]
-        self.table = np.zeros((m, m))
-        for i in range(m):
-            self.table[i, i:] = np.maximum.accumulate(vals[i:])
+        T = [np.asarray(vals, float)]
+        while (2 << (len(T) - 1)) <= m:
+            h = 1 << (len(T) - 1)
+            T.append(np.concatenate([np.maximum(T[-1][:-h], T[-1][h:]), T[-1][m - h:]]))
+        self.T = np.stack(T)
         self.vmax = float(vals.max())
 
     def __call__(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         a, b = self.knots[self.p], self.knots[self.n]
         out = (lo < a) | (hi > b)
         i0 = find_spans(self.knots, self.p, self.n, np.clip(lo, a, b)) - self.p
-        i1 = find_spans(self.knots, self.p, self.n, np.clip(hi, a, b)) - self.p
-        return np.where(out, self.vmax, self.table[i0, np.maximum(i0, i1)])
+        i1 = np.maximum(i0, find_spans(self.knots, self.p, self.n, np.clip(hi, a, b)) - self.p)
+        k = _LOG2[i1 - i0 + 1] if i1.size and int((i1 - i0).max()) < _LOG2.size - 1 else \
+            np.floor(np.log2(i1 - i0 + 1)).astype(np.int64)
+        return np.where(out, self.vmax, np.maximum(self.T[k, i0], self.T[k, i1 - (1 << k) + 1]))
+
+
+# floor(log2(n)) for n < 4096 (the sparse tables' levels)
+_LOG2 = np.concatenate([[0], np.floor(np.log2(np.arange(1, 4096))).astype(np.int64)])
 
 
 def _deriv_net(D: np.ndarray, knots: np.ndarray, p: int, axis: int):

@@ -226,10 +226,11 @@ class PolygonClassifier:
 
     def grid(self, us: np.ndarray, vs: np.ndarray) -> np.ndarray:
         """(us.size, vs.size) booleans for the grid us x vs (row by row: a row's crossings serve all its
-        points, many times faster than ``points`` on a dense grid)."""
+        points, many times faster than ``points`` on a dense grid).  A small grid is asked of the host point by
+        point unless the polylines are built already (a measure's many small grids of a creased face's pieces)."""
         if us.size * vs.size > 144:
             self._build()
-        if self.P is None or us.size * vs.size <= 144:
+        if self.P is None:          # (not built, or the polylines do not bound the face)
             return self._exact_grid(us, vs)
         return self._poly_grid(us, vs)
 

@@ -264,8 +264,8 @@ class _Projector:
             d0, k = tree.query(X)
             ub = d0.copy()
             feet, dist = np.zeros((len(X), 2)), np.full(len(X), np.inf)
-            for i, (x, kk) in enumerate(zip(X, k)):
-                loc.Perform(gp_Pnt(*map(float, x)), float(uv[kk, 0]), float(uv[kk, 1]), False)
+            for i, (x, s) in enumerate(zip(X.tolist(), uv[k].tolist())):     # (plain floats: a loop of 8000)
+                loc.Perform(gp_Pnt(*x), s[0], s[1], False)
                 if loc.IsDone():
                     feet[i] = loc.Point().Parameter()
                     dist[i] = np.sqrt(loc.SquareDistance())

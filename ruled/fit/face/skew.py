@@ -42,12 +42,11 @@ ISO_ANGLE = np.radians(5.0)   # ... and this far from them
 def _inside(poly: np.ndarray, pts: np.ndarray) -> np.ndarray:
     """Whether the points (N, 2) lie inside the closed polyline (M, 2), by the even-odd rule."""
     a, b = poly, np.roll(poly, -1, axis=0)
-    x, y = pts[:, 0][:, None], pts[:, 1][:, None]
-    ay, by = a[:, 1][None, :], b[:, 1][None, :]
-    cross = (ay > y) != (by > y)
+    y = pts[:, 1]
+    i, j = np.nonzero((a[None, :, 1] > y[:, None]) != (b[None, :, 1] > y[:, None]))    # the edges each row crosses
     with np.errstate(divide="ignore", invalid="ignore"):
-        xi = a[:, 0][None, :] + (y - ay) * (b[:, 0] - a[:, 0])[None, :] / (by - ay)
-    return (np.count_nonzero(cross & (x < xi), axis=1) % 2).astype(bool)
+        xi = a[j, 0] + (y[i] - a[j, 1]) * (b[j, 0] - a[j, 0]) / (b[j, 1] - a[j, 1])
+    return (np.bincount(i[pts[i, 0] < xi], minlength=len(pts)) % 2).astype(bool)
 
 
 class _Face:
