@@ -159,6 +159,11 @@ def cmd_machine(args) -> int:
                   f"at the CL points: overcut {e['cl_positions']['overcut']:.6g}, undercut "
                   f"{e['cl_positions']['undercut']:.6g}; with the moves between: overcut "
                   f"{e['with_moves']['overcut']:.6g}, undercut {e['with_moves']['undercut']:.6g}")
+        if "swept_tool" in rep:
+            w = rep["swept_tool"]
+            past = f" ({w['unreached']} of its points past the tool's ends)" if w["unreached"] else ""
+            print(f"the face against the swept tool: overcut {w['overcut']:.6g}, undercut {w['undercut']:.6g}{past}; "
+                  f"the axis turns by at most {w['axis_angle_max_deg']:.3g} degrees from one CL point to the next")
     print(f"{'G-code' if m['mode'] == 'xyuv' else 'APT'}: {rep['output']}")
     print_files_only((("CSV", rep["csv"]), ("STEP", args.step), ("report", args.report), ("plot", args.plot)))
     return 0

@@ -17,6 +17,7 @@ from ruled.fit.fit2d import FitResult
 from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
 from ruled.machine.output import path_report
 from ruled.machine.paths import Lines, MachineOptions, MachinePath, machine_path
+from ruled.machine.swept import swept_measure
 from ruled.occ.convert import container_to_face, conversion_slack, face_to_container, segment_edge
 from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
 
@@ -214,6 +215,8 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
             env["bound_cl"] = h.max + path.offset_deviation
             env["bound_moves"] = h.max + path.offset_deviation + path.chord_tol
             rep["tool_envelope"] = env
+            # and from the face: its points against the tool swept through the moves (ruled.machine.swept)
+            rep["swept_tool"] = swept_measure(path, face_points(face, measure_samples))
     rep["timings"] = {"fit": t1 - t0, "path": t2 - t1, "measure": time.perf_counter() - t2}
     rep["warnings"] = warns
     return FaceMachine(res, R, path, out_face, rep, out_side, warns)

@@ -75,6 +75,12 @@ def test_flank_developable(tmp_path, patches, name):
     assert e["with_moves"]["overcut"] <= chord
     assert rep["machine"]["envelope_deviation"] < 1e-9 * size
     assert not rep["warnings"]
+    # from the face (its OCCT points against the tool swept through the moves): within the chords, every point
+    # reached; the moves turn the axis by less than the chord tolerance allows on this radius
+    sw = rep["swept_tool"]
+    assert sw["unreached"] == 0 and sw["points"] > 500
+    assert sw["overcut"] <= chord and sw["undercut"] <= chord
+    assert len(sw["per_position"]["overcut"]) == len(tip) and max(sw["per_position"]["overcut"]) == sw["overcut"]
 
 
 @pytest.mark.parametrize("tip", ["auto", "second"])
@@ -101,6 +107,13 @@ def test_flank_twisted_reported(tmp_path, hyp_file):
     bound = rep["fit"]["measured"] + m["envelope_deviation"]
     assert e["overcut"] <= 1.02 * bound and e["undercut"] <= 1.02 * bound
     assert rep["tool_envelope"]["with_moves"]["overcut"] <= 1.02 * bound + m["chord_tol"]
+    # the face's points against the swept tool (ruled.machine.swept) and the tool's circles against the surface
+    # (tool_envelope) are two independent measures of one cut: 0.2175 and 0.2186 over, 0.139 and 0.146 under
+    sw, w = rep["swept_tool"], rep["tool_envelope"]["with_moves"]
+    assert sw["unreached"] == 0
+    assert abs(sw["overcut"] - w["overcut"]) <= 0.03 * w["overcut"], (sw["overcut"], w["overcut"])
+    assert abs(sw["undercut"] - w["undercut"]) <= 0.1 * w["undercut"], (sw["undercut"], w["undercut"])
+    assert 0.0 < sw["axis_angle_max_deg"] < 10.0
 
 
 def test_flank_radius_warning(tmp_path, patches, capsys):
@@ -243,3 +256,31 @@ def test_the_tool_envelope_counts_only_the_circles_kept():
     for k in ("overcut", "undercut"):
         assert half["with_moves"][k] <= whole["with_moves"][k]
         assert half["cl_positions"][k] <= whole["cl_positions"][k]
+
+
+def test_swept_tool_distances_by_hand():
+    """ruled.machine.swept on moves worked out by hand: a cylinder (r = 2, axis z, 10 long) moved from x = 0 to
+    x = 10 sweeps a slab |y| <= 2 over 0 <= x <= 10 (round at its ends): a point at y = 2 + d is d from it,
+    at y = 2 - d inside it by d; past the tool's tip nothing reaches it.  A cone (taper 10 degrees, tip radius
+    1) standing still: a point off its side by d, along the side's normal, is d away."""
+    from ruled.machine.paths import MachinePath
+    from ruled.machine.swept import swept_distances, swept_measure
+
+    def path(lower, upper, r, taper):
+        lower, upper = np.asarray(lower, float), np.asarray(upper, float)
+        return MachinePath("flank", np.arange(len(lower), dtype=float), lower, upper,
+                           np.stack([lower, upper], axis=1), False, 0.01, 0.0, radius=r, taper_deg=taper)
+    p = path([[0, 0, 0], [10, 0, 0]], [[0, 0, 10], [10, 0, 10]], 2.0, 0.0)
+    X = np.array([[5, 2.3, 5], [5, 1.6, 2], [3.33, -2.0, 9.5], [12.0, 0, 5], [5, 2.5, -1.0]])
+    d, at = swept_distances(p, X, steps=8)
+    assert np.allclose(d[:4], [0.3, -0.4, 0.0, 0.0], atol=1e-12) and at[3] == 1
+    assert at[4] == -1 and np.isinf(d[4])
+    m = swept_measure(p, X)
+    assert m["unreached"] == 1 and m["overcut"] == pytest.approx(0.4) and m["undercut"] == pytest.approx(0.3)
+    assert m["axis_angle_max_deg"] == 0.0
+    a = math.radians(10.0)
+    c = path([[0, 0, 0]], [[0, 0, 10]], 1.0, 10.0)
+    side = np.array([1.0 + 6.0 * math.tan(a), 0.0, 6.0])                 # on the side, 6 up the axis
+    nrm = np.array([math.cos(a), 0.0, -math.sin(a)])
+    d, _ = swept_distances(c, np.array([side + 0.05 * nrm, side - 0.05 * nrm, side]))
+    assert np.allclose(d, [0.05, -0.05, 0.0], atol=1e-12)

@@ -1,0 +1,120 @@
+"""What a flank tool leaves of the face, measured from the face: its points' signed distances to the tool swept
+through the moves (issue 61's envelope measure).  Independent of how the path was made: only the CL data (tip
+points, axes, the tool's radius and taper) and points of the face are used.
+
+The tool at one position is a cylinder (or a cone of half angle a) about the axis from its tip centre, of
+radius r + h tan a at the height h along it.  Between two CL positions the machine moves the tip and the axis
+linearly (the axis renormalized): the tool is placed at ``steps`` positions along every move, and from the
+nearest, a search along the moves finds the nearest position of the continuous sweep.  A point's signed
+distance to the tool at a position is its distance to the tool's side in the plane through the axis, (rho -
+r(h)) cos a, where the foot on the side lies within the tool's length; the swept tool's is the smallest over
+the positions (negative: inside the tool, the face cut away: an overcut or gouge; positive: material left: an
+undercut).  A point that no position's side reaches (beyond the tool's ends) is counted apart."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ruled.core.nearest import golden
+from ruled.machine.paths import MachinePath
+
+# the tool's side counts this fraction of its length past its two ends (the face's rails lie at its ends)
+REACH = 1e-3
+
+
+def _cl_data(path: MachinePath):
+    lo, hi = np.asarray(path.lower, float), np.asarray(path.upper, float)
+    ax = hi - lo
+    L = np.linalg.norm(ax, axis=1)
+    return lo, ax / np.maximum(L, 1e-300)[:, None], L
+
+
+def tool_positions(path: MachinePath, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(tips, unit axes, lengths) of the tool at the path's continuous positions g (0: the first CL position, k:
+    the k-th; between two, the machine's linear move of tip and axis, the axis renormalized)."""
+    lo, a, L = _cl_data(path)
+    g = np.clip(np.asarray(g, float), 0.0, lo.shape[0] - 1.0)
+    i = np.minimum(np.floor(g).astype(np.int64), max(lo.shape[0] - 2, 0))
+    j = np.minimum(i + 1, lo.shape[0] - 1)
+    w = (g - i)[..., None]
+    A = a[i] + w * (a[j] - a[i])
+    return lo[i] + w * (lo[j] - lo[i]), A / np.linalg.norm(A, axis=-1)[..., None], L[i] + w[..., 0] * (L[j] - L[i])
+
+
+def _signed(path: MachinePath, X: np.ndarray, T: np.ndarray, A: np.ndarray, L: np.ndarray) -> np.ndarray:
+    """Signed distances of the points X (..., 3) to the tool's side at the positions (T, A, L) (broadcast); inf
+    where the foot on the side is past the tool's ends."""
+    alpha = math.radians(path.taper_deg)
+    ca, sa, ta = math.cos(alpha), math.sin(alpha), math.tan(alpha)
+    D = X - T
+    h = np.einsum("...k,...k->...", D, A)
+    rho = np.sqrt(np.maximum(np.einsum("...k,...k->...", D, D) - h * h, 0.0))
+    gap = rho - (path.radius + h * ta)
+    foot = h + gap * ca * sa                                          # the foot's height on the tool's side
+    return np.where((foot >= -REACH * L) & (foot <= (1.0 + REACH) * L), gap * ca, np.inf)
+
+
+def swept_distances(path: MachinePath, X: np.ndarray, steps: int = 8, chunk: int = 64,
+                    rounds: int = 40) -> tuple[np.ndarray, np.ndarray]:
+    """(signed distance (N,), the CL index nearest the tool position that gives it (N,), -1 where no position's
+    side reaches the point: distance inf) of the points X (N, 3) to the tool swept through the path's moves:
+    the nearest of `steps` positions per move, then a golden-section search along the moves between its
+    neighbours (the sweep is continuous: the positions alone would leave scallops between them)."""
+    n = path.lower.shape[0]
+    g = np.arange((n - 1) * steps + 1) / steps
+    T, A, L = tool_positions(path, g)
+    X = np.asarray(X, float).reshape(-1, 3)
+    best = np.full(len(X), np.inf)
+    gb = np.zeros(len(X))
+    for s in range(0, len(X), chunk):
+        sd = _signed(path, X[s:s + chunk, None, :], T[None], A[None], L[None])
+        k = np.argmin(sd, axis=1)
+        best[s:s + chunk], gb[s:s + chunk] = sd[np.arange(sd.shape[0]), k], g[k]
+    ok = np.isfinite(best)
+    if n > 1 and ok.any():
+        h = 1.0 / steps
+        Xo = X[ok]
+
+        def f(gg):
+            return _signed(path, Xo, *tool_positions(path, gg))
+        a, b = np.maximum(gb[ok] - h, 0.0), np.minimum(gb[ok] + h, n - 1.0)
+        x, fx = golden(f, a, b, rounds)
+        better = fx < best[ok]
+        best[ok] = np.where(better, fx, best[ok])
+        gb[ok] = np.where(better, x, gb[ok])
+    return best, np.where(ok, np.rint(gb).astype(np.int64), -1)
+
+
+def axis_angles(path: MachinePath) -> np.ndarray:
+    """(n - 1,) degrees between consecutive tool axes."""
+    a = path.axes
+    return np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", a[1:], a[:-1]), -1.0, 1.0)))
+
+
+def swept_measure(path: MachinePath, X: np.ndarray, steps: int = 8) -> dict:
+    """The swept tool against the points X of the face: over- and undercut (the largest depth inside the tool,
+    the largest distance left), where, per CL position (the largest of each over the points it cuts), the
+    points no position reaches, and the largest angle between consecutive axes."""
+    d, at = swept_distances(path, X, steps)
+    ok = at >= 0
+    n = path.lower.shape[0]
+    over, under = np.zeros(n), np.zeros(n)
+    np.maximum.at(over, at[ok], np.maximum(-d[ok], 0.0))
+    np.maximum.at(under, at[ok], np.maximum(d[ok], 0.0))
+    X = np.asarray(X, float).reshape(-1, 3)
+    out: dict = {"method": f"the face's points against the tool at {steps} positions per move", "points": int(ok.sum()),
+                 "unreached": int((~ok).sum()), "overcut": 0.0, "undercut": 0.0, "overcut_at": None,
+                 "undercut_at": None}
+    if ok.any():
+        i, j = int(np.argmin(np.where(ok, d, np.inf))), int(np.argmax(np.where(ok, d, -np.inf)))
+        out.update(overcut=float(max(0.0, -d[i])), undercut=float(max(0.0, d[j])),
+                   overcut_at=X[i].tolist(), undercut_at=X[j].tolist())
+    ang = axis_angles(path)
+    out.update(per_position={"overcut": over.tolist(), "undercut": under.tolist()},
+               axis_angle_max_deg=float(ang.max(initial=0.0)))
+    return out
+
+
+__all__ = ["tool_positions", "swept_distances", "swept_measure", "axis_angles"]
