@@ -71,7 +71,8 @@ def _xyuv(r) -> str:
 def write_csv(path: MachinePath, filename: str, units: str = "mm", side: Optional[str] = None) -> None:
     """xyuv: one row per move (kind, X, Y, U, V, the two 3D points, u, the wire's taper: its angle from the
     machine axis, degrees, the kerf and the side it is on, as the G-code's header says them); flank: one row
-    per CL point (u, tip x y z, axis i j k); lengths in the output units."""
+    per CL point (u, tip x y z, axis i j k, the angle the axis turned by from the point before); lengths in the
+    output units."""
     k = _scale(units)
     with atomic(filename) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
@@ -91,9 +92,11 @@ def write_csv(path: MachinePath, filename: str, units: str = "mm", side: Optiona
                 w.writerow([kind, *map(_fmt, row * k), *map(_fmt, lo), *map(_fmt, hi),
                             uu if uu == "" else f"{uu:.12g}", f"{taper:.4f}", _fmt(path.radius * k), where])
         else:
-            w.writerow(["u", "x", "y", "z", "i", "j", "k"])
-            for uu, p, a in zip(path.u, path.lower, path.axes):
-                w.writerow([f"{uu:.12g}", *map(_fmt, p * k), *(_fmt(x, 9) for x in a)])
+            from ruled.machine.swept import axis_angles
+            w.writerow(["u", "x", "y", "z", "i", "j", "k", "axis_turn_deg"])
+            turn = np.concatenate([[0.0], axis_angles(path)])     # from the CL point before
+            for uu, p, a, g in zip(path.u, path.lower, path.axes, turn):
+                w.writerow([f"{uu:.12g}", *map(_fmt, p * k), *(_fmt(x, 9) for x in a), f"{g:.6f}"])
 
 
 def write_apt(path: MachinePath, filename: str, title: str = "", units: str = "mm") -> None:

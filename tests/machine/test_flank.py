@@ -81,6 +81,11 @@ def test_flank_developable(tmp_path, patches, name):
     assert sw["unreached"] == 0 and sw["points"] > 500
     assert sw["overcut"] <= chord and sw["undercut"] <= chord
     assert len(sw["per_position"]["overcut"]) == len(tip) and max(sw["per_position"]["overcut"]) == sw["overcut"]
+    # the axis turns as the APT's own axes show it (the CSV per point, the report's largest)
+    turn = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", axis[1:], axis[:-1]), -1.0, 1.0)))
+    csv_turn = np.array([float(r["axis_turn_deg"]) for r in rows])
+    assert csv_turn[0] == 0.0 and np.allclose(csv_turn[1:], turn, atol=1e-4)
+    assert sw["axis_angle_max_deg"] == pytest.approx(turn.max(), abs=1e-4)
 
 
 @pytest.mark.parametrize("tip", ["auto", "second"])
