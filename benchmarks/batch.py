@@ -29,16 +29,19 @@ def _data() -> str:
     raise SystemExit("kj66_impeller.step not found")
 
 
+def _env(root: str) -> dict:
+    """A user's environment (Python's bytecode cache on: job.USER_ENV), running root's ruled."""
+    from job import USER_ENV
+    return USER_ENV if root == ROOT else {**USER_ENV, "PYTHONPATH": root}
+
+
 def _run(step: str, jobs: int, root: str = ROOT, rows: list | None = None) -> float:
     """The batch's wall seconds (its summary's rows appended to rows, when given), run with root's ruled."""
     out = tempfile.mkdtemp(prefix="ruled-batch-")
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}   # (a user's caches)
-    if root != ROOT:
-        env["PYTHONPATH"] = root
     try:
         t0 = time.perf_counter()
         r = subprocess.run([sys.executable, "-m", "ruled.cli", "batch", step, "--faces", "bspline", "--jobs",
-                            str(jobs), "-o", out, "--quiet"], capture_output=True, text=True, cwd=root, env=env)
+                            str(jobs), "-o", out, "--quiet"], capture_output=True, text=True, cwd=root, env=_env(root))
         if r.returncode != 0:
             raise SystemExit(r.stderr)
         wall = time.perf_counter() - t0
@@ -56,10 +59,10 @@ def bench_batch_against(commit: str) -> None:
     from engine import checkout
     step = _data()
     roots = {"today": ROOT, commit: checkout(commit)}
-    for root in roots.values():                          # the commit's kernels compiled, both caches warm
-        subprocess.run([sys.executable, "-m", "ruled.cli", "fit", step, "--face", "6", "-o",
-                        os.path.join(tempfile.mkdtemp(prefix="ruled-warm-"), "f.step"), "--quiet"], cwd=root,
-                       env={**os.environ, "PYTHONPATH": root}, capture_output=True)
+    with tempfile.TemporaryDirectory() as d:
+        for root in roots.values():                      # the commit's kernels compiled, both caches warm
+            subprocess.run([sys.executable, "-m", "ruled.cli", "fit", step, "--face", "6", "-o",
+                            os.path.join(d, "f.step"), "--quiet"], cwd=root, env=_env(root), capture_output=True)
     got: dict = {k: [] for k in roots}
     for _ in range(2):
         for k, root in roots.items():

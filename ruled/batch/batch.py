@@ -121,6 +121,17 @@ def run_face(job: dict) -> dict:
     return row
 
 
+def warm_worker() -> None:
+    """What a new worker's first face would load, loaded while the batch plans its faces: the face job's modules
+    and numba's compiler (its first call of a kernel, not the kernels)."""
+    import numpy as np
+
+    import ruled.jobs.face  # noqa: F401
+    import ruled.occ.io  # noqa: F401
+    from ruled.core.nurbs import Curve
+    Curve(np.zeros((2, 3)), np.array([0.0, 0.0, 1.0, 1.0]), 1)(np.array([0.5]))
+
+
 def _face_job(job: dict, paths: dict) -> dict:
     from ruled.jobs.face import run_fit
     from ruled.occ.io import read_faces
@@ -320,7 +331,7 @@ def run_batch(inputs: list, outdir: str, *, faces: str = "all", fraction: float 
     # the cluster reachable first
     from ruled.batch.pools import DaskPool, LocalPool
     pool = DaskPool(scheduler, face_timeout, run_face, failed_row) if scheduler else \
-        LocalPool(jobs, face_timeout, run_face, failed_row)
+        LocalPool(jobs, face_timeout, run_face, failed_row, warm_worker)
     try:
         pool.start(jobs)
         return _run(pool, inputs, outdir, spec, fraction, options, jobs, scheduler, resume, memory_cap_mb, progress,

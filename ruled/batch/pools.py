@@ -1,6 +1,7 @@
 """The batch's executors: a local pool of worker processes (LocalPool) and an existing Dask cluster (DaskPool).
 Both run one task (a module-level function of a job dict returning its summary row: ruled.batch.batch.run_face)
-and make a row of a job whose task crashed or ran past the timeout with ``failed(job, reason, seconds)``."""
+and make a row of a job whose task crashed or ran past the timeout with ``failed(job, reason, seconds)``; a local
+worker first runs ``warm()`` (the task's start-up, while the batch plans), where given."""
 
 from __future__ import annotations
 
@@ -8,21 +9,23 @@ import contextlib
 import os
 import sys
 import time
-from typing import Callable
+from typing import Callable, Optional
 
 from ruled.core.errors import BadInputError
 
 
-def _worker(conn, threads: int, task: Callable) -> None:
-    """A pool process: run the task on the jobs it is sent, one at a time, until it receives None; its kernels use
-    `threads` threads (the cores shared among the workers), or fewer where the caller's environment caps
-    them (RULED_THREADS=1 and the like: a batch started beside other work)."""
+def _worker(conn, threads: int, task: Callable, warm: Optional[Callable]) -> None:
+    """A pool process: warm(), then the task on the jobs it is sent, one at a time, until it receives None; its
+    kernels use `threads` threads (the cores shared among the workers), or fewer where the caller's environment
+    caps them (RULED_THREADS=1 and the like: a batch started beside other work)."""
     import signal
     signal.signal(signal.SIGINT, signal.SIG_IGN)         # Ctrl-C is the parent's to handle
     for name in ("RULED_THREADS", "NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         given = os.environ.get(name, "")
         os.environ[name] = str(min(threads, int(given)) if given.isdigit() and int(given) > 0 else threads)
-    _warm()
+    if warm is not None:
+        with contextlib.suppress(Exception):     # (nothing of it is needed: the first task would do it)
+            warm()
     while True:
         job = conn.recv()
         if job is None:        # done: out at once (its outputs are closed; tearing its modules down took 0.8 s)
@@ -35,31 +38,19 @@ def _worker(conn, threads: int, task: Callable) -> None:
             conn.send(("error", f"{type(exc).__name__}: {exc}"))
 
 
-def _warm() -> None:
-    """What a new worker's first face would load, loaded while the batch plans its faces: the face job's modules
-    and numba's compiler (its first call of a kernel, not the kernels)."""
-    with contextlib.suppress(Exception):         # (nothing of it is needed: the first face would do it)
-        import numpy as np
-
-        import ruled.jobs.face  # noqa: F401
-        import ruled.occ.io  # noqa: F401
-        from ruled.core.nurbs import Curve
-        Curve(np.zeros((2, 3)), np.array([0.0, 0.0, 1.0, 1.0]), 1)(np.array([0.5]))
-
-
 class LocalPool:
     """N worker processes; a worker whose face crashes it or runs past the timeout is replaced."""
 
-    def __init__(self, jobs: int, timeout: float, task: Callable, failed: Callable):
+    def __init__(self, jobs: int, timeout: float, task: Callable, failed: Callable, warm: Optional[Callable] = None):
         import multiprocessing as mp
         self.ctx = mp.get_context("spawn")
-        self.n, self.timeout, self.task, self.failed = jobs, timeout, task, failed
+        self.n, self.timeout, self.task, self.failed, self.warm = jobs, timeout, task, failed, warm
         self.workers: list = []
 
     def _start(self):
         a, b = self.ctx.Pipe()
         threads = max(1, (os.cpu_count() or 1) // self.n)
-        p = self.ctx.Process(target=_worker, args=(b, threads, self.task), daemon=True)
+        p = self.ctx.Process(target=_worker, args=(b, threads, self.task, self.warm), daemon=True)
         p.start()
         return {"proc": p, "conn": a, "job": None, "t0": 0.0}
 

@@ -162,13 +162,8 @@ class SpanRangeMax:
         out = (lo < a) | (hi > b)
         i0 = find_spans(self.knots, self.p, self.n, np.clip(lo, a, b)) - self.p
         i1 = np.maximum(i0, find_spans(self.knots, self.p, self.n, np.clip(hi, a, b)) - self.p)
-        k = _LOG2[i1 - i0 + 1] if i1.size and int((i1 - i0).max()) < _LOG2.size - 1 else \
-            np.floor(np.log2(i1 - i0 + 1)).astype(np.int64)
+        k = np.floor(np.log2(i1 - i0 + 1)).astype(np.int64)         # (exact at powers of two)
         return np.where(out, self.vmax, np.maximum(self.T[k, i0], self.T[k, i1 - (1 << k) + 1]))
-
-
-# floor(log2(n)) for n < 4096 (the sparse tables' levels)
-_LOG2 = np.concatenate([[0], np.floor(np.log2(np.arange(1, 4096))).astype(np.int64)])
 
 
 def _deriv_net(D: np.ndarray, knots: np.ndarray, p: int, axis: int):

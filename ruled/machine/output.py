@@ -13,6 +13,7 @@ import numpy as np
 from ruled.core.errors import BadInputError
 from ruled.core.outputs import atomic, write_text
 from ruled.machine.paths import MachinePath, frame_of
+from ruled.machine.swept import axis_angles
 
 
 def _fmt(x: float, digits: int = 6) -> str:
@@ -92,7 +93,6 @@ def write_csv(path: MachinePath, filename: str, units: str = "mm", side: Optiona
                 w.writerow([kind, *map(_fmt, row * k), *map(_fmt, lo), *map(_fmt, hi),
                             uu if uu == "" else f"{uu:.12g}", f"{taper:.4f}", _fmt(path.radius * k), where])
         else:
-            from ruled.machine.swept import axis_angles
             w.writerow(["u", "x", "y", "z", "i", "j", "k", "axis_turn_deg"])
             turn = np.concatenate([[0.0], axis_angles(path)])     # from the CL point before
             for uu, p, a, g in zip(path.u, path.lower, path.axes, turn):

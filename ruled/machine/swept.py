@@ -24,17 +24,10 @@ from ruled.machine.paths import MachinePath
 REACH = 1e-3
 
 
-def _cl_data(path: MachinePath):
-    lo, hi = np.asarray(path.lower, float), np.asarray(path.upper, float)
-    ax = hi - lo
-    L = np.linalg.norm(ax, axis=1)
-    return lo, ax / np.maximum(L, 1e-300)[:, None], L
-
-
 def tool_positions(path: MachinePath, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(tips, unit axes, lengths) of the tool at the path's continuous positions g (0: the first CL position, k:
     the k-th; between two, the machine's linear move of tip and axis, the axis renormalized)."""
-    lo, a, L = _cl_data(path)
+    lo, a, L = path.lower, path.axes, np.linalg.norm(path.upper - path.lower, axis=1)
     g = np.clip(np.asarray(g, float), 0.0, lo.shape[0] - 1.0)
     i = np.minimum(np.floor(g).astype(np.int64), max(lo.shape[0] - 2, 0))
     j = np.minimum(i + 1, lo.shape[0] - 1)
@@ -104,7 +97,8 @@ def swept_measure(path: MachinePath, X: np.ndarray, steps: int = 8) -> dict:
     np.maximum.at(over, at[ok], np.maximum(-d[ok], 0.0))
     np.maximum.at(under, at[ok], np.maximum(d[ok], 0.0))
     X = np.asarray(X, float).reshape(-1, 3)
-    out: dict = {"method": f"the face's points against the tool at {steps} positions per move", "points": int(ok.sum()),
+    out: dict = {"method": f"the face's points against the tool: the nearest of {steps} positions per move, searched "
+                           "along the moves", "points": int(ok.sum()),
                  "unreached": int((~ok).sum()), "overcut": 0.0, "undercut": 0.0, "overcut_at": None,
                  "undercut_at": None}
     if ok.any():

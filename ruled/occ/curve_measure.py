@@ -51,7 +51,7 @@ def distance_to(curve, x):
 
 
 def _seeded(curve, ts, pts, x, iters: int = 60) -> float:
-    """Distance from x to a curve (anything with Value(t)): golden-section search around the
+    """Distance from x to a curve (anything with D0(t, P)): golden-section search around the
     nearest of the dense samples pts (at parameters ts)."""
     k = int(np.argmin(np.linalg.norm(pts - x, axis=1)))
     a, b = ts[max(k - 1, 0)], ts[min(k + 1, ts.size - 1)]
