@@ -28,7 +28,7 @@ _LAZY = {"Direction": "fit.options", "FitOptions": "fit.options", "FitResult": "
          "Region": "core.region", "SplitOptions": "split.partition", "split_face": "split.partition",
          "partition": "split.partition", "CurveOnSurface": "curves.curve_on_surface",
          "approximate": "curves.curve_on_surface", "ConeSpline": "cone.conespline",
-         "cone_spline_of_surface": "cone.surface", "MachineOptions": "machine.paths", "machine_path": "machine.paths",
+         "cone_spline_of_surface": "cone.surface", "MachineOptions": "machine.paths", "machine_path": "machine.flank",
          "join_patches": "machine.chain"}
 
 

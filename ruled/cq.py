@@ -301,7 +301,7 @@ class MachineData:
 
     def plot(self, filename: str) -> str:
         from ruled.machine.output import plot_path
-        plot_path(self.path, filename)
+        plot_path(self.path, filename, "", self.report.get("swept_tool"))
         return filename
 
 
@@ -375,12 +375,17 @@ def xyuv_wall(faces, chord_tol: Optional[float] = None, planes=None, axis="auto"
 
 def flank_face(face, tool_radius: float, taper: float = 0.0, chord_tol: Optional[float] = None, feed: float = 100.0,
                side: str = "outside", tip: str = "auto", method: str = "2d", samples: int = 40, fit=None,
-               measure: bool = True, measure_samples: int = 30, progress=None) -> MachineData:
+               measure: bool = True, measure_samples: int = 30, progress=None, positions: str = "envelope",
+               gouge_tol: Optional[float] = None) -> MachineData:
     """Flank-milling CL data of the face's ruled fit: the tool tip centre and axis at every CL point for a
-    cylindrical tool (or a conical one of half angle `taper` degrees).  The report's "tool_envelope"
-    gives the measured overcut and undercut of the tool surfaces against the design face."""
+    cylindrical tool (or a conical one of half angle `taper` degrees), the positions fitted so the swept
+    tool fits the face with its overcut within gouge_tol (default: the fit's bound), or positions="offset":
+    each ruling offset by the radius.  The report's "tool_envelope" (the tool's circles against the face) and
+    "swept_tool" (the face's points against the tool swept through the moves, with the axis's largest turn)
+    give the measured overcut and undercut."""
     from ruled.machine.paths import MachineOptions
-    opts = MachineOptions("flank", chord_tol, None, "auto", None, 0.0, tool_radius, taper, None, feed, tip=tip)
+    opts = MachineOptions("flank", chord_tol, None, "auto", None, 0.0, tool_radius, taper, None, feed, tip=tip,
+                          positions=positions, gouge_tol=gouge_tol)
     return _machine(face, opts, side, method, samples, fit, measure, measure_samples, progress)
 
 

@@ -61,6 +61,16 @@ def bezier_interpolant(f, pu: int, pv: int) -> Surface:
     return Surface(P, [0] * (pu + 1) + [1] * (pu + 1), [0] * (pv + 1) + [1] * (pv + 1), pu, pv)
 
 
+def twisted_blade(twist_deg: float = 40.0, length: float = 3.0, width: float = 1.0) -> Surface:
+    """A ruled blade (Bézier, degree 9 x 1): rulings of length `width` across it, turning by twist_deg about its
+    length (x) from one end to the other, its middle line bowed by a tenth of the width."""
+    def f(u, v):
+        th = np.radians(twist_deg) * (u - 0.5)
+        w = (v - 0.5) * width
+        return np.stack([length * u, w * np.cos(th), w * np.sin(th) + 0.1 * width * np.sin(np.pi * u)], axis=-1)
+    return bezier_interpolant(f, 9, 1)
+
+
 def _cubic(P):
     P = np.asarray(P, float)
     return lambda s: np.einsum("...k,kc->...c", _bernstein(3, s), P)

@@ -23,6 +23,9 @@ FORMATS = {
 }
 
 
+_FIT_POINTS = 30           # the face's points per direction the flank tool positions are fitted to
+
+
 def write_step(shape, path: str) -> None:
     """A Part shape as a STEP file, written whole or not at all (ruled.core.outputs)."""
     from ruled.core.outputs import atomic
@@ -98,7 +101,8 @@ def _cam_step(R, u, cam_step, face=None) -> None:
 
 def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None, taper: float = 0.0,
                 side: str = "auto", planes=None, feed: float = 100.0, lead=None, units: str = "mm", cam_step=None,
-                measure_samples: int = 20, progress=None, start=None) -> dict:
+                measure_samples: int = 20, progress=None, start=None, positions: str = "envelope",
+                gouge_tol=None) -> dict:
     """A RuledWall's one closed path, as ``ruled machine --wall`` makes it (ruled.machine.wall): its closed
     result started on the bottom contour (start (X, Y), or the middle of its longest straight edge), one XYUV
     loop (axis: the wall's) or one flank CL path, the kerf round the whole loop on the chosen side (outside or
@@ -107,8 +111,9 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
     from dataclasses import replace
 
     from ruled.machine.envelope import cut_points, swept_surface
+    from ruled.machine.flank import machine_path
     from ruled.machine.output import path_report, write_machine
-    from ruled.machine.paths import MachineOptions, machine_path
+    from ruled.machine.paths import MachineOptions
     from ruled.machine.wall import outside_sign, start_parameter, started, wall_axis, wall_side
 
     from .adapter import Wall, surface_to_face
@@ -130,10 +135,11 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
         return np.array([n.x, n.y, n.z]) * (-1.0 if first.Orientation == "Reversed" else 1.0)
     off, where = wall_side(wall.role_of(outward), None if side == "auto" else side)
     sign = outside_sign(wall.surface, wall.breaks, 0, outward) * off
-    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed)
+    opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed,
+                          positions=positions, gouge_tol=gouge_tol)
     if kind == "xyuv":
         opts = replace(opts, axis=wall_axis(wall.contour_points(0), wall.contour_points(1)))
-    mp = machine_path(R, wall.surface, opts.checked(), sign, progress)
+    mp = machine_path(R, wall.surface, opts.checked(), sign, progress, None, value(obj.ErrorBound))
     title = f"{obj.Label} ({obj.Source[0].Label}: {', '.join(wall.names)})"
     csv_path = write_machine(mp, path, title, units=units, side=where)
     if cam_step:
@@ -159,7 +165,8 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
 
 def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None,
                    taper: float = 0.0, side: str = "auto", planes=None, feed: float = 100.0, lead=None,
-                   units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None, axis="auto") -> dict:
+                   units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None, axis="auto",
+                   gouge_tol=None, positions: str = "envelope") -> dict:
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
     synchronized points, like ``ruled machine --cam-step --rulings``); returns the report.  The path follows
@@ -168,8 +175,9 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     from ruled.core.errors import BadInputError
     from ruled.fit.face.fit import face_patch
     from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
+    from ruled.machine.flank import machine_path
     from ruled.machine.output import path_report, write_machine
-    from ruled.machine.paths import MachineOptions, machine_path
+    from ruled.machine.paths import MachineOptions
     from ruled.machine.trimmed import along_tool, fallback_warning, figure, swapped, trimmed_lines
 
     from .adapter import face_region, face_to_arrays, surface_to_arrays, surface_to_face
@@ -180,7 +188,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
             raise BadInputError("a wall's machine axis is the normal of its contours: leave the machine axis empty "
                                 "(auto)")
         return wall_export(objects[0], path, kind, chord_tol, kerf, tool_radius, taper, side, planes, feed, lead,
-                           units, cam_step, measure_samples, progress)
+                           units, cam_step, measure_samples, progress, None, positions, gouge_tol)
     obj, src = _one_fit(objects)
     fit_figures = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}
     warnings: list = []
@@ -199,15 +207,17 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
         R, keep = trimmed_lines(result_arrays(result, surface_to_arrays(result.Surface)), loops)
     side = "outside" if side == "auto" else side        # (a face's: its normal's side)
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
-    opts = MachineOptions(kind, chord_tol, planes, axis, None, kerf, tool_radius, taper, lead, feed).checked()
+    opts = MachineOptions(kind, chord_tol, planes, axis, None, kerf, tool_radius, taper, lead, feed,
+                          positions=positions, gouge_tol=gouge_tol).checked()
+    pts = face_points(src, _FIT_POINTS) if kind == "flank" else None     # the bounded face, for the tool's positions
     try:
-        mp = machine_path(R, S, opts, out_side, progress)
+        mp = machine_path(R, S, opts, out_side, progress, pts, fit_figures["error_bound"])
     except BadInputError as exc:
         if keep is None:
             raise
         # the trimmed result's rulings cannot be machined: the fit pinned to the face's corners, saying so
         R, S, keep, pinned = _pinned(obj, region, progress)
-        mp = machine_path(R, S, opts, out_side, progress)
+        mp = machine_path(R, S, opts, out_side, progress, pts, pinned)
         shown = figure(fit_figures["error_bound"], fit_figures["measured"] or None)     # (0: not measured)
         warnings.append(fallback_warning(kind, figure(pinned), exc, shown))
         fallback = {"followed": "pinned", "pinned_bound": pinned, "trimmed_bound": fit_figures["error_bound"],
@@ -236,7 +246,10 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                           "bound": max(fit_figures["error_bound"], fit_figures["measured"])
                           + mp.stats["cut_bound_beyond_fit"]}
     elif measure_samples:
+        from ruled.machine.swept import swept_measure
         rep["tool_envelope"] = tool_envelope(S, out_side, mp, keep=None if keep is None else along_tool(mp, keep))
+        # and from the face: its points against the tool swept through the moves (as ruled machine --flank)
+        rep["swept_tool"] = swept_measure(mp, face_points(src, measure_samples))
     rep["warnings"] = warnings + list(mp.warnings)
     if fallback:
         rep["fallback"] = fallback

@@ -20,7 +20,7 @@ FIT_GROUP = "User parameter:BaseApp/Preferences/Mod/Ruled/Fit"
 
 MACHINE = ("xyuv", "flank")
 ACTIVE = None            # the open export panel (for scripts and tests)
-SPECIAL = {"ChordTol": "auto", "Kerf": "none", "Lead": "auto"}     # what the lowest value of a box means
+SPECIAL = {"ChordTol": "auto", "Kerf": "none", "Lead": "auto", "GougeTol": "auto"}  # what a box's lowest value means
 # name, kind, default, the formats it applies to, label, tooltip
 SETTINGS = [
     ("Units", ("mm", "inch"), "mm", MACHINE, "Units", "units of the G-code / APT / CSV coordinates (the model's are "
@@ -42,6 +42,11 @@ SETTINGS = [
     ("ToolRadius", "length", 5.0, ("flank",), "Tool radius", "flank milling: the tool's radius (at the tip for a "
      "tapered tool)"),
     ("Taper", "angle", 0.0, ("flank",), "Tool taper", "flank milling: half angle of a conical tool (0: cylindrical)"),
+    ("ToolPositions", ("envelope", "offset"), "envelope", ("flank",), "Tool positions", "flank milling: envelope: "
+     "the tool's positions fitted so the swept tool fits the face, its overcut within the gouge tolerance; offset: "
+     "each ruling offset by the tool radius (exact on cylinders and cones only)"),
+    ("GougeTol", "length", 0.0, ("flank",), "Gouge tolerance", "flank milling, envelope positions: the overcut "
+     "allowed, the moves between CL points included (auto: the fit's bound)"),
     ("CamStep", "bool", False, MACHINE, "STEP for CAM", "also write a STEP beside the file: the ruled face and its "
      "rulings at the synchronized points"),
 ]
@@ -98,7 +103,8 @@ def machine_params(v: dict, kind: str) -> dict:
         out.update(kerf=v["Kerf"], planes=planes, lead=None if v["Lead"] < 0 else v["Lead"],
                    axis=v["Axis"].strip().replace(";", ",") or "auto")
     else:
-        out.update(tool_radius=v["ToolRadius"], taper=v["Taper"])
+        out.update(tool_radius=v["ToolRadius"], taper=v["Taper"], positions=v["ToolPositions"],
+                   gouge_tol=v["GougeTol"] or None)
     return out
 
 

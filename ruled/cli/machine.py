@@ -23,11 +23,16 @@ def run_machine(args) -> dict:
     if args.planes is not None:
         planes = args.planes.split(",")
     opts = MachineOptions("flank" if args.flank else "xyuv", args.chord_tol, planes, args.axis, args.margin,
-                          args.kerf, args.tool_radius, args.taper, args.lead, args.feed, tip=args.tip).checked()
+                          args.kerf, args.tool_radius, args.taper, args.lead, args.feed, tip=args.tip,
+                          positions=args.positions, gouge_tol=args.gouge_tol).checked()
     if args.flank and args.kerf:
         raise RuledError("--kerf is for --xyuv; a flank tool is offset by --tool-radius")
     if args.xyuv and args.tool_radius is not None:
         raise RuledError("--tool-radius is for --flank; a wire is offset by --kerf")
+    if args.xyuv and (args.gouge_tol is not None or args.positions != "envelope"):
+        raise RuledError("--gouge-tol and --positions are for --flank; a wire cuts its rulings")
+    if args.flank and args.gouge_tol is not None and args.positions == "offset":
+        raise RuledError("--gouge-tol holds the envelope's positions; --positions offset has none to hold")
     check_measure_samples(args.measure_samples, 4)
     if args.ruled and args.method != "2d":
         raise RuledError("--ruled machines the face as it is; --method chooses a fit: give one of them")
@@ -56,7 +61,7 @@ def run_machine(args) -> dict:
            "output": os.path.abspath(args.output), "csv": os.path.abspath(csv_path), **fm.report}
     rep["warnings"] = [cli_text(w) for w in rep.get("warnings", [])]
     if args.plot:
-        plot_path(fm.path, args.plot, f"{title}: {opts.mode}")
+        plot_path(fm.path, args.plot, f"{title}: {opts.mode}", fm.report.get("swept_tool"))
     if args.report:
         write_report(rep, args.report)
     return rep
@@ -153,6 +158,12 @@ def cmd_machine(args) -> int:
         print(f"flank: {m['cl_points']} CL points, tool radius {m['tool_radius']:.6g}"
               f"{', taper %.3g deg' % m['taper_deg'] if m['taper_deg'] else ''}, tool-envelope deviation "
               f"{m['envelope_deviation']:.3g}")
+        pos = m.get("positions", {})
+        if "after" in pos:
+            print(f"tool positions fitted to the face's envelope ({pos['rounds']} rounds, {pos['points']} points): "
+                  f"overcut {pos['before']['overcut']:.3g} -> {pos['after']['overcut']:.3g}, undercut "
+                  f"{pos['before']['undercut']:.3g} -> {pos['after']['undercut']:.3g}; gouge tolerance "
+                  f"{pos['gouge_tol']:.3g}, chord tolerance {m['chord_tol']:.3g}")
         if "tool_envelope" in rep:
             e = rep["tool_envelope"]
             print(f"{'against ' + e['against'].split(' (')[0] + ', ' if 'against' in e else ''}"

@@ -12,7 +12,8 @@
               [--objective max|sum] -o OUTPUT.step
               [--split-faces FACES.step] [--report R.json] [--plot P.png]
     ruled fit INPUT --face K --tol T [--max-strips N] -o OUTPUT.step [--split-faces FACES.step] [--report R.json]
-    ruled machine INPUT --face K (--xyuv [--planes a,b] [--kerf k] | --flank --tool-radius r [--taper deg] [--tip T])
+    ruled machine INPUT --face K (--xyuv [--planes a,b] [--kerf k] |
+              --flank --tool-radius r [--taper deg] [--tip T] [--positions P] [--gouge-tol g])
               [--chord-tol t] [--units mm|inch] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv]
               [--cam-step CAM.step [--rulings]]
               [--report R.json] [--plot P.png]

@@ -223,6 +223,12 @@ def _machine_parser(sub) -> None:
     m.add_argument("--tip", choices=["auto", "first", "second"], default="auto",
                    help="flank: the tool tip at the rulings' first or second end (the fit's boundaries), or auto: "
                         "the end lower in z (default)")
+    m.add_argument("--positions", choices=["envelope", "offset"], default="envelope",
+                   help="flank: the tool's positions fitted so the swept tool's envelope fits the face, its overcut "
+                        "held to --gouge-tol (envelope, the default), or each ruling offset by the radius (offset)")
+    m.add_argument("--gouge-tol", type=float, default=None,
+                   help="flank, envelope: the overcut allowed, the moves between CL points included (default: the "
+                        "fit's bound, not below --chord-tol where given, nor 1e-5 of the diagonal)")
     m.add_argument("--side", choices=["outside", "inside"], default=None,
                    help="the side the wire's kerf or the tool is on: of a face, outside is its normal's side "
                         "(the default); of a wall, outside or inside its contour (default: off the material, "

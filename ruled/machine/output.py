@@ -140,15 +140,34 @@ def path_report(path: MachinePath) -> dict:
     return d
 
 
-def plot_path(path: MachinePath, filename: str, title: str = "") -> None:
-    """The two contours (XY and UV, or tip and top of the tool) with their synchronisation links."""
+def plot_path(path: MachinePath, filename: str, title: str = "", swept: Optional[dict] = None) -> None:
+    """The two contours (XY and UV, or tip and top of the tool) with their synchronisation links; with swept
+    (a flank report's "swept_tool"), below them the over- and undercut along the path, per CL point."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fr = path.frame or frame_of(np.mean(path.axes, axis=0))
     a, b = fr.xy(path.lower), fr.xy(path.upper)
-    fig, ax = plt.subplots(figsize=(7, 6))
+    per = (swept or {}).get("per_position")
+    if per:
+        fig, (ax, ax2) = plt.subplots(2, 1, figsize=(7, 8.5), gridspec_kw={"height_ratios": [3, 1.2]})
+        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path.lower, axis=0), axis=1))])
+        k = max(1, len(s) // 100)               # the largest over runs of k CL points (many have no point)
+        starts = np.arange(0, len(s), k)
+        mid = s[np.minimum(starts + k // 2, len(s) - 1)]
+        ax2.fill_between(mid, 0.0, np.maximum.reduceat(np.asarray(per["undercut"]), starts), color="tab:green",
+                         alpha=0.5, lw=0, label=f"undercut (material left), largest {swept['undercut']:.3g}")
+        ax2.fill_between(mid, 0.0, -np.maximum.reduceat(np.asarray(per["overcut"]), starts), color="tab:red",
+                         alpha=0.5, lw=0, label=f"overcut (gouge), largest {swept['overcut']:.3g}")
+        ax2.axhline(0.0, color="0.3", lw=0.6)
+        ax2.set_xlabel("along the tool tip's path")
+        ax2.set_ylabel("the face against the tool")
+        ax2.legend(loc="best", fontsize=8)
+        ax2.set_title(f"the face's points against the swept tool, per CL point (the axis turns at most "
+                      f"{swept['axis_angle_max_deg']:.3g} deg a move)", fontsize=9)
+    else:
+        fig, ax = plt.subplots(figsize=(7, 6))
     step = max(1, len(a) // 150)
     for p, q in zip(a[::step], b[::step]):
         ax.plot([p[0], q[0]], [p[1], q[1]], color="0.75", lw=0.5)

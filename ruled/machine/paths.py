@@ -64,6 +64,8 @@ class MachineOptions:
     feed: float = 100.0                     # feed rate, model units per minute
     max_points: int = 50000
     tip: str = "auto"                       # flank: the tool tip at the rulings' first end, second, or auto (lower z)
+    positions: str = "envelope"             # flank: envelope (fitted to the face) | offset (the offset rulings)
+    gouge_tol: Optional[float] = None       # flank envelope: overcut allowed (default: the fit's bound)
 
     def __post_init__(self):
         """Validates every option on construction (one BadInputError line naming it) and normalises them in
@@ -94,11 +96,14 @@ class MachineOptions:
         feed = size("feed", self.feed, what="model units per minute")
         if self.tip not in ("auto", "first", "second"):
             raise BadInputError(f"«tip» is auto, first or second, not {self.tip!r}")
+        if self.positions not in ("envelope", "offset"):
+            raise BadInputError(f"«positions» is envelope (fitted to the face) or offset (the offset rulings), not "
+                                f"{self.positions!r}")
         max_points = whole("max_points", self.max_points, 100, 10 ** 8, "must be a whole number from 100 to 100000000")
         values = dict(chord_tol=size("chord_tol", self.chord_tol), planes=planes, axis=_axis_spec(self.axis),
                       margin=size("margin", self.margin), kerf=size("kerf", self.kerf, True), tool_radius=r,
                       taper_deg=taper, lead=size("lead", self.lead, True), feed=feed,
-                      max_points=max_points)
+                      max_points=max_points, gouge_tol=size("gouge_tol", self.gouge_tol, True))
         for name, value in values.items():
             object.__setattr__(self, name, value)
 
@@ -450,45 +455,3 @@ def reversed_t(R: Surface) -> Surface:
     kv = R.knots_v[0] + R.knots_v[-1] - R.knots_v[::-1]
     W = None if R.weights is None else R.weights[:, ::-1].copy()
     return Surface(R.poles[:, ::-1].copy(), R.knots_u, kv, R.degree_u, R.degree_v, W, periodic_u=R.periodic_u)
-
-
-def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Progress = None) -> MachinePath:
-    """Tool axes for flank milling R with a cylindrical (or conical) tool on the side `sign` of R's normal:
-    the tip centre at one end of each ruling (opts.tip: the t0 end, the t1 end, or auto: the end lower in
-    z, the tool pointing up to the spindle) and the axis direction (see the module)."""
-    opts = opts.checked()
-    tol = _chord(opts, R)
-    u0, u1, t0, t1 = R.domain
-    ud = np.linspace(u0, u1, _DENSE)
-    low_second = float(np.mean(R(ud, np.full(ud.shape, t1))[:, 2] - R(ud, np.full(ud.shape, t0))[:, 2])) < 0
-    tip_t1 = opts.tip == "second" or (opts.tip == "auto" and low_second)
-    if tip_t1:
-        R, sign = reversed_t(R), -sign
-    lines = Lines(R, sign, opts.tool_radius, opts.taper_deg)
-    _check_rulings(lines, ud)
-    a, b, dev = lines.ends(ud)
-    off_dev = float(dev.max())
-    r, ta = opts.tool_radius, math.tan(math.radians(opts.taper_deg))
-    length = np.linalg.norm(b - a, axis=1)
-    warnings = curvature_warnings(R, sign, lambda t: r + t * float(length.max()) * ta, "tool radius")
-
-    def both(u):
-        p, q, _ = lines.ends(u)
-        return np.stack([p, q], axis=1)
-
-    us = sync_params(both, u0, u1, tol, _seed_params(R, lines), opts.max_points, progress)
-    if us.size < 2:
-        raise BadInputError("the tool path is empty: the ruled result has no extent along its rulings")
-    E = both(us)
-    stats = {"cl_points": int(us.size), "length_tip": _length(E[:, 0]), "length_top": _length(E[:, 1]),
-             "tool_radius": r, "taper_deg": opts.taper_deg, "envelope_deviation": off_dev, "tip_at_t1": tip_t1}
-    return MachinePath("flank", us, E[:, 0], E[:, 1], E, lines.closed, tol, off_dev, None, None, None, (),
-                       r, opts.taper_deg, opts.feed, stats, tuple(warnings), both)
-
-
-def machine_path(R: Surface, S: Surface, opts: MachineOptions, side: float = 1.0,
-                 progress: Progress = None) -> MachinePath:
-    """The XYUV contours or flank tool axes (opts.mode) of the ruled surface R fitted to the design
-    surface S, on the side `side` of S (+1: its Su x Sv, the outside of a forward face)."""
-    opts = opts.checked()
-    return (xyuv_path if opts.mode == "xyuv" else flank_path)(R, opts, side_sign(R, S, side), progress)

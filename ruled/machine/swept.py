@@ -14,6 +14,8 @@ undercut).  A point that no position's side reaches (beyond the tool's ends) is 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -24,7 +26,37 @@ from ruled.machine.paths import MachinePath
 REACH = 1e-3
 
 
-def tool_positions(path: MachinePath, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+class Stations(Protocol):
+    """What the sweep needs of a path: the tool's tips and tops at its stations, its radius and taper."""
+
+    @property
+    def lower(self) -> np.ndarray: ...
+    @property
+    def upper(self) -> np.ndarray: ...
+    @property
+    def axes(self) -> np.ndarray: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def taper_deg(self) -> float: ...
+
+
+@dataclass(frozen=True)
+class Tool:
+    """A tool at stations that are not (yet) a machine path: tips (n, 3), tops (n, 3), radius, taper."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    radius: float
+    taper_deg: float = 0.0
+
+    @property
+    def axes(self) -> np.ndarray:
+        d = self.upper - self.lower
+        return d / np.linalg.norm(d, axis=1)[:, None]
+
+
+def tool_positions(path: Stations, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(tips, unit axes, lengths) of the tool at the path's continuous positions g (0: the first CL position, k:
     the k-th; between two, the machine's linear move of tip and axis, the axis renormalized)."""
     lo, a, L = path.lower, path.axes, np.linalg.norm(path.upper - path.lower, axis=1)
@@ -36,7 +68,7 @@ def tool_positions(path: MachinePath, g: np.ndarray) -> tuple[np.ndarray, np.nda
     return lo[i] + w * (lo[j] - lo[i]), A / np.linalg.norm(A, axis=-1)[..., None], L[i] + w[..., 0] * (L[j] - L[i])
 
 
-def _signed(path: MachinePath, X: np.ndarray, T: np.ndarray, A: np.ndarray, L: np.ndarray) -> np.ndarray:
+def _signed(path: Stations, X: np.ndarray, T: np.ndarray, A: np.ndarray, L: np.ndarray) -> np.ndarray:
     """Signed distances of the points X (..., 3) to the tool's side at the positions (T, A, L) (broadcast); inf
     where the foot on the side is past the tool's ends."""
     alpha = math.radians(path.taper_deg)
@@ -49,12 +81,13 @@ def _signed(path: MachinePath, X: np.ndarray, T: np.ndarray, A: np.ndarray, L: n
     return np.where((foot >= -REACH * L) & (foot <= (1.0 + REACH) * L), gap * ca, np.inf)
 
 
-def swept_distances(path: MachinePath, X: np.ndarray, steps: int = 8, chunk: int = 64,
-                    rounds: int = 40) -> tuple[np.ndarray, np.ndarray]:
-    """(signed distance (N,), the CL index nearest the tool position that gives it (N,), -1 where no position's
-    side reaches the point: distance inf) of the points X (N, 3) to the tool swept through the path's moves:
-    the nearest of `steps` positions per move, then a golden-section search along the moves between its
-    neighbours (the sweep is continuous: the positions alone would leave scallops between them)."""
+def nearest_positions(path: Stations, X: np.ndarray, steps: int = 8, chunk: int = 64,
+                      rounds: int = 40) -> tuple[np.ndarray, np.ndarray]:
+    """(signed distance (N,), the continuous position g (N,) that gives it; inf and g of the nearest station
+    where no position's side reaches the point) of the points X (N, 3) to the tool swept through the moves of
+    `path` (a MachinePath or a Tool): the nearest of `steps` positions per move,
+    then a golden-section search along the moves between its neighbours (the sweep is continuous: the
+    positions alone would leave scallops between them)."""
     n = path.lower.shape[0]
     g = np.arange((n - 1) * steps + 1) / steps
     T, A, L = tool_positions(path, g)
@@ -77,7 +110,15 @@ def swept_distances(path: MachinePath, X: np.ndarray, steps: int = 8, chunk: int
         better = fx < best[ok]
         best[ok] = np.where(better, fx, best[ok])
         gb[ok] = np.where(better, x, gb[ok])
-    return best, np.where(ok, np.rint(gb).astype(np.int64), -1)
+    return best, gb
+
+
+def swept_distances(path: MachinePath, X: np.ndarray, steps: int = 8) -> tuple[np.ndarray, np.ndarray]:
+    """(signed distance (N,), the CL index nearest the tool position that gives it (N,), -1 where no position's
+    side reaches the point: distance inf) of the points X (N, 3) to the tool swept through the path's moves
+    (nearest_positions)."""
+    best, g = nearest_positions(path, X, steps)
+    return best, np.where(np.isfinite(best), np.rint(g).astype(np.int64), -1)
 
 
 def axis_angles(path: MachinePath) -> np.ndarray:
@@ -111,4 +152,4 @@ def swept_measure(path: MachinePath, X: np.ndarray, steps: int = 8) -> dict:
     return out
 
 
-__all__ = ["tool_positions", "swept_distances", "swept_measure", "axis_angles"]
+__all__ = ["Tool", "tool_positions", "nearest_positions", "swept_distances", "swept_measure", "axis_angles"]

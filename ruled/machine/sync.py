@@ -40,15 +40,23 @@ def _off_chord(X: np.ndarray, uu: np.ndarray, a, b, fa: np.ndarray, fb: np.ndarr
     return np.linalg.norm(X - (fa[:, None] + s * (fb - fa)[:, None]), axis=-1).max(axis=(1, 2))
 
 
+def _turns(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Degrees between the lines of a and b ((n, 2, 3): a line's two points)."""
+    da, db = a[:, 1] - a[:, 0], b[:, 1] - b[:, 0]
+    c = np.einsum("ij,ij->i", da, db) / (np.linalg.norm(da, axis=1) * np.linalg.norm(db, axis=1))
+    return np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
 def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int = 200000,
-                progress: Progress = None, safety: float = 0.95) -> np.ndarray:
+                progress: Progress = None, safety: float = 0.95, max_turn: float = 0.0) -> np.ndarray:
     """The parameters of the synchronized points: the moves between consecutive values of f ((n, m, 3),
     m curves moving together) stay within safety * tol of every curve at the same u.  Bisection from
     the seeds until every move is within tol / 16 at 15 samples inside it (densify: only the halves of
     the moves that failed are sampled again; the deviation goes with the square of the move, so the
     dense moves are about a quarter of the longest that pass), then a greedy pass over the dense points
     that keeps the longest moves within tol at every sample taken while densifying (thin: no new
-    evaluations)."""
+    evaluations).  max_turn > 0 (two curves: the ends of a line): no move turns the line by more than
+    max_turn degrees either."""
     user_tol, tol = tol, safety * tol
     dense_tol = tol / 16.0
     u = np.unique(np.concatenate([[u0, u1], np.clip(np.asarray(seeds, float), u0, u1)]))
@@ -59,7 +67,10 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int =
     for it in range(64):
         if progress:
             progress("synchronized points", min(0.8, 0.05 * it))
-        bad = np.nonzero(dev > dense_tol)[0]
+        over = dev > dense_tol
+        if max_turn > 0:
+            over |= _turns(vals[:-1], vals[1:]) > max_turn
+        bad = np.nonzero(over)[0]
         if bad.size == 0:
             break
         # the deviation of a smooth move goes with its length squared: it needs about sqrt(dev / dense_tol)
@@ -98,6 +109,8 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int =
         lo, hi = pos[i] + 1, pos[j]
         s = ((U[lo:hi] - u[i]) / (u[j] - u[i]))[:, None, None]
         lin = vals[i][None] + s * (vals[j] - vals[i])[None]
+        if max_turn > 0 and _turns(vals[i][None], vals[j][None])[0] > max_turn:
+            return False
         return bool(np.linalg.norm(X[lo:hi] - lin, axis=-1).max() <= tol)
 
     keep: list = [0]

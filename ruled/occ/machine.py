@@ -15,11 +15,14 @@ from OCP.TopAbs import TopAbs_REVERSED
 
 from ruled.fit.fit2d import FitResult
 from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
+from ruled.machine.flank import machine_path
 from ruled.machine.output import path_report
-from ruled.machine.paths import Lines, MachineOptions, MachinePath, machine_path
+from ruled.machine.paths import Lines, MachineOptions, MachinePath
 from ruled.machine.swept import swept_measure
 from ruled.occ.convert import container_to_face, conversion_slack, face_to_container, segment_edge
 from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
+
+_FIT_POINTS = 30           # the face's points per direction the flank tool positions are fitted to
 
 
 @dataclass
@@ -170,7 +173,10 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
         R, keep = trimmed_lines(R, (trim.outer,) + tuple(trim.holes))
     out_side = outward(face) * (1.0 if side >= 0 else -1.0)
     t1 = time.perf_counter()
-    path = machine_path(R, S, opts, out_side, progress)
+    pts = None
+    if opts.mode == "flank" and opts.positions == "envelope":
+        pts = face_points(face, _FIT_POINTS)        # the face as bounded by its edges (not the measure's points)
+    path = machine_path(R, S, opts, out_side, progress, pts, slack if res is None else job.bound)
     t2 = time.perf_counter()
     out_face = face if given else job.face
     if given:
@@ -212,8 +218,9 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
                                 keep=None if keep is None else along_tool(path, keep))
             if keep is not None:
                 env["against"] = "the face as bounded by its edges (the tool where it lies over the face's trim)"
-            env["bound_cl"] = h.max + path.offset_deviation
-            env["bound_moves"] = h.max + path.offset_deviation + path.chord_tol
+            if opts.positions == "offset":      # (the offset rulings' deviation bounds what the fit adds)
+                env["bound_cl"] = h.max + path.offset_deviation
+                env["bound_moves"] = h.max + path.offset_deviation + path.chord_tol
             rep["tool_envelope"] = env
             # and from the face: its points against the tool swept through the moves (ruled.machine.swept)
             rep["swept_tool"] = swept_measure(path, face_points(face, measure_samples))

@@ -63,8 +63,8 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
     material or in it), measured against the wall's faces."""
     from dataclasses import replace
 
+    from ruled.machine.flank import machine_path
     from ruled.machine.output import path_report
-    from ruled.machine.paths import machine_path
     from ruled.machine.wall import wall_side
     from ruled.occ.convert import container_to_face
     from ruled.occ.machine import FaceMachine
@@ -75,7 +75,7 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
     R = started(fit.surface, start_parameter(wall, fit.surface, start))
     off, where = wall_side(wall.ring.role, side)
     sign = outside_sign(wall) * off
-    path = machine_path(R, wall.surface, opts, sign, progress)
+    path = machine_path(R, wall.surface, opts, sign, progress, None, fit.error_bound)
     rep: dict = {"fit": {"method": fit.result[0].best.method, "closed": True, "error_bound": fit.error_bound,
                          "notes": []},
                  "machine": path_report(path), "side": where,
@@ -94,8 +94,9 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
         from ruled.machine.envelope import tool_envelope
         env = tool_envelope(wall.surface, sign, path, progress=progress)
         env["against"] = "the wall (its faces joined into one surface, exactly)"
-        env["bound_cl"] = fit.error_bound + path.offset_deviation
-        env["bound_moves"] = fit.error_bound + path.offset_deviation + path.chord_tol
+        if opts.positions == "offset":          # (the offset rulings' deviation bounds what the fit adds)
+            env["bound_cl"] = fit.error_bound + path.offset_deviation
+            env["bound_moves"] = fit.error_bound + path.offset_deviation + path.chord_tol
         rep["tool_envelope"] = env
     rep["warnings"] = warns
     return FaceMachine(None, R, path, container_to_face(R), rep, sign, warns)

@@ -104,8 +104,12 @@ def test_flank_cone_tool(tmp_path, patches, tip):
 
 
 @pytest.mark.slow
-def test_flank_twisted_reported(tmp_path, hyp_file):
-    apt, rep, _ = run_cli(tmp_path, hyp_file, 0, "--flank", "--tool-radius", "1", "--chord-tol", "0.01")
+def test_flank_twisted_offset_and_envelope(tmp_path, hyp_file):
+    """The twisted hyperboloid, r = 1: the offset rulings (--positions offset) overcut it, as two independent
+    measures agree; the positions fitted to the envelope (the default) cut it within a third of that, the
+    overcut within the gouge tolerance (the fit's bound), the axis turning at most 2 degrees a move."""
+    apt, rep, _ = run_cli(tmp_path, hyp_file, 0, "--flank", "--tool-radius", "1", "--chord-tol", "0.01", "--positions",
+                          "offset")
     e, m = rep["tool_envelope"]["cl_positions"], rep["machine"]
     assert m["envelope_deviation"] > 0.01
     assert e["overcut"] > 0 and e["undercut"] > 0
@@ -118,7 +122,54 @@ def test_flank_twisted_reported(tmp_path, hyp_file):
     assert sw["unreached"] == 0
     assert abs(sw["overcut"] - w["overcut"]) <= 0.03 * w["overcut"], (sw["overcut"], w["overcut"])
     assert abs(sw["undercut"] - w["undercut"]) <= 0.1 * w["undercut"], (sw["undercut"], w["undercut"])
-    assert 0.0 < sw["axis_angle_max_deg"] < 10.0
+    offset = max(sw["overcut"], sw["undercut"])
+    # issue 61: the envelope's positions, measured both ways
+    (tmp_path / "env").mkdir()
+    apt, rep, _ = run_cli(tmp_path / "env", hyp_file, 0, "--flank", "--tool-radius", "1")
+    sw, w, pos = rep["swept_tool"], rep["tool_envelope"]["with_moves"], rep["machine"]["positions"]
+    assert pos["gouge_tol"] == rep["fit"]["error_bound"] and sw["unreached"] == 0
+    assert max(sw["overcut"], sw["undercut"]) <= 0.3 * offset, (sw, offset)
+    assert max(w["overcut"], w["undercut"]) <= 0.3 * offset, (w, offset)
+    assert sw["overcut"] <= pos["gouge_tol"] and w["overcut"] <= pos["gouge_tol"]
+    turn = max(float(r["axis_turn_deg"]) for r in read_csv(os.path.splitext(apt)[0] + ".csv"))
+    assert turn <= 2.0 and sw["axis_angle_max_deg"] == pytest.approx(turn, abs=1e-4)
+    assert not rep["warnings"]
+
+
+def test_envelope_positions_on_a_twisted_blade():
+    """Issue 61 on a blade of our own (tests/cases.twisted_blade: rulings 1 long turning 40 degrees over 1.5),
+    r = 0.05 (5 % of the ruling): the positions fitted to the envelope against the offset rulings, both at the
+    default chords and at the same ones, measured on points of the blade the fit never saw by the swept
+    measure and by this file's own distance to the tool's axis swept through the moves (32 steps a move)."""
+    from cases import twisted_blade
+
+    from ruled import FitOptions, fit_surface
+    from ruled.machine.flank import MAX_TURN, machine_path
+    from ruled.machine.paths import MachineOptions
+    from ruled.machine.swept import swept_measure
+    S = twisted_blade(40.0, 1.5)
+    ends = S(np.array([0.0, 0.0, 1.0, 1.0]), np.array([0.0, 1.0, 0.0, 1.0]))
+    r0, r1 = ends[1] - ends[0], ends[3] - ends[2]
+    assert math.degrees(math.acos(r0 @ r1 / np.linalg.norm(r0) / np.linalg.norm(r1))) >= 30.0
+    res = fit_surface(S, FitOptions())
+    uu, vv = np.meshgrid(np.linspace(0, 1, 101), np.linspace(0, 1, 27), indexing="ij")
+    X = S(uu.ravel(), vv.ravel())
+    r = 0.05
+
+    def cut(pos, **kw):
+        p = machine_path(res.surface, S, MachineOptions("flank", tool_radius=r, positions=pos, **kw), 1.0,
+                         fit_bound=res.error_bound)
+        m = swept_measure(p, X)
+        d = _to_tool_axes(X, p.lower, p.axes, float(np.linalg.norm(p.upper - p.lower, axis=1).min()), 32) - r
+        assert m["unreached"] == 0
+        return p, m, max(m["overcut"], m["undercut"]), (float(max(0.0, -d.min())), float(max(0.0, d.max())))
+    env, m, dev, own = cut("envelope")
+    gouge = env.stats["positions"]["gouge_tol"]
+    for pos, kw in (("offset", {}), ("offset", {"chord_tol": env.chord_tol})):
+        _, mo, dev_o, own_o = cut(pos, **kw)
+        assert dev <= 0.3 * dev_o and max(own) <= 0.3 * max(own_o), (dev, dev_o, own, own_o)
+    assert m["overcut"] <= gouge and own[0] <= gouge * 1.01, (m, own, gouge)
+    assert m["axis_angle_max_deg"] <= MAX_TURN and not env.warnings
 
 
 def test_flank_radius_warning(tmp_path, patches, capsys):
@@ -140,6 +191,9 @@ def test_flank_radius_warning(tmp_path, patches, capsys):
     pytest.param(["--xyuv", "--chord-tol", "1e-12"], "chord", marks=pytest.mark.slow),
     (["--xyuv", "--ruled", "--method", "4d"], "give one of them"),
     (["--flank", "--tool-radius", "1", "--kerf", "0.1"], "--kerf is for --xyuv"),
+    (["--flank", "--tool-radius", "1", "--gouge-tol", "-1"], "--gouge-tol"),
+    (["--xyuv", "--gouge-tol", "0.1"], "--gouge-tol and --positions are for --flank"),
+    (["--flank", "--tool-radius", "1", "--positions", "offset", "--gouge-tol", "0.1"], "has none to hold"),
 ])
 def test_bad_input(tmp_path, hyp_file, capsys, args, needle):
     out = str(tmp_path / "x.ngc")
@@ -224,12 +278,14 @@ def test_flank_on_a_trimmed_face_reports_the_cut_of_the_face(tmp_path):
     with open(apt) as fh:
         length = float(next(ln for ln in fh if ln.startswith("CUTTER/")).split(",")[-1])
     P = _inside_points(faces_of(read_shape(src))[6])
-    d = _to_tool_axes(P, tip, axis, length) - r        # > 0: material left at the point; < 0: the tool past it
+    d = _to_tool_axes(P, tip, axis, length, 32) - r    # > 0: material left at the point; < 0: the tool past it
     over, under = float(max(0.0, -d.min())), float(max(0.0, d.max()))
-    chord = rep["machine"]["chord_tol"]
-    assert over <= e["with_moves"]["overcut"] * 1.05 + 1e-6
-    assert under <= e["with_moves"]["undercut"] + chord
-    assert over <= e["bound_moves"] and under <= e["bound_moves"]
+    chord, sw = rep["machine"]["chord_tol"], rep["swept_tool"]
+    assert over <= max(e["with_moves"]["overcut"], sw["overcut"]) * 1.05 + 1e-6
+    assert under <= max(e["with_moves"]["undercut"], sw["undercut"]) + chord
+    # the tool positions fitted to the face's envelope: the overcut within the gouge tolerance (the fit's bound)
+    gouge = rep["machine"]["positions"]["gouge_tol"]
+    assert gouge == rep["fit"]["error_bound"] and over <= gouge and sw["overcut"] <= gouge
     # the same through ruled.cq from the RuledFit the user has: the tool follows that fit
     import ruled.cq as rcq
     face = faces_of(read_shape(src))[6]
@@ -246,7 +302,8 @@ def test_the_tool_envelope_counts_only_the_circles_kept():
     counts that half's circles only (9 of 17 per position, half way through the moves too), and its cut
     is no deeper than the whole tool's."""
     from ruled.machine.envelope import tool_envelope
-    from ruled.machine.paths import MachineOptions, flank_path
+    from ruled.machine.flank import flank_path
+    from ruled.machine.paths import MachineOptions
     P = np.array([[[0.0, 0, 0], [0, 10, 0]], [[10, 0, 0], [10, 10, 4]]])
     R = Surface(P, [0.0, 0, 1, 1], [0.0, 0, 1, 1], 1, 1)
     path = flank_path(R, MachineOptions("flank", chord_tol=0.01, tool_radius=1.0).checked())

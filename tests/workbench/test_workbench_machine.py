@@ -104,7 +104,8 @@ def test_export_for_machining_of_a_trimmed_fit_follows_that_fit(tmp_path):
     the object's own bound (<= 0.0005, against the pinned fit's 0.0023) with no warning; the G-code, replayed
     through gcodeparser, sweeps lines within bound + chord of the bounded face and the face within that of the
     lines (trim-aware, measured with OCCT here); the flank tool's over- and undercut at its CL points against
-    the bounded face are within the bound + 1e-5."""
+    the bounded face are within the bound + 1e-5, and the face's points against the tool swept through its moves
+    within the gouge tolerance over."""
     from conftest import data_file, freecad_json
     from machine_helpers import check_sync, lines_3d, trim_aware_cut
 
@@ -124,6 +125,12 @@ def test_export_for_machining_of_a_trimmed_fit_follows_that_fit(tmp_path):
     cl = env["tool_envelope"]["cl_positions"]
     assert env["fit"]["error_bound"] == rep["fit"]["error_bound"] and not env["warnings"]
     assert max(cl["overcut"], cl["undercut"]) <= fit["bound"] + 1e-5, cl
+    # issue 61: the tool's positions fitted to the face's envelope, as 'ruled machine --flank' fits them: the face's
+    # points (FreeCAD's, of the face inside its edges) against the tool swept through the moves within the gouge
+    # tolerance (the fit's bound) over, the axis turning at most 2 degrees a move
+    sw, pos = env["swept_tool"], env["machine"]["positions"]
+    assert "after" in pos and pos["gouge_tol"] == env["fit"]["error_bound"], pos
+    assert sw["unreached"] == 0 and sw["overcut"] <= pos["gouge_tol"] and sw["axis_angle_max_deg"] <= 2.0, sw
 
 
 FALLBACK_AXIS = "0.3864,-0.7174,0.5798"     # 88 degrees from a ruling of face 8's trimmed fit, 60 from its pinned one's
