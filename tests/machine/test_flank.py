@@ -286,6 +286,8 @@ def test_flank_on_a_trimmed_face_reports_the_cut_of_the_face(tmp_path):
     # the tool positions fitted to the face's envelope: the overcut within the gouge tolerance (the fit's bound)
     gouge = rep["machine"]["positions"]["gouge_tol"]
     assert gouge == rep["fit"]["error_bound"] and over <= gouge and sw["overcut"] <= gouge
+    # (issue 61: no worse than the offset rulings, whose moves cut 0.0017 into face 6, three times its bound)
+    assert max(sw["overcut"], sw["undercut"]) <= rep["fit"]["error_bound"], sw
     # the same through ruled.cq from the RuledFit the user has: the tool follows that fit
     import ruled.cq as rcq
     face = faces_of(read_shape(src))[6]
