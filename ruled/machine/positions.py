@@ -38,6 +38,8 @@ _W = 10.0              # weight of an overcut past the hold against the largest 
 _ROUNDS = 40           # linear programs at most
 _STEPS = 2             # positions per station's move searched before the golden section
 _STALL, _STALLED = 4, 0.02   # stop when the last _STALL kept steps gained less than this fraction together
+_COARSE = 20000        # positions searched first, at most
+_CELLS = 2_000_000     # point-position pairs evaluated at once
 _WORKING = 150         # the points each way the linear program starts with
 _FINE = 16             # the offset rulings' samples per station's move for the splines
 
@@ -129,7 +131,10 @@ class _Family:
         # from the positions near it)
         E = base(u)
         travel = np.linalg.norm(np.diff(E, axis=0), axis=2).max(axis=1)
-        steps = np.maximum(_STEPS, np.ceil(travel / (0.5 * tool.radius))).astype(np.int64)
+        steps = np.maximum(_STEPS, np.ceil(travel / (0.5 * tool.radius)))
+        if steps.sum() > _COARSE:               # (a thin tool on a long path: as many as the memory allows)
+            steps = np.maximum(_STEPS, np.floor(steps * _COARSE / steps.sum()))
+        steps = steps.astype(np.int64)
         self.coarse = np.concatenate([np.linspace(a, b, n, endpoint=False) for a, b, n in zip(u[:-1], u[1:], steps)]
                                      + [u[-1:]])
 
@@ -149,11 +154,12 @@ class _Family:
         L = np.linalg.norm(D, axis=-1)
         return E[..., 0, :], D / L[..., None], L
 
-    def nearest(self, X: np.ndarray, C: np.ndarray, chunk: int = 64) -> tuple[np.ndarray, np.ndarray]:
+    def nearest(self, X: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(signed distances, parameters u of the positions that give them) of the points X to the tool swept
         through the family: the nearest of the coarse positions, then a golden-section search beside it."""
         T, A, L = self._tal(self.at(self.coarse, C)[0])
         best, ub = np.full(len(X), np.inf), np.zeros(len(X))
+        chunk = max(1, min(64, _CELLS // self.coarse.size))
         for s in range(0, len(X), chunk):
             sd = _signed(self.tool, X[s:s + chunk, None, :], T[None], A[None], L[None])
             j = np.argmin(sd, axis=1)

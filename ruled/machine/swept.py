@@ -94,6 +94,7 @@ def nearest_positions(path: Stations, X: np.ndarray, steps: int = 8, chunk: int 
     X = np.asarray(X, float).reshape(-1, 3)
     best = np.full(len(X), np.inf)
     gb = np.zeros(len(X))
+    chunk = max(1, min(chunk, 2_000_000 // g.size))       # (the temporaries: some 50 bytes a point and position)
     for s in range(0, len(X), chunk):
         sd = _signed(path, X[s:s + chunk, None, :], T[None], A[None], L[None])
         k = np.argmin(sd, axis=1)
