@@ -36,7 +36,7 @@ from ruled.machine.paths import (
     side_sign,
     xyuv_path,
 )
-from ruled.machine.sync import sync_params
+from ruled.machine.sync import sync_params, tool_between
 
 MAX_TURN = 2.0             # degrees: the largest turn of the tool's axis from one CL point to the next
 _POINTS = 40               # the design surface's points per direction when no points of the face are given
@@ -88,7 +88,8 @@ def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pr
     else:
         stats["positions"] = {"method": "offset rulings (each ruling offset by the tool radius along the normal, "
                                         "the straight line closest to it)"}
-    us = sync_params(both, u0, u1, tol, _seed_params(R, lines), opts.max_points, progress, max_turn=MAX_TURN)
+    us = sync_params(both, u0, u1, tol, _seed_params(R, lines), opts.max_points, progress, max_turn=MAX_TURN,
+                     between=tool_between)
     if us.size < 2:
         raise BadInputError("the tool path is empty: the ruled result has no extent along its rulings")
     E = both(us)

@@ -7,8 +7,12 @@ cylinder touching a twisted ruling along its length cuts into the face beside it
 are moved across the axis by smooth functions of the ruling parameter u (cubic B-splines, periodic on a closed
 path; 4 per basis function: tip and top, two directions each), so the axis between any two stations moves
 smoothly too.  The path is then a continuous family of tool positions; the face's points are measured against
-the tool swept through it (ruled.machine.swept.nearest_positions on a dense grid of stations whose straight
-moves are within a small fraction of the chord tolerance of the family).
+the tool swept through it (the swept measure's signed distance, ruled.machine.swept; the offset rulings sampled
+16 times a station's move, linear between: within 1/256 of the chord tolerance of them), each point at its
+nearest position: the nearest of positions at most half the tool radius apart, then a golden-section search.
+A face's points are the fit's data (not the measure's: ruled.occ.machine takes 30 x 30 of them, the measure
+its own); the coefficients are at most a quarter of the rows of points across the path (several rows of
+points per function: fewer points would let the fit bend the tool between them).
 
 The fit is a sequence of linear programs (trust region): each point's signed distance to the swept tool is
 linearized in the coefficients at its nearest position (its derivative with respect to the tool's tip and top
@@ -20,7 +24,9 @@ there is exact: moving the axis by dT at the tip and dU at the top moves the too
 t the largest deviation, hold the overcut allowed to the family (the gouge tolerance less the chords the
 machine's straight moves add), s what a step cannot yet hold of it.  A step is kept when the true figure (every
 point measured again, its nearest position searched again) is smaller; the trust radius grows on good steps
-and shrinks on bad ones."""
+and shrinks on bad ones; the fit stops when the last four kept steps gained less than 2 % together.  The linear
+programs are solved on the points nearest to binding and then on every point a step breaks, until it breaks
+none (the program of every point, on a few hundred of them)."""
 
 from __future__ import annotations
 
@@ -41,7 +47,7 @@ _STALL, _STALLED = 4, 0.02   # stop when the last _STALL kept steps gained less 
 _COARSE = 20000        # positions searched first, at most
 _CELLS = 2_000_000     # point-position pairs evaluated at once
 _WORKING = 150         # the points each way the linear program starts with
-_FINE = 16             # the offset rulings' samples per station's move for the splines
+_FINE = 16             # the offset rulings' samples per station's move (the family linear between them)
 
 Ends = Callable[[np.ndarray], np.ndarray]      # u (n,) -> (n, 2, 3): the tool's tip and top at u
 
@@ -194,6 +200,9 @@ def _cuts(d: np.ndarray) -> dict:
 
 
 def _merit(d: np.ndarray, hold: float) -> float:
+    """The largest deviation and the weighted overcut past the hold (inf: no point reached)."""
+    if d.size == 0:
+        return math.inf
     return float(np.abs(d).max() + _W * max(0.0, float(-d.min()) - hold))
 
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from ruled.core.nearest import golden
 from ruled.machine.paths import MachinePath
+from ruled.machine.sync import tool_between
 
 # the tool's side counts this fraction of its length past its two ends (the face's rails lie at its ends)
 REACH = 1e-3
@@ -59,13 +60,14 @@ class Tool:
 def tool_positions(path: Stations, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(tips, unit axes, lengths) of the tool at the path's continuous positions g (0: the first CL position, k:
     the k-th; between two, the machine's linear move of tip and axis, the axis renormalized)."""
-    lo, a, L = path.lower, path.axes, np.linalg.norm(path.upper - path.lower, axis=1)
-    g = np.clip(np.asarray(g, float), 0.0, lo.shape[0] - 1.0)
-    i = np.minimum(np.floor(g).astype(np.int64), max(lo.shape[0] - 2, 0))
-    j = np.minimum(i + 1, lo.shape[0] - 1)
-    w = (g - i)[..., None]
-    A = a[i] + w * (a[j] - a[i])
-    return lo[i] + w * (lo[j] - lo[i]), A / np.linalg.norm(A, axis=-1)[..., None], L[i] + w[..., 0] * (L[j] - L[i])
+    E = np.stack([path.lower, path.upper], axis=1)
+    g = np.clip(np.asarray(g, float), 0.0, E.shape[0] - 1.0)
+    i = np.minimum(np.floor(g).astype(np.int64), max(E.shape[0] - 2, 0))
+    j = np.minimum(i + 1, E.shape[0] - 1)
+    P = tool_between(E[i], E[j], (g - i)[..., None, None])
+    D = P[..., 1, :] - P[..., 0, :]
+    L = np.linalg.norm(D, axis=-1)
+    return P[..., 0, :], D / L[..., None], L
 
 
 def _signed(path: Stations, X: np.ndarray, T: np.ndarray, A: np.ndarray, L: np.ndarray) -> np.ndarray:

@@ -33,11 +33,31 @@ def _samples(f, a: np.ndarray, b: np.ndarray, k: int) -> tuple[np.ndarray, np.nd
     return uu, np.concatenate(parts).reshape(a.size, k, -1, 3)
 
 
-def _off_chord(X: np.ndarray, uu: np.ndarray, a, b, fa: np.ndarray, fb: np.ndarray) -> np.ndarray:
-    """Distances between the curve samples X ((n, k, m, 3) at the parameters uu (n, k)) and the straight
-    moves from fa to fb ((n, m, 3)) over [a, b], at the same parameter; the largest per move (n,)."""
+def straight(fa: np.ndarray, fb: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The machine between two synchronized points ((..., m, 3) each) at the fraction s ((..., 1, 1)): every
+    curve's point moving straight (the wire's two guides)."""
+    return fa + s * (fb - fa)
+
+
+def tool_between(fa: np.ndarray, fb: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The flank tool between two CL positions ((..., 2, 3): tip, top) at the fraction s ((..., 1, 1)), as a
+    5-axis machine moves it: the tip straight, the axis direction turning linearly (normalized), the tool's
+    length linear; (..., 2, 3) tip and top.  (On a long tool this is not the top moving straight: the two part
+    by about the length times the square of the turn.)"""
+    w = s[..., 0, :]
+    ta, tb = fa[..., 0, :], fb[..., 0, :]
+    da, db = fa[..., 1, :] - ta, fb[..., 1, :] - tb
+    La, Lb = np.linalg.norm(da, axis=-1, keepdims=True), np.linalg.norm(db, axis=-1, keepdims=True)
+    A = da / La + w * (db / Lb - da / La)
+    T = ta + w * (tb - ta)
+    return np.stack([T, T + (La + w * (Lb - La)) * A / np.linalg.norm(A, axis=-1, keepdims=True)], axis=-2)
+
+
+def _off_chord(X: np.ndarray, uu: np.ndarray, a, b, fa: np.ndarray, fb: np.ndarray, between=straight) -> np.ndarray:
+    """Distances between the curve samples X ((n, k, m, 3) at the parameters uu (n, k)) and the machine's
+    moves from fa to fb ((n, m, 3)) over [a, b] (`between`), at the same parameter; the largest per move (n,)."""
     s = ((uu - a[:, None]) / (b - a)[:, None])[..., None, None]
-    return np.linalg.norm(X - (fa[:, None] + s * (fb - fa)[:, None]), axis=-1).max(axis=(1, 2))
+    return np.linalg.norm(X - between(fa[:, None], fb[:, None], s), axis=-1).max(axis=(1, 2))
 
 
 def _turns(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -48,7 +68,8 @@ def _turns(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int = 200000,
-                progress: Progress = None, safety: float = 0.95, max_turn: float = 0.0) -> np.ndarray:
+                progress: Progress = None, safety: float = 0.95, max_turn: float = 0.0,
+                between=straight) -> np.ndarray:
     """The parameters of the synchronized points: the moves between consecutive values of f ((n, m, 3),
     m curves moving together) stay within safety * tol of every curve at the same u.  Bisection from
     the seeds until every move is within tol / 16 at 15 samples inside it (densify: only the halves of
@@ -56,14 +77,15 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int =
     dense moves are about a quarter of the longest that pass), then a greedy pass over the dense points
     that keeps the longest moves within tol at every sample taken while densifying (thin: no new
     evaluations).  max_turn > 0 (two curves: the ends of a line): no move turns the line by more than
-    max_turn degrees either."""
+    max_turn degrees either.  between: how the machine moves from one synchronized point to the next (straight,
+    or tool_between for a flank tool)."""
     user_tol, tol = tol, safety * tol
     dense_tol = tol / 16.0
     u = np.unique(np.concatenate([[u0, u1], np.clip(np.asarray(seeds, float), u0, u1)]))
     vals = f(u)
     k = _SEG_SAMPLES
     su, sx = _samples(f, u[:-1], u[1:], k)
-    dev = _off_chord(sx, su, u[:-1], u[1:], vals[:-1], vals[1:])
+    dev = _off_chord(sx, su, u[:-1], u[1:], vals[:-1], vals[1:], between)
     for it in range(64):
         if progress:
             progress("synchronized points", min(0.8, 0.05 * it))
@@ -85,7 +107,7 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int =
         na, nb = np.concatenate([a, mid]), np.concatenate([mid, b])
         fa, fb = np.concatenate([vals[bad], fm]), np.concatenate([fm, vals[bad + 1]])
         nsu, nsx = _samples(f, na, nb, k)
-        ndev = _off_chord(nsx, nsu, na, nb, fa, fb)
+        ndev = _off_chord(nsx, nsu, na, nb, fa, fb, between)
         kept = np.ones(u.size - 1, bool)
         kept[bad] = False
         starts = np.concatenate([u[:-1][kept], na])
@@ -108,7 +130,7 @@ def sync_params(f, u0: float, u1: float, tol: float, seeds=(), max_points: int =
     def passes(i, j):
         lo, hi = pos[i] + 1, pos[j]
         s = ((U[lo:hi] - u[i]) / (u[j] - u[i]))[:, None, None]
-        lin = vals[i][None] + s * (vals[j] - vals[i])[None]
+        lin = between(vals[i][None], vals[j][None], s)
         if max_turn > 0 and _turns(vals[i][None], vals[j][None])[0] > max_turn:
             return False
         return bool(np.linalg.norm(X[lo:hi] - lin, axis=-1).max() <= tol)
