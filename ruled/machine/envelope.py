@@ -10,7 +10,7 @@ import numpy as np
 from ruled.core.nurbs import Surface
 from ruled.core.progress import Progress
 from ruled.machine.paths import MachinePath
-from ruled.machine.sync import _seeds
+from ruled.machine.sync import _seeds, tool_between
 
 
 def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, moves: bool = True,
@@ -24,9 +24,11 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     face: its rulings run past the face, and what the tool does there is not a cut of the face)."""
     from ruled.core.distance import project_points
     lo, hi, us = path.lower, path.upper, np.asarray(path.u, float)
-    if moves:
-        lo = np.concatenate([lo, 0.5 * (lo[1:] + lo[:-1])])
-        hi = np.concatenate([hi, 0.5 * (hi[1:] + hi[:-1])])
+    if moves:       # (half way through a move as the machine moves the tool: ruled.machine.sync.tool_between)
+        E = np.stack([lo, hi], axis=1)
+        mid = tool_between(E[:-1], E[1:], np.full((len(lo) - 1, 1, 1), 0.5))
+        lo = np.concatenate([lo, mid[:, 0]])
+        hi = np.concatenate([hi, mid[:, 1]])
         us = np.concatenate([us, 0.5 * (us[1:] + us[:-1])])
     n_cl = path.lower.shape[0]
     ax = hi - lo
