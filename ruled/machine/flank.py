@@ -40,6 +40,7 @@ from ruled.machine.sync import sync_params, tool_between
 
 MAX_TURN = 2.0             # degrees: the largest turn of the tool's axis from one CL point to the next
 _POINTS = 40               # the design surface's points per direction when no points of the face are given
+FIT_POINTS = 30            # the face's points per direction a host samples for the positions (not the measure's)
 
 
 def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Progress = None,
@@ -117,4 +118,4 @@ def machine_path(R: Surface, S: Surface, opts: MachineOptions, side: float = 1.0
     return flank_path(R, opts, side_sign(R, S, side), progress, pts, fit_bound)
 
 
-__all__ = ["MAX_TURN", "flank_path", "machine_path"]
+__all__ = ["MAX_TURN", "FIT_POINTS", "flank_path", "machine_path"]
