@@ -35,8 +35,6 @@ class Stations(Protocol):
     @property
     def upper(self) -> np.ndarray: ...
     @property
-    def axes(self) -> np.ndarray: ...
-    @property
     def radius(self) -> float: ...
     @property
     def taper_deg(self) -> float: ...
@@ -51,15 +49,10 @@ class Tool:
     radius: float
     taper_deg: float = 0.0
 
-    @property
-    def axes(self) -> np.ndarray:
-        d = self.upper - self.lower
-        return d / np.linalg.norm(d, axis=1)[:, None]
-
 
 def tool_positions(path: Stations, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(tips, unit axes, lengths) of the tool at the path's continuous positions g (0: the first CL position, k:
-    the k-th; between two, the machine's linear move of tip and axis, the axis renormalized)."""
+    the k-th; between two, as the machine moves the tool: ruled.machine.sync.tool_between)."""
     E = np.stack([path.lower, path.upper], axis=1)
     g = np.clip(np.asarray(g, float), 0.0, E.shape[0] - 1.0)
     i = np.minimum(np.floor(g).astype(np.int64), max(E.shape[0] - 2, 0))
