@@ -326,15 +326,20 @@ class ExportTaskPanel:
 
 def wrote_text(path: str, rep) -> str:
     """What the panel and the report view say after writing: the file, and the cut's figures where the export
-    measured them (XYUV: what the wire sweeps against the face, within its bound; flank: the tool's over- and
-    undercut at its positions), in the document's unit (workbench.units)."""
+    measured them (XYUV: what the wire sweeps against the face, within its bound; flank: the face's points against
+    the tool swept through its moves, with the gouge tolerance), in the document's unit (workbench.units)."""
     from .units import length
     out = f"Wrote {os.path.basename(path)}"
     rep = rep or {}
     cut, env = rep.get("cut"), (rep.get("tool_envelope") or {}).get("cl_positions")
+    swept, gouge = rep.get("swept_tool"), (rep.get("machine") or {}).get("positions", {}).get("gouge_tol")
     if cut:
         out += (f": the cut measured {length(cut['max'])} from the face, within its bound {length(cut['bound'])} "
                 f"(the fit's {length(rep.get('fit', {}).get('error_bound', 0.0))})")
+    elif swept:
+        out += (f": the tool swept through its moves overcuts the face by {length(swept['overcut'])}"
+                f"{f' (gouge tolerance {length(gouge)})' if gouge is not None else ''} and leaves "
+                f"{length(swept['undercut'])}; its axis turns at most {swept['axis_angle_max_deg']:.2g} deg a move")
     elif env:
         out += f": the tool's overcut {length(env['overcut'])}, undercut {length(env['undercut'])} at its positions"
     return out + "."

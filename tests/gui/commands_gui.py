@@ -40,6 +40,17 @@ def shoot(name, obj=None):
     return path
 
 
+def _said(mw, start: str) -> str:
+    """The report view's last line with `start` in it (what a panel printed there)."""
+    import FreeCADGui
+    from PySide import QtGui
+    for _ in range(3):
+        FreeCADGui.updateGui()
+    lines = [ln for w in mw.findChildren(QtGui.QTextEdit) if "Report" in w.objectName()
+             for ln in w.toPlainText().splitlines() if start in ln]
+    return lines[-1] if lines else ""
+
+
 def grab(widget, name):
     import FreeCADGui
     for _ in range(3):
@@ -367,7 +378,7 @@ def main():
         text = ep.result.text()
         ok = ep.accept()
         exports[fmt] = {"ok": ok, "text": ep.result.text() if not ok else text, "enabled": enabled, "tooltips": tips,
-                        "shot": shot,
+                        "shot": shot, "said": _said(mw, f"Ruled: Wrote {os.path.basename(path)}"),
                         "exists": os.path.exists(path), "closed": exportpanel.ACTIVE is None}
     res["export"] = exports
     # what the panel wrote follows the object's own fit (issue 55): its report's fit figure is the object's

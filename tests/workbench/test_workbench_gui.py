@@ -357,6 +357,11 @@ def test_commands_and_the_export_panel(tmp_path):
     assert max(abs(a[-1] - b[-1]) for a, b in zip(*csv_num)) <= 1.2e-4
     tip, axis = parse_apt(mill + ".apt")
     assert len(tip) > 10 and np.allclose(np.linalg.norm(axis, axis=1), 1.0, atol=1e-8)
+    # what the panel says it wrote: the face against the tool swept through its moves, as its report has it
+    said, rep = ex["flank"]["said"], json.load(open(mill + ".json"))
+    assert "the tool swept through its moves overcuts the face by " in said, said
+    assert _length_after(said, "overcuts the face by ") == pytest.approx(rep["swept_tool"]["overcut"], rel=5e-4)
+    assert rep["swept_tool"]["overcut"] <= rep["machine"]["positions"]["gouge_tol"], rep["swept_tool"]
     # remembered: in FreeCAD's parameters, shown by the preferences page, and after a restart
     want = {"Format": "flank", "Units": "mm", "ChordTol": 0.01, "Kerf": 0.1, "Lead": 2.0, "Feed": 80.0,
             "ToolRadius": 3.0, "Taper": 5.0, "CamStep": False}
