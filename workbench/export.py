@@ -172,7 +172,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     from ruled.core.errors import BadInputError
     from ruled.fit.face.fit import face_patch
     from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
-    from ruled.machine.flank import FIT_POINTS, machine_path
+    from ruled.machine.flank import fit_points, machine_path
     from ruled.machine.output import path_report, write_machine
     from ruled.machine.paths import MachineOptions
     from ruled.machine.trimmed import along_tool, fallback_warning, figure, swapped, trimmed_lines
@@ -206,7 +206,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     out_side = (-1.0 if src.Orientation == "Reversed" else 1.0) * (1.0 if side == "outside" else -1.0)
     opts = MachineOptions(kind, chord_tol, planes, axis, None, kerf, tool_radius, taper, lead, feed,
                           positions=positions, gouge_tol=gouge_tol).checked()
-    pts = face_points(src, FIT_POINTS) if kind == "flank" else None     # the bounded face, for the tool's positions
+    pts = face_points(src, fit_points(measure_samples)) if kind == "flank" else None  # (the bounded face)
     try:
         mp = machine_path(R, S, opts, out_side, progress, pts, fit_figures["error_bound"])
     except BadInputError as exc:

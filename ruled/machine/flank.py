@@ -36,11 +36,11 @@ from ruled.machine.paths import (
     side_sign,
     xyuv_path,
 )
-from ruled.machine.sync import sync_params, tool_between
+from ruled.machine.sync import surface_grid, sync_params, tool_between
 
 MAX_TURN = 2.0             # degrees: the largest turn of the tool's axis from one CL point to the next
 _POINTS = 40               # the design surface's points per direction when no points of the face are given
-FIT_POINTS = 30            # the face's points per direction a host samples for the positions (not the measure's)
+FIT_POINTS = 34            # the face's points per direction a host samples for the positions (not the measure's)
 
 
 def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Progress = None,
@@ -100,10 +100,10 @@ def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pr
                        r, opts.taper_deg, opts.feed, stats, tuple(warnings), both)
 
 
-def _design_points(S: Surface, n: int = _POINTS) -> np.ndarray:
-    a0, a1, b0, b1 = S.domain
-    uu, vv = np.meshgrid(np.linspace(a0, a1, n), np.linspace(b0, b1, n), indexing="ij")
-    return S(uu.ravel(), vv.ravel())
+def fit_points(measure_samples) -> int:
+    """The face's points per direction a host samples for the envelope positions: FIT_POINTS, never the measure's
+    own number (the measure then checks points the fit did not see)."""
+    return FIT_POINTS + 1 if measure_samples == FIT_POINTS else FIT_POINTS
 
 
 def machine_path(R: Surface, S: Surface, opts: MachineOptions, side: float = 1.0, progress: Progress = None,
@@ -114,8 +114,8 @@ def machine_path(R: Surface, S: Surface, opts: MachineOptions, side: float = 1.0
     opts = opts.checked()
     if opts.mode == "xyuv":
         return xyuv_path(R, opts, side_sign(R, S, side), progress)
-    pts = points if points is not None or opts.positions != "envelope" else _design_points(S)
+    pts = points if points is not None or opts.positions != "envelope" else surface_grid(S, _POINTS)[1]
     return flank_path(R, opts, side_sign(R, S, side), progress, pts, fit_bound)
 
 
-__all__ = ["MAX_TURN", "FIT_POINTS", "flank_path", "machine_path"]
+__all__ = ["MAX_TURN", "FIT_POINTS", "fit_points", "flank_path", "machine_path"]

@@ -10,7 +10,7 @@ smoothly too.  The path is then a continuous family of tool positions; the face'
 the tool swept through it (the swept measure's signed distance, ruled.machine.swept; the offset rulings sampled
 16 times a station's move, linear between: within 1/256 of the chord tolerance of them), each point at its
 nearest position: the nearest of positions at most half the tool radius apart, then a golden-section search.
-A face's points are the fit's data (not the measure's: ruled.occ.machine takes 30 x 30 of them, the measure
+A face's points are the fit's data (not the measure's: the hosts take 34 x 34 of them, the measure
 its own); the coefficients are at most a quarter of the rows of points across the path (several rows of
 points per function: fewer points would let the fit bend the tool between them).
 
@@ -36,16 +36,14 @@ from typing import Callable
 import numpy as np
 
 from ruled.core.basis import bspline_basis_matrix, periodic_knots
-from ruled.core.nearest import golden
 from ruled.core.progress import Progress
-from ruled.machine.swept import Tool, _signed
+from ruled.machine.swept import Tool, nearest_along
 
 _W = 10.0              # weight of an overcut past the hold against the largest deviation
 _ROUNDS = 40           # linear programs at most
 _STEPS = 2             # positions per station's move searched before the golden section
 _STALL, _STALLED = 4, 0.02   # stop when the last _STALL kept steps gained less than this fraction together
 _COARSE = 20000        # positions searched first, at most
-_CELLS = 2_000_000     # point-position pairs evaluated at once
 _WORKING = 150         # the points each way the linear program starts with
 _FINE = 16             # the offset rulings' samples per station's move (the family linear between them)
 
@@ -163,27 +161,7 @@ class _Family:
     def nearest(self, X: np.ndarray, C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(signed distances, parameters u of the positions that give them) of the points X to the tool swept
         through the family: the nearest of the coarse positions, then a golden-section search beside it."""
-        T, A, L = self._tal(self.at(self.coarse, C)[0])
-        best, ub = np.full(len(X), np.inf), np.zeros(len(X))
-        chunk = max(1, min(64, _CELLS // self.coarse.size))
-        for s in range(0, len(X), chunk):
-            sd = _signed(self.tool, X[s:s + chunk, None, :], T[None], A[None], L[None])
-            j = np.argmin(sd, axis=1)
-            best[s:s + chunk], ub[s:s + chunk] = sd[np.arange(sd.shape[0]), j], j
-        ok = np.isfinite(best)
-        j = ub.astype(np.int64)
-        lo, hi = self.coarse[np.maximum(j - 1, 0)], self.coarse[np.minimum(j + 1, self.coarse.size - 1)]
-        ub = self.coarse[j]
-        if ok.any():
-            Xo = X[ok]
-
-            def f(uu):
-                return _signed(self.tool, Xo, *self._tal(self.at(uu, C)[0]))
-            x, fx = golden(f, lo[ok], hi[ok], 30)
-            better = fx < best[ok]
-            best[ok] = np.where(better, fx, best[ok])
-            ub[ok] = np.where(better, x, ub[ok])
-        return best, ub
+        return nearest_along(self.tool, X, self.coarse, lambda uu: self._tal(self.at(uu, C)[0]), 30)
 
     def jacobian(self, X: np.ndarray, uu: np.ndarray, C: np.ndarray) -> np.ndarray:
         """(N, 4k): the signed distances' derivatives with respect to the coefficients (tip e1, tip e2, top e1,

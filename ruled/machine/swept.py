@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -76,37 +76,42 @@ def _signed(path: Stations, X: np.ndarray, T: np.ndarray, A: np.ndarray, L: np.n
     return np.where((foot >= -REACH * L) & (foot <= (1.0 + REACH) * L), gap * ca, np.inf)
 
 
-def nearest_positions(path: Stations, X: np.ndarray, steps: int = 8, chunk: int = 64,
-                      rounds: int = 40) -> tuple[np.ndarray, np.ndarray]:
-    """(signed distance (N,), the continuous position g (N,) that gives it; inf and g of the nearest station
-    where no position's side reaches the point) of the points X (N, 3) to the tool swept through the moves of
-    `path` (a MachinePath or a Tool): the nearest of `steps` positions per move,
-    then a golden-section search along the moves between its neighbours (the sweep is continuous: the
-    positions alone would leave scallops between them)."""
-    n = path.lower.shape[0]
-    g = np.arange((n - 1) * steps + 1) / steps
-    T, A, L = tool_positions(path, g)
+def nearest_along(tool: Stations, X: np.ndarray, grid: np.ndarray, place: Callable, rounds: int = 40,
+                  chunk: int = 64) -> tuple[np.ndarray, np.ndarray]:
+    """(signed distance (N,), the parameter (N,) of the position that gives it; inf and the grid's first where no
+    position's side reaches the point) of the points X (N, 3) to the tool (its radius and taper) at the positions
+    place(s) -> (tips, unit axes, lengths) of a parameter s: the nearest of the positions at the increasing
+    parameters `grid`, then a golden-section search between that one's neighbours (the sweep is continuous:
+    the grid's positions alone would leave scallops between them)."""
+    T, A, L = place(grid)
     X = np.asarray(X, float).reshape(-1, 3)
     best = np.full(len(X), np.inf)
-    gb = np.zeros(len(X))
-    chunk = max(1, min(chunk, 2_000_000 // g.size))       # (the temporaries: some 50 bytes a point and position)
+    j = np.zeros(len(X), np.int64)
+    chunk = max(1, min(chunk, 2_000_000 // grid.size))       # (the temporaries: some 50 bytes a point and position)
     for s in range(0, len(X), chunk):
-        sd = _signed(path, X[s:s + chunk, None, :], T[None], A[None], L[None])
-        k = np.argmin(sd, axis=1)
-        best[s:s + chunk], gb[s:s + chunk] = sd[np.arange(sd.shape[0]), k], g[k]
+        sd = _signed(tool, X[s:s + chunk, None, :], T[None], A[None], L[None])
+        j[s:s + chunk] = np.argmin(sd, axis=1)
+        best[s:s + chunk] = sd[np.arange(sd.shape[0]), j[s:s + chunk]]
+    at = grid[j]
     ok = np.isfinite(best)
-    if n > 1 and ok.any():
-        h = 1.0 / steps
+    if grid.size > 1 and ok.any():
         Xo = X[ok]
 
-        def f(gg):
-            return _signed(path, Xo, *tool_positions(path, gg))
-        a, b = np.maximum(gb[ok] - h, 0.0), np.minimum(gb[ok] + h, n - 1.0)
-        x, fx = golden(f, a, b, rounds)
+        def f(ss):
+            return _signed(tool, Xo, *place(ss))
+        lo, hi = grid[np.maximum(j[ok] - 1, 0)], grid[np.minimum(j[ok] + 1, grid.size - 1)]
+        x, fx = golden(f, lo, hi, rounds)
         better = fx < best[ok]
         best[ok] = np.where(better, fx, best[ok])
-        gb[ok] = np.where(better, x, gb[ok])
-    return best, gb
+        at[ok] = np.where(better, x, at[ok])
+    return best, at
+
+
+def nearest_positions(path: Stations, X: np.ndarray, steps: int = 8) -> tuple[np.ndarray, np.ndarray]:
+    """nearest_along the path's moves (a MachinePath or a Tool): the continuous position g (0: the first CL
+    position, k: the k-th) searched from `steps` positions per move."""
+    n = path.lower.shape[0]
+    return nearest_along(path, X, np.arange((n - 1) * steps + 1) / steps, lambda g: tool_positions(path, g))
 
 
 def swept_distances(path: MachinePath, X: np.ndarray, steps: int = 8) -> tuple[np.ndarray, np.ndarray]:
@@ -148,4 +153,5 @@ def swept_measure(path: MachinePath, X: np.ndarray, steps: int = 8) -> dict:
     return out
 
 
-__all__ = ["Tool", "tool_positions", "nearest_positions", "swept_distances", "swept_measure", "axis_angles"]
+__all__ = ["Tool", "tool_positions", "nearest_along", "nearest_positions", "swept_distances", "swept_measure",
+           "axis_angles"]

@@ -13,14 +13,19 @@ _SEG_SAMPLES = 15          # samples inside a move for the chord test
 _CHUNK = 20000             # parameters evaluated at once
 
 
-def _seeds(S: Surface, X: np.ndarray, n: int = 64) -> np.ndarray:
-    """The (u, v) of the nearest point of an n x n grid of S to each point of X."""
-    from scipy.spatial import cKDTree
+def surface_grid(S: Surface, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """((n * n, 2) parameters, (n * n, 3) points) of an n x n grid over S's domain."""
     a0, a1, b0, b1 = S.domain
     uu, vv = np.meshgrid(np.linspace(a0, a1, n), np.linspace(b0, b1, n), indexing="ij")
     uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
-    _, k = cKDTree(S(uv[:, 0], uv[:, 1])).query(X)
-    return uv[k]
+    return uv, S(uv[:, 0], uv[:, 1])
+
+
+def _seeds(S: Surface, X: np.ndarray, n: int = 64) -> np.ndarray:
+    """The (u, v) of the nearest point of an n x n grid of S to each point of X."""
+    from scipy.spatial import cKDTree
+    uv, P = surface_grid(S, n)
+    return uv[cKDTree(P).query(X)[1]]
 
 
 def _samples(f, a: np.ndarray, b: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:

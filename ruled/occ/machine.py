@@ -15,7 +15,7 @@ from OCP.TopAbs import TopAbs_REVERSED
 
 from ruled.fit.fit2d import FitResult
 from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
-from ruled.machine.flank import FIT_POINTS, machine_path
+from ruled.machine.flank import fit_points, machine_path
 from ruled.machine.output import path_report
 from ruled.machine.paths import Lines, MachineOptions, MachinePath
 from ruled.machine.swept import swept_measure
@@ -173,7 +173,7 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
     t1 = time.perf_counter()
     pts = None
     if opts.mode == "flank" and opts.positions == "envelope":
-        pts = face_points(face, FIT_POINTS)        # the face as bounded by its edges (not the measure's points)
+        pts = face_points(face, fit_points(measure_samples))    # the face as bounded by its edges
     path = machine_path(R, S, opts, out_side, progress, pts, slack if res is None else job.bound)
     t2 = time.perf_counter()
     out_face = face if given else job.face
