@@ -26,7 +26,8 @@
     from ruled.cq import split_face, xyuv_face, flank_face
     sp = split_face(face)                                  # the best split for ruling, two faces and their fits
     wire = xyuv_face(face, chord_tol=0.01, kerf=0.15)      # 4-axis wire: synchronized XY / UV contours
-    wire.write_gcode("part.ngc"); wire.write_csv("part.csv"); print(wire.report["cut"])
+    wire.write("part.ngc"); print(wire.report["cut"])     # G-code for LinuxCNC, its CSV beside
+    wire.write("part.gcode", post="grbl", power=800)      # a GRBL foam cutter: lower X Y, upper Z A
     mill = flank_face(face, tool_radius=3.0)               # flank milling: CL points and tool axes
     mill.write_apt("part.apt"); print(mill.report["tool_envelope"])
 
@@ -277,14 +278,31 @@ class MachineData:
     surface: Surface          # the ruled surface followed (rulings along v)
     warnings: tuple = ()
 
-    def write_gcode(self, filename: str, title: str = "", units: str = "mm") -> str:
+    def write(self, filename: str, post: Optional[str] = None, units: str = "mm", csv: Optional[str] = None,
+              **settings) -> dict:
+        """The machine file by a post (a name 'ruled posts' lists, or your own post's .toml; default linuxcnc for
+        a wire, apt for flank) and its CSV (default beside it), as 'ruled machine' writes them, the same bytes;
+        settings: ruled.machine.program.PostSettings's (feed_mode, power, dwell, letters, home, origin,
+        compensation, program, corner_radius).  A LinuxCNC file is checked by LinuxCNC's own interpreter where it
+        is installed.  Returns {"post", "file", "csv", "check"}."""
+        from ruled.machine.output import write_checked
+        from ruled.machine.program import PostSettings
+        return write_checked(self.path, filename, PostSettings(post=post, **settings), units,
+                             self.report.get("side"), csv)
+
+    def write_gcode(self, filename: str, title: str = "", units: str = "mm", post: Optional[str] = None,
+                    **settings) -> str:
+        """The wire's G-code by a G-code post (default linuxcnc; see write)."""
         from ruled.machine.output import write_gcode
-        write_gcode(self.path, filename, title, units, self.report.get("side"))
+        from ruled.machine.program import PostSettings
+        write_gcode(self.path, filename, title, units, self.report.get("side"), PostSettings(post=post, **settings))
         return filename
 
-    def write_apt(self, filename: str, title: str = "", units: str = "mm") -> str:
+    def write_apt(self, filename: str, title: str = "", units: str = "mm", corner_radius: float = 0.0) -> str:
+        """Flank milling's APT CL data (the 7-parameter CUTTER, a corner radius where given)."""
         from ruled.machine.output import write_apt
-        write_apt(self.path, filename, title, units)
+        from ruled.machine.program import PostSettings
+        write_apt(self.path, filename, title, units, PostSettings(corner_radius=corner_radius))
         return filename
 
     def write_csv(self, filename: str, units: str = "mm") -> str:
@@ -426,19 +444,18 @@ def _ruledCurveOnFace(self, uv, **kw):
     return self.newObject([curve_on_face(f, uv, **kw).edge for f in _selected_faces(self)])
 
 
-def _ruledXYUV(self, filename: str, csv: Optional[str] = None, **kw):
-    """Write the XYUV G-code (and its CSV, default beside it) of the selected face; the ruled fit follows."""
-    from ruled.machine.output import write_machine
+def _ruledXYUV(self, filename: str, csv: Optional[str] = None, post: Optional[str] = None, **kw):
+    """Write the XYUV G-code by a post (default linuxcnc; and its CSV, default beside it) of the selected face; the
+    ruled fit follows."""
     m = xyuv_face(_one_face(self), **kw)
-    write_machine(m.path, filename, csv_path=csv)
+    m.write(filename, post, csv=csv)
     return self.newObject([m.face])
 
 
 def _ruledFlank(self, filename: str, tool_radius: float, csv: Optional[str] = None, **kw):
     """Write the flank-milling APT CL data (and its CSV) of the selected face; the ruled fit follows."""
-    from ruled.machine.output import write_machine
     m = flank_face(_one_face(self), tool_radius, **kw)
-    write_machine(m.path, filename, csv_path=csv)
+    m.write(filename, csv=csv)
     return self.newObject([m.face])
 
 

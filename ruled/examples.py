@@ -40,7 +40,25 @@ def elber_ex2() -> Surface:
     return _from_rows(EX2_ROWS, [0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 0.5, 1, 1, 1], 3, 2)
 
 
-EXAMPLES = {"ex1": elber_ex1, "ex2": elber_ex2}
+def demo_blade() -> Surface:
+    """The demo's face (``ruled demo``): a drafted blade 80 mm long and 40 mm high, its top profile 0.8 of its
+    bottom's, turned 6 degrees, and bulged by up to 0.7 mm between them (not ruled: its best ruled surface is
+    about 0.29 mm from it).  Cubic along the profile, quadratic up it; a wire machine cuts it with its wire tilted
+    at most about 20 degrees."""
+    x = np.array([0.0, 16.0, 32.0, 48.0, 64.0, 80.0])
+    y = np.array([0.0, 9.0, 14.0, 12.0, 6.0, 0.0])
+    bottom = np.column_stack([x, y, np.zeros(6)])
+    c, s = np.cos(np.radians(6.0)), np.sin(np.radians(6.0))
+    centre = np.array([40.0, 7.0])
+    top2 = (np.column_stack([x, y]) - centre) * 0.8 @ np.array([[c, s], [-s, c]]) + centre
+    top = np.column_stack([top2, np.full(6, 40.0)])
+    mid = 0.5 * (bottom + top)
+    mid[1:5, 1] += np.array([0.4, 0.7, 0.7, 0.4])
+    return Surface(np.stack([bottom, mid, top], axis=1), np.array([0, 0, 0, 0, 1 / 3, 2 / 3, 1, 1, 1, 1.0]),
+                   np.array([0, 0, 0, 1, 1, 1.0]), 3, 2)
+
+
+EXAMPLES = {"ex1": elber_ex1, "ex2": elber_ex2, "blade": demo_blade}
 
 
 # Yang et al. 2008, first example: a biquadratic Bézier patch (P_ij, i along u, j along v) and a

@@ -18,7 +18,7 @@ import Part
 FORMATS = {
     "STEP, ruled faces (*.step *.stp)": "step",
     "STEP with rulings (*.step *.stp)": "step-rulings",
-    "XYUV G-code, wire (*.ngc *.nc)": "xyuv",
+    "XYUV wire, by its post (*.ngc *.nc *.gcode *.apt)": "xyuv",
     "Flank milling, APT (*.apt *.cls)": "flank",
 }
 
@@ -99,31 +99,31 @@ def _cam_step(R, u, cam_step, face=None) -> None:
 def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None, taper: float = 0.0,
                 side: str = "auto", planes=None, feed: float = 100.0, lead=None, units: str = "mm", cam_step=None,
                 measure_samples: int = 20, progress=None, start=None, positions: str = "envelope",
-                gouge_tol=None) -> dict:
+                gouge_tol=None, settings=None) -> dict:
     """A RuledWall's one closed path, as ``ruled machine --wall`` makes it (ruled.machine.wall): its closed
     result started on the bottom contour (start (X, Y), or the middle of its longest straight edge), one XYUV
     loop (axis: the wall's) or one flank CL path, the kerf round the whole loop on the chosen side (outside or
     inside the wall's contour; auto: off the material, ruled.machine.wall.wall_side); what the wire sweeps
-    measured against the wall's faces, each distance less the kerf."""
+    measured against the wall's faces, each distance less the kerf (ruled.machine.wirecut over FreeCAD's faces:
+    the command line's measure)."""
     from dataclasses import replace
 
-    from ruled.machine.envelope import cut_points, swept_surface
     from ruled.machine.flank import machine_path
-    from ruled.machine.output import path_report, write_machine
+    from ruled.machine.output import path_report, write_checked
     from ruled.machine.paths import MachineOptions
-    from ruled.machine.wall import outside_sign, start_parameter, started, wall_axis, wall_side
+    from ruled.machine.wall import counter_clockwise, outside_sign, start_parameter, started, wall_axis, wall_side
 
-    from .adapter import Wall, surface_to_face
     from .features import value
-    from .measure import distances, face_points
     from .walls import wall_source
     if obj.Shape.isNull() or not obj.Shape.Faces:
         from ruled.core.errors import BadInputError
         raise BadInputError(f"{obj.Label} has no result yet (see its Status); recompute it first")
+    from .adapter import Wall
     faces, names = wall_source(obj)
     wall = Wall(faces, names)
     R = result_arrays(obj.Shape.Faces[0])
-    R = started(R, start_parameter(R, wall.contour_edges(0), wall.size, start))
+    axis = wall_axis(wall.contour_points(0), wall.contour_points(1))
+    R = counter_clockwise(started(R, start_parameter(R, wall.contour_edges(0), wall.size, start)), axis)
     first = wall.faces[wall.kept[0]]
 
     def outward(x):
@@ -135,27 +135,23 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
     opts = MachineOptions(kind, chord_tol, planes, "auto", None, kerf, tool_radius, taper, lead, feed,
                           positions=positions, gouge_tol=gouge_tol)
     if kind == "xyuv":
-        opts = replace(opts, axis=wall_axis(wall.contour_points(0), wall.contour_points(1)))
+        opts = replace(opts, axis=axis)
     mp = machine_path(R, wall.surface, opts.checked(), sign, progress, None, value(obj.ErrorBound))
     title = f"{obj.Label} ({obj.Source[0].Label}: {', '.join(wall.names)})"
-    csv_path = write_machine(mp, path, title, units=units, side=where)
+    program = write_checked(mp, path, settings, units, where)
     if cam_step:
         _cam_step(R, mp.u, cam_step)
     fit = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff), "closed": True}
-    rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
-           "machine": path_report(mp), "fit": fit, "side": where,
+    rep = {"object": obj.Label, "source": title, "output": path, "csv": program["csv"], "units": units,
+           "step": cam_step, "machine": path_report(mp), "fit": fit, "side": where, "program": program,
            "wall": {"faces": wall.names, "start": [float(x) for x in R(np.array([R.domain[0]]),
                                                                         np.array([R.domain[2]]))[0]]}}
     if kind == "xyuv" and measure_samples:
-        n = measure_samples
-        design = Part.Compound(wall.faces)
-        P = np.concatenate([face_points(wall.faces[i], n) for i in wall.kept])
-        to_cut = np.abs(distances(P, surface_to_face(swept_surface(mp))) - kerf).max()
-        to_design = np.abs(distances(cut_points(mp, 3 * n * n), design) - kerf).max()
         fillet = mp.stats["inside_corner_fillet"]
-        rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
-                      "cut_to_design": float(to_design), "inside_corner_fillet": fillet,
-                      "bound": fit["measured"] + mp.stats["cut_bound_beyond_fit"] + fillet}
+        rep["cut"] = {**_wire_cut([wall.faces[i] for i in wall.kept], off, mp, measure_samples,
+                                  "the wall's faces" + (f", at the kerf {kerf:g} from them" if kerf else "")),
+                      "inside_corner_fillet": fillet, "fit_bound": fit["error_bound"],
+                      "bound": max(fit["error_bound"], fit["measured"]) + mp.stats["cut_bound_beyond_fit"] + fillet}
     rep["warnings"] = list(mp.warnings)
     return _report(path, rep)
 
@@ -163,7 +159,7 @@ def wall_export(obj, path: str, kind: str, chord_tol=None, kerf: float = 0.0, to
 def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 0.0, tool_radius=None,
                    taper: float = 0.0, side: str = "auto", planes=None, feed: float = 100.0, lead=None,
                    units: str = "mm", cam_step=None, measure_samples: int = 20, progress=None, axis="auto",
-                   gouge_tol=None, positions: str = "envelope") -> dict:
+                   gouge_tol=None, positions: str = "envelope", settings=None) -> dict:
     """XYUV G-code (kind "xyuv") or APT CL data (kind "flank") of one selected Ruled fit, with a CSV and
     a JSON report beside (and, with cam_step, a STEP for CAM: the ruled face and its rulings at the
     synchronized points, like ``ruled machine --cam-step --rulings``); returns the report.  The path follows
@@ -171,21 +167,21 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     fit pinned to the face's corners with a warning naming both figures (the report's "fallback")."""
     from ruled.core.errors import BadInputError
     from ruled.fit.face.fit import face_patch
-    from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
+    from ruled.machine.envelope import tool_envelope
     from ruled.machine.flank import fit_points, machine_path
-    from ruled.machine.output import path_report, write_machine
+    from ruled.machine.output import path_report, write_checked
     from ruled.machine.paths import MachineOptions
     from ruled.machine.trimmed import along_tool, fallback_warning, figure, swapped, trimmed_lines
 
-    from .adapter import face_region, face_to_arrays, surface_to_arrays, surface_to_face
+    from .adapter import face_region, face_to_arrays, surface_to_arrays
     from .features import value
-    from .measure import face_points, screened_distances, trimmed
+    from .measure import face_points, trimmed
     if len(objects) == 1 and type(getattr(objects[0], "Proxy", None)).__name__ == "RuledWall":
         if str(axis) != "auto":
             raise BadInputError("a wall's machine axis is the normal of its contours: leave the machine axis empty "
                                 "(auto)")
         return wall_export(objects[0], path, kind, chord_tol, kerf, tool_radius, taper, side, planes, feed, lead,
-                           units, cam_step, measure_samples, progress, None, positions, gouge_tol)
+                           units, cam_step, measure_samples, progress, None, positions, gouge_tol, settings)
     obj, src = _one_fit(objects)
     fit_figures = {"error_bound": value(obj.ErrorBound), "measured": value(obj.Hausdorff)}
     warnings: list = []
@@ -221,24 +217,15 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                     "trimmed_measured": fit_figures["measured"], "why": str(exc)}
         fit_figures = {"error_bound": pinned, "measured": pinned}
     title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
-    csv_path = write_machine(mp, path, title, units=units, side=side)
+    program = write_checked(mp, path, settings, units, side)
     if cam_step:
         _cam_step(R, mp.u, cam_step, result if keep is not None else None)
-    rep = {"object": obj.Label, "source": title, "output": path, "csv": csv_path, "units": units, "step": cam_step,
-           "machine": path_report(mp),
-           "fit": fit_figures}
+    rep = {"object": obj.Label, "source": title, "output": path, "csv": program["csv"], "units": units,
+           "step": cam_step, "machine": path_report(mp), "fit": fit_figures, "program": program}
     if kind == "xyuv":
         if measure_samples:
-            target = src
-            if kerf:     # the offset of the bounded face: the offset surface cut by the face's own wire offset
-                target = src.makeOffsetShape(out_side * kerf, 1e-6).Faces[0]
-            n = measure_samples
-            # (the largest only: screened, exact where it can be the largest)
-            to_cut = screened_distances(face_points(target, n), surface_to_face(swept_surface(mp))).max()
-            to_design = screened_distances(cut_points(mp, 3 * n * n, 11 if keep is None else 41, keep=keep),
-                                           target).max()
-            rep["cut"] = {"max": float(max(to_cut, to_design)), "design_to_cut": float(to_cut),
-                          "cut_to_design": float(to_design),
+            rep["cut"] = {**_wire_cut([src], 1.0 if side == "outside" else -1.0, mp, measure_samples,
+                                      "the face" + (f", at the kerf {kerf:g} from it" if kerf else "")),
                           "fit_bound": fit_figures["error_bound"],
                           "bound": max(fit_figures["error_bound"], fit_figures["measured"])
                           + mp.stats["cut_bound_beyond_fit"]}
@@ -251,6 +238,19 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     if fallback:
         rep["fallback"] = fallback
     return _report(path, rep)
+
+
+def _wire_cut(faces, side: float, mp, n: int, against: str) -> dict:
+    """What the wire sweeps along the path's moves against the faces (ruled.machine.wirecut over FreeCAD's faces,
+    as the command line and 'ruled replay' measure it), less the kerf."""
+    from ruled.machine.wirecut import wire_cut
+
+    from .wirecut import FreeCADFaces
+    (h0, h1), fr = mp.planes, mp.frame
+    lower, upper = fr.point(mp.moves[:, :2], h0), fr.point(mp.moves[:, 2:], h1)
+    kinds = list(mp.kinds)
+    return wire_cut(FreeCADFaces(faces, side, against), lower, upper, np.arange(1, len(lower)), n, mp.radius,
+                    (kinds.count("lead-in"), kinds.count("lead-out")))
 
 
 def _pinned(obj, region, progress) -> tuple:

@@ -20,9 +20,31 @@ FIT_GROUP = "User parameter:BaseApp/Preferences/Mod/Ruled/Fit"
 
 MACHINE = ("xyuv", "flank")
 ACTIVE = None            # the open export panel (for scripts and tests)
-SPECIAL = {"ChordTol": "auto", "Kerf": "none", "Lead": "auto", "GougeTol": "auto"}  # what a box's lowest value means
+SPECIAL = {"ChordTol": "auto", "Kerf": "none", "Lead": "auto", "GougeTol": "auto", "WirePower": "post's",
+           "Dwell": "post's"}  # what a box's lowest value means
+WIRE_POSTS = ("linuxcnc", "grbl", "iso-wedm", "apt-sync")       # (ruled.machine.posts.SHIPPED, a wire's)
 # name, kind, default, the formats it applies to, label, tooltip
 SETTINGS = [
+    ("Post", WIRE_POSTS, "linuxcnc", ("xyuv",), "Post", "the controller the G-code is written for: linuxcnc "
+     "(RS274/NGC, X Y U V, AXIS's foam preview), grbl (GRBL, FluidNC, grblHAL foam cutters: X Y Z A), iso-wedm "
+     "(Fanuc-family 4-axis wire EDM: U V relative), apt-sync (APT CL for a commercial wire post); the command line's "
+     "--post"),
+    ("PostFile", "text", "", ("xyuv",), "Own post file", "your own post: the path of a .toml (a shipped post copied "
+     "and changed; 'ruled posts NAME' prints one); empty: the post above"),
+    ("FeedMode", ("post's", "g93", "g94"), "post's", ("xyuv",), "Feed mode", "g93: inverse time, each move's time from "
+     "its longer guide at the feed (the faster guide runs at the feed); g94: units per minute along X Y; post's: the "
+     "post's own"),
+    ("WirePower", "power", 0.0, ("xyuv",), "Wire power", "a hot wire's power: M3 S<power> before the cut, M5 after "
+     "(post's: the post's own; none for linuxcnc)"),
+    ("Dwell", "seconds", -1.0, ("xyuv",), "Dwell", "seconds the wire heats (G4 P) before the first move (post's: the "
+     "post's own)"),
+    ("Letters", "text", "", ("xyuv",), "Axis letters", "the letters of lower X, lower Y, upper X, upper Y, e.g. XYZA "
+     "(empty: the post's)"),
+    ("Home", "bool", False, ("xyuv",), "Home first", "home the machine first (the post's homing: $H, G28)"),
+    ("Origin", "bool", False, ("xyuv",), "G92 origin", "the wire stands at the path's first point: G92 declares it "
+     "there (iso-wedm: always)"),
+    ("Compensation", "text", "", ("xyuv",), "Wire compensation", "wire EDM: the controller's D register (G41/G42 D, "
+     "with the uncompensated path; leave Kerf at none); empty: Ruled offsets the wire by the kerf"),
     ("Units", ("mm", "inch"), "mm", MACHINE, "Units", "units of the G-code / APT / CSV coordinates (the model's are "
      "mm; G21 or G20, UNITS/MM or UNITS/INCHES)"),
     ("ChordTol", "length", 0.0, MACHINE + ("step-rulings",), "Chord tolerance", "largest distance between a straight "
@@ -47,6 +69,8 @@ SETTINGS = [
      "each ruling offset by the tool radius (exact on cylinders and cones only)"),
     ("GougeTol", "length", 0.0, ("flank",), "Gouge tolerance", "flank milling, envelope positions: the overcut "
      "allowed, the moves between CL points included (auto: the fit's bound)"),
+    ("CornerRadius", "length", 0.0, ("flank",), "Corner radius", "flank milling: the tool's corner radius, in APT's "
+     "CUTTER (0: a flat end)"),
     ("CamStep", "bool", False, MACHINE, "STEP for CAM", "also write a STEP beside the file: the ruled face and its "
      "rulings at the synchronized points"),
 ]
@@ -98,7 +122,8 @@ def machine_params(v: dict, kind: str) -> dict:
         except ValueError:
             raise BadInputError(f"machine planes {v['Planes']!r}: give two heights a, b in mm, or leave it empty") \
                 from None
-    out = {"chord_tol": v["ChordTol"] or None, "side": v["Side"], "feed": v["Feed"], "units": v["Units"]}
+    out = {"chord_tol": v["ChordTol"] or None, "side": v["Side"], "feed": v["Feed"], "units": v["Units"],
+           "settings": post_settings(v, kind)}
     if kind == "xyuv":
         out.update(kerf=v["Kerf"], planes=planes, lead=None if v["Lead"] < 0 else v["Lead"],
                    axis=v["Axis"].strip().replace(";", ",") or "auto")
@@ -106,6 +131,29 @@ def machine_params(v: dict, kind: str) -> dict:
         out.update(tool_radius=v["ToolRadius"], taper=v["Taper"], positions=v["ToolPositions"],
                    gouge_tol=v["GougeTol"] or None)
     return out
+
+
+def post_settings(v: dict, kind: str):
+    """The post and its settings (ruled.machine.program.PostSettings) the panel's values say, checked against each
+    other (one line naming the setting where they cannot be written)."""
+    from ruled.core.errors import BadInputError
+    from ruled.machine.program import PostSettings
+    if kind != "xyuv":
+        return PostSettings(corner_radius=v["CornerRadius"])
+    comp = v["Compensation"].strip()
+    if comp and not comp.isdigit():
+        raise BadInputError(f"wire compensation {comp!r}: give the controller's D register, a whole number, or leave "
+                            f"it empty")
+    if comp and v["Kerf"]:
+        raise BadInputError("wire compensation lets the controller offset the wire by its D register; Kerf offsets it "
+                            "in the path: set one of them")
+    s = PostSettings(post=v["PostFile"].strip() or v["Post"],
+                     feed_mode=None if v["FeedMode"] == "post's" else v["FeedMode"],
+                     power=v["WirePower"] or None, dwell=None if v["Dwell"] < 0 else v["Dwell"],
+                     letters=v["Letters"].strip() or None, home=v["Home"], origin=True if v["Origin"] else None,
+                     compensation=int(comp) if comp else None)
+    s.resolved("xyuv")
+    return s
 
 
 def _widget(kind):
@@ -119,8 +167,8 @@ def _widget(kind):
     else:
         w = QtGui.QDoubleSpinBox()
         w.setDecimals(4)
-        w.setRange(-1.0 if kind == "lead" else 0.0, 90.0 if kind == "angle" else 10000.0)
-        w.setSuffix({"angle": " deg", "float": " /min"}.get(kind, " mm"))
+        w.setRange(-1.0 if kind in ("lead", "seconds") else 0.0, 90.0 if kind == "angle" else 100000.0)
+        w.setSuffix({"angle": " deg", "float": " /min", "seconds": " s", "power": ""}.get(kind, " mm"))
     return w
 
 
@@ -212,6 +260,7 @@ class ExportTaskPanel:
         self.path.setText(self._default_path(v["Path"]))
         browse.clicked.connect(self._browse)
         self.format.currentIndexChanged.connect(self._format_changed)
+        self.widgets["Post"].currentIndexChanged.connect(self._format_changed)
         self._format_changed()
 
     def kind(self) -> str:
@@ -223,7 +272,16 @@ class ExportTaskPanel:
         return os.path.join(folder, name + self._suffix())
 
     def _suffix(self) -> str:
-        return {"xyuv": ".ngc", "flank": ".apt"}.get(self.kind(), ".step")
+        """The chosen format's file name ending (a wire's: its post's, .ngc for linuxcnc, .gcode for grbl, ...)."""
+        if self.kind() == "xyuv":
+            from ruled.core.errors import RuledError
+            from ruled.machine.posts import load_post
+            spec = self.widgets["PostFile"].text().strip() or self.widgets["Post"].currentText()
+            try:
+                return load_post(spec).extension
+            except RuledError:          # (a post file that does not load: said when writing)
+                return ".ngc"
+        return {"flank": ".apt"}.get(self.kind(), ".step")
 
     following = False
 
@@ -234,15 +292,17 @@ class ExportTaskPanel:
         for name, _k, _d, formats, *_ in SETTINGS:
             self.widgets[name].setEnabled(kind in formats)
         base, ext = os.path.splitext(self.path.text())
-        if base and not self.following and ext.lower() in (".ngc", ".nc", ".apt", ".cls", ".step", ".stp", ""):
+        if base and not self.following and ext.lower() in (".ngc", ".nc", ".gcode", ".apt", ".cls", ".step", ".stp",
+                                                           ""):
             self.path.setText(base + self._suffix())
 
     @staticmethod
     def _kind_of(path: str, chosen: str) -> str:
-        """The format a file's extension names (.ngc/.nc: XYUV, .apt/.cls: flank, .step/.stp: STEP), else the
-        chosen one (either STEP for a STEP file)."""
+        """The format a file's extension names (.ngc/.nc/.gcode: XYUV, .apt/.cls: flank, but .apt XYUV with XYUV
+        chosen: apt-sync's; .step/.stp: STEP), else the chosen one (either STEP for a STEP file)."""
         ext = os.path.splitext(path)[1].lower()
-        named = {".ngc": "xyuv", ".nc": "xyuv", ".apt": "flank", ".cls": "flank"}.get(ext)
+        named = {".ngc": "xyuv", ".nc": "xyuv", ".gcode": "xyuv", ".cls": "flank",
+                 ".apt": "xyuv" if chosen == "xyuv" else "flank"}.get(ext)
         if ext in (".step", ".stp"):
             return chosen if chosen.startswith("step") else "step"
         return named or chosen

@@ -90,7 +90,7 @@ NO_WALL = "no wall"     # the row of a file 'ruled batch --walls' finds no wall 
 def face_paths(folder: str, face) -> dict:
     """A face's outputs (face_<k>.*), or a wall's (face "wall <k>": wall_<k>.*)."""
     base = os.path.join(folder, f"face_{face}" if isinstance(face, int) else str(face).replace(" ", "_"))
-    return {"step": base + ".step", "json": base + ".json", "png": base + ".png"}
+    return {"step": base + ".step", "json": base + ".json", "png": base + ".png", "base": base}
 
 
 _FACES: dict = {}    # a worker's faces of the files it has read: (path, digest) -> faces
@@ -139,20 +139,40 @@ def _face_job(job: dict, paths: dict) -> dict:
     if faces is None:
         faces = _FACES[(job["input"], job["digest"])] = read_faces(job["input"])
     o = job["options"]
+    face = faces[job["face"]]
+
+    def machine(ff):            # (--post: the face's wire path from its fit)
+        from ruled.jobs.machine import machine_job
+        from ruled.machine.paths import MachineOptions
+        fm = machine_job(face, MachineOptions(), fit=ff, measure_samples=o["measure_samples"])
+        return _machine_file(fm, o, paths)
     return run_fit(job["input"], job["face"], paths["step"], samples=o["samples"], objective=o["objective"],
                    max_error=o["max_error"], direction=o["direction"], method=o["method"],
                    measure_samples=o["measure_samples"], memory_cap_mb=job["memory_cap_mb"],
                    report=None, plot=paths["png"] if o.get("plots", True) else None, quiet=True,
-                   face=faces[job["face"]], say=False, text=lambda m: _text(job)(m, job["face"]))
+                   face=face, say=False, text=lambda m: _text(job)(m, job["face"]),
+                   after=machine if o.get("post") else None)
+
+
+def _machine_file(fm, o: dict, paths: dict) -> dict:
+    """A face's or a wall's XYUV file for the batch's --post, beside its STEP."""
+    from ruled.jobs.machine import machine_file, post_extension
+    from ruled.machine.program import PostSettings
+    settings = PostSettings(post=o["post"])
+    return machine_file(fm, paths["base"] + post_extension(settings), settings)
 
 
 def _wall_job(job: dict, paths: dict) -> dict:
     from ruled.jobs.wall import run_wall
     o = job["options"]
+    def machine(wf):            # (--post: the wall's one closed wire loop from its fit)
+        from ruled.machine.paths import MachineOptions
+        from ruled.occ.wallmachine import machine_of_wall
+        return _machine_file(machine_of_wall(wf, MachineOptions(), measure_samples=o["measure_samples"]), o, paths)
     return run_wall(job["input"], job["wall"], paths["step"], samples=o["samples"], objective=o["objective"],
                     max_error=o["max_error"], method=o["method"], measure_samples=o["measure_samples"],
                     memory_cap_mb=job["memory_cap_mb"], quiet=True, say=False,
-                    text=lambda m: _text(job)(m, job["face"]))
+                    text=lambda m: _text(job)(m, job["face"]), after=machine if o.get("post") else None)
 
 
 def _row(job: dict, status: str, reason: str = "", seconds=None) -> dict:

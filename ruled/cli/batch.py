@@ -12,7 +12,8 @@ from ruled.cli.common import batch_text, check_measure_samples
 def options_dict(args) -> dict:
     return {"samples": args.samples, "objective": args.objective, "max_error": args.max_error,
             "direction": args.direction, "method": args.method, "measure_samples": args.measure_samples,
-            "plots": not args.no_plots, **({"walls": True} if args.walls else {})}
+            "plots": not args.no_plots, **({"walls": True} if args.walls else {}),
+            **({"post": args.post} if args.post else {})}
 
 
 def main_batch(args) -> int:
@@ -21,6 +22,9 @@ def main_batch(args) -> int:
     FitOptions(samples=args.samples, objective=args.objective, max_error=args.max_error, direction=args.direction,
                method=args.method).checked()
     check_measure_samples(args.measure_samples)
+    if args.post:           # (a post that cannot be written is refused before any face is fitted)
+        from ruled.machine.program import PostSettings
+        PostSettings(post=args.post).resolved("xyuv")
     bar = Bar(enabled=not args.quiet and sys.stderr.isatty())
     try:
         out = run_batch(args.inputs, args.output, faces=args.faces, fraction=args.candidate_fraction,

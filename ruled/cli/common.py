@@ -17,7 +17,7 @@ CLI_NAMES = names_from({"lift_step": "--lift-step", "arc_step": "--arc-step",
                         "partition": "ruled fit --tol T",
                         "walls_listing": "pick the ring of faces between the bottom and the top contour (see 'ruled "
                                          "faces INPUT --walls')",
-                        "one_face": "--face"},
+                        "one_face": "--face", "power": "--wire-power"},
                        lambda key: "--" + key.replace("_", "-"), " ", ("True",))
 
 

@@ -169,30 +169,51 @@ def cmd_fit_wall(args) -> int:
 
 
 def cmd_demo(args) -> int:
-    from ruled.examples import elber_ex2
+    """The README's main job on a bundled face: fit it (STEP, report, plot), make the wire's XYUV G-code of the fit
+    for the default post (LinuxCNC), check the file with LinuxCNC's own interpreter where it is installed, and
+    replay the file against the design face."""
+    from ruled.examples import demo_blade
     from ruled.occ.convert import container_to_face
     from ruled.occ.io import write_step
 
     out = os.path.abspath("ruled-demo")
     os.makedirs(out, exist_ok=True)
     src = os.path.join(out, "input.step")
-    write_step(container_to_face(elber_ex2()), src)
-    print(f"demo: Elber's B-spline example (ex2) written to {src}; fitting face 0 with 40 samples")
+    write_step(container_to_face(demo_blade()), src)
+    print(f"demo: a drafted, bulged blade (a B-spline face 80 x 40 mm, not ruled) written to {src}; fitting face 0 "
+          f"with 40 samples")
     paths = {k: os.path.join(out, n) for k, n in (("o", "result.step"), ("r", "report.json"), ("p", "plot.png"))}
     rep = run_fit(src, 0, paths["o"], samples=40, report=paths["r"], plot=paths["p"], quiet=args.quiet)
     _summary(rep, paths["o"], paths["r"], paths["p"])
-    # the result as machine data: synchronized XYUV contours for a 4-axis wire
-    from ruled.machine.output import plot_path, write_machine
+    # the fit as machine data: synchronized XYUV contours for a 4-axis wire, upright along z
+    from ruled.fit.options import FitOptions
+    from ruled.jobs.machine import machine_job
+    from ruled.jobs.replay import plot_of, replay_job
+    from ruled.machine.output import plot_path, write_checked
     from ruled.machine.paths import MachineOptions
     from ruled.occ.io import get_face
-    from ruled.occ.machine import machine_of_face
-    fm = with_bar(args.quiet, 0, lambda bar: machine_of_face(get_face(paths["o"], 0), MachineOptions(),
-                                                               progress=bar, measure_samples=20, given=True))
-    files = {k: os.path.join(out, n) for k, n in (("g", "wire.ngc"), ("c", "wire.csv"), ("p", "wire.png"))}
-    write_machine(fm.path, files["g"], "Ruled demo: the ruled fit of Elber's ex2", files["c"])
-    plot_path(fm.path, files["p"], "Ruled demo: XYUV contours of the ruled fit")
+    files = {k: os.path.join(out, n) for k, n in (("g", "wire.ngc"), ("c", "wire.csv"), ("p", "wire.png"),
+                                                  ("j", "wire.json"), ("q", "replay.png"))}
+    fm = with_bar(args.quiet, 0, lambda bar: machine_job(get_face(src, 0), MachineOptions(axis="z"),
+                                                         FitOptions(samples=40), bar, 20))
+    program = write_checked(fm.path, files["g"], None, "mm", fm.report.get("side"), files["c"])
+    plot_path(fm.path, files["p"], "Ruled demo: the XYUV contours of the blade's ruled fit")
     m, c = fm.report["machine"], fm.report["cut"]
-    print(f"XYUV: {m['sync_points']} synchronized pairs within {m['chord_tol']:.3g} of the ruled surface "
-          f"(measured {c['max']:.3g}), largest taper {m['max_taper_deg']:.3g} deg")
-    print_files_only((("G-code", files["g"]), ("CSV", files["c"]), ("plot", files["p"])))
-    return 0
+    check = program["check"]
+    print(f"XYUV ({program['post']}): {m['sync_points']} synchronized pairs within {m['chord_tol']:.3g} of the "
+          f"ruled surface, largest taper {m['max_taper_deg']:.3g} deg; "
+          + ("LinuxCNC's interpreter is not installed here (Debian: apt-get install linuxcnc-uspace)" if check is None
+             else f"LinuxCNC's interpreter reads it: {check['moves']} moves" if check["error"] is None
+             else f"LinuxCNC's interpreter REFUSES it at {check['error']}"))
+    rp, plot = replay_job(files["g"], src, face=0, measure_samples=20)
+    plot_of(rp, plot, files["q"])
+    rc = rp["cut"]
+    print(f"replayed ({rp['reader']}) against the design face: overcut {rc['overcut']:.4g}, undercut "
+          f"{rc['undercut']:.4g} (the machine's own measure: {c['overcut']:.4g}, {c['undercut']:.4g}; the fit's "
+          f"bound {c['fit_bound']:.4g} + the chords {m['chord_tol']:.3g})")
+    import json
+    with open(files["j"], "w") as fh:
+        json.dump({"machine": fm.report, "program": program, "replay": rp}, fh, indent=1, default=float)
+    print_files_only((("G-code", files["g"]), ("CSV", files["c"]), ("plot", files["p"]), ("report", files["j"]),
+                      ("replay", files["q"])))
+    return 0 if check is None or check["error"] is None else 2

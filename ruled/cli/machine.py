@@ -14,7 +14,7 @@ def run_machine(args) -> dict:
     from ruled.fit.options import FitOptions
     from ruled.fit.report import write_report
     from ruled.jobs.machine import machine_job
-    from ruled.machine.output import plot_path, write_machine
+    from ruled.machine.output import plot_path, write_checked
     from ruled.machine.paths import MachineOptions
     from ruled.occ.io import get_face, write_step
     from ruled.occ.machine import cam_shapes
@@ -34,6 +34,7 @@ def run_machine(args) -> dict:
     if args.flank and args.gouge_tol is not None and args.positions == "offset":
         raise RuledError("--gouge-tol holds the envelope's positions; --positions offset has none to hold")
     check_measure_samples(args.measure_samples, 4)
+    settings = post_settings(args, opts.mode)
     if args.ruled and args.method != "2d":
         raise RuledError("--ruled machines the face as it is; --method chooses a fit: give one of them")
     if args.ruled and args.rails is not None:
@@ -54,17 +55,36 @@ def run_machine(args) -> dict:
     else:
         fm, what, chosen = _machine_patches(args, opts, side)
     title = f"{what} of {os.path.basename(args.input)}"
-    write_machine(fm.path, args.output, title, csv_path, args.units, fm.report.get("side"))
+    program = write_checked(fm.path, args.output, settings, args.units, fm.report.get("side"), csv_path)
     if args.step:
         write_step(cam_shapes(fm.face, fm.surface, fm.path.u, args.rulings), args.step)
     rep = {"version": __version__, "input": os.path.abspath(args.input), "face": chosen,
-           "output": os.path.abspath(args.output), "csv": os.path.abspath(csv_path), **fm.report}
+           "output": os.path.abspath(args.output), "csv": os.path.abspath(csv_path), **fm.report, "program": program}
     rep["warnings"] = [cli_text(w) for w in rep.get("warnings", [])]
     if args.plot:
         plot_path(fm.path, args.plot, f"{title}: {opts.mode}", fm.report.get("swept_tool"))
     if args.report:
         write_report(rep, args.report)
     return rep
+
+
+def post_settings(args, mode: str):
+    """The post and its settings from the command line, checked against each other before any work."""
+    from ruled.machine.program import PostSettings
+    s = PostSettings(post=args.post, feed_mode=args.feed_mode, power=args.power, dwell=args.dwell,
+                     letters=args.letters, home=args.home, origin=args.origin, compensation=args.compensation,
+                     corner_radius=args.corner_radius)
+    post, _ = s.resolved(mode)
+    if getattr(args, "kerf", 0) and args.compensation is not None:
+        raise RuledError("--compensation lets the controller offset the wire by its D register; --kerf offsets it "
+                         "in the path: give one of them")
+    if mode == "flank" and any(x not in (None, False) for x in (args.feed_mode, args.power, args.dwell,
+                                                                 args.letters, args.compensation)):
+        raise RuledError("--feed-mode, --wire-power, --dwell, --letters and --compensation are a wire's; a flank "
+                         "path is APT CL data (--post apt)")
+    if mode == "xyuv" and args.corner_radius:
+        raise RuledError("--corner-radius is a flank tool's (APT's CUTTER); a wire has none")
+    return s
 
 
 def _machine_wall(args, opts):
@@ -175,6 +195,11 @@ def cmd_machine(args) -> int:
             past = f" ({w['unreached']} of its points past the tool's ends)" if w["unreached"] else ""
             print(f"the face against the swept tool: overcut {w['overcut']:.6g}, undercut {w['undercut']:.6g}{past}; "
                   f"the axis turns by at most {w['axis_angle_max_deg']:.3g} degrees from one CL point to the next")
-    print(f"{'G-code' if m['mode'] == 'xyuv' else 'APT'}: {rep['output']}")
+    pr = rep["program"]
+    check = pr.get("check")
+    what_file = "G-code" if m["mode"] == "xyuv" and not pr["post"].startswith("apt") else "APT"
+    print(f"{what_file} ({pr['post']}): {rep['output']}" + (
+        "" if check is None else f"; LinuxCNC's interpreter reads it: {check['moves']} moves" if check["error"] is None
+        else f"; LinuxCNC's interpreter REFUSES it at {check['error']}"))
     print_files_only((("CSV", rep["csv"]), ("STEP", args.step), ("report", args.report), ("plot", args.plot)))
     return 0

@@ -17,6 +17,11 @@
               [--chord-tol t] [--units mm|inch] [--method 2d|4d | --ruled] -o OUTPUT.ngc|.apt [--csv C.csv]
               [--cam-step CAM.step [--rulings]]
               [--report R.json] [--plot P.png]
+              [--post NAME|FILE.toml] [--feed-mode g93|g94] [--wire-power S] [--dwell s] [--letters XYZA]
+              [--home] [--origin] [--compensation D] [--corner-radius r]
+    ruled replay FILE --against PART (--face K | --wall auto|K,L-M) [--post P] [--reader auto|linuxcnc|ruled]
+              [--axis A] [--planes a,b] [--kerf k] [--side S] [--report R.json] [--plot P.png]
+    ruled posts [NAME]
     ruled batch INPUT... [--faces all|bspline|ruled-candidates|K,L-M] [fit options] [--jobs N]
               [--scheduler tcp://HOST:PORT] [--resume] [--face-timeout S] -o OUTDIR
     ruled demo
@@ -45,6 +50,7 @@ from ruled.cli.curves import cmd_curve_on_surface  # noqa: E402
 from ruled.cli.fit import cmd_demo, cmd_faces, cmd_fit  # noqa: E402
 from ruled.cli.machine import cmd_machine  # noqa: E402
 from ruled.cli.parser import argv_with_negative_values, build_parser  # noqa: E402
+from ruled.cli.replay import cmd_posts, cmd_replay  # noqa: E402
 from ruled.cli.split import cmd_split  # noqa: E402
 from ruled.core.errors import RuledError  # noqa: E402
 
@@ -116,7 +122,8 @@ def _main(argv=None) -> int:
             from ruled.core.facecount import check_known  # a file read before: a wrong --face without OCCT
             check_known(args.input, args.face)
         return {"faces": cmd_faces, "fit": cmd_fit, "split": cmd_split, "curve-on-surface": cmd_curve_on_surface,
-                "cone": cmd_cone, "machine": cmd_machine, "batch": cmd_batch, "demo": cmd_demo}[args.cmd](args)
+                "cone": cmd_cone, "machine": cmd_machine, "replay": cmd_replay, "posts": cmd_posts, "batch": cmd_batch,
+                "demo": cmd_demo}[args.cmd](args)
     except RuledError as exc:
         print(f"ruled: error: {cli_text(exc)}", file=sys.stderr)
         return 2

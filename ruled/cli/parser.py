@@ -20,7 +20,7 @@ def build_parser() -> argparse.ArgumentParser:
                                 "(wire EDM, flank milling, hot-wire cutting).")
     p.add_argument("--version", action="version", version=f"ruled {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser,
-                           metavar="{faces,fit,split,curve-on-surface,cone,machine,batch,demo}")
+                           metavar="{faces,fit,split,curve-on-surface,cone,machine,replay,posts,batch,demo}")
     f = sub.add_parser("faces", help="list the faces of a STEP/BREP file (trimmed or not, edges, sides, holes)")
     f.add_argument("input")
     f.add_argument("--edges", action="store_true",
@@ -150,6 +150,9 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("--measure-samples", type=int, default=24, help="n x n samples per face for the measure")
     k.add_argument("--quiet", action="store_true", help="no progress bars")
     _machine_parser(sub)
+    _replay_parser(sub)
+    q = sub.add_parser("posts", help="the posts 'ruled machine --post' takes (the controllers it writes for)")
+    q.add_argument("name", nargs="?", help="print this post's file (a TOML to copy and change for your controller)")
     _batch_parser(sub)
     d = sub.add_parser("demo", help="fit a bundled example; files go to ./ruled-demo/")
     d.add_argument("--quiet", action="store_true")
@@ -186,6 +189,9 @@ def _batch_parser(sub) -> None:
                    help="seconds a face may take before it is recorded as failed (default 600)")
     b.add_argument("--memory-cap", type=float, default=None,
                    help="MiB for the whole batch, divided among the workers (default: 80%% of the free memory)")
+    b.add_argument("--post", default=None, metavar="NAME|FILE.toml",
+                   help="also write each fitted face's (or wall's) XYUV wire file for this post beside its STEP "
+                        "(linuxcnc, grbl, iso-wedm, apt-sync or your own .toml; 'ruled posts' lists them)")
     b.add_argument("-o", "--output", required=True, help="output folder: one folder per input file, summary.*")
     b.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -262,6 +268,56 @@ def _machine_parser(sub) -> None:
     m.add_argument("--plot", help="PNG: the two contours with their synchronisation links")
     m.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
     m.add_argument("--quiet", action="store_true", help="no progress bars")
+    post_options(m)
+
+
+def post_options(m) -> None:
+    """How the machine file is written: the post and its settings ('ruled machine', 'ruled batch')."""
+    m.add_argument("--post", default=None, metavar="NAME|FILE.toml",
+                   help="the controller the file is written for: linuxcnc (the default for --xyuv), grbl, iso-wedm, "
+                        "apt-sync, apt (flank), or your own post's .toml ('ruled posts' lists them)")
+    m.add_argument("--feed-mode", choices=["g93", "g94"], default=None,
+                   help="G-code feeds: g93, inverse time (each move's time from its longer guide at --feed: the "
+                        "faster guide runs at the feed asked), or g94, units per minute (default: the post's first)")
+    m.add_argument("--wire-power", dest="power", type=float, default=None, metavar="S",
+                   help="a hot wire's power: M3 S<power> before the cut, M5 after (default: the post's; none for "
+                        "linuxcnc)")
+    m.add_argument("--dwell", type=float, default=None,
+                   help="seconds the wire heats (G4 P) before the first move (default: the post's)")
+    m.add_argument("--letters", default=None, metavar="XYZA",
+                   help="the axis letters of lower X, lower Y, upper X, upper Y (default: the post's; grbl: XYZA)")
+    m.add_argument("--home", action="store_true", help="home the machine first (the post's homing: $H, G28)")
+    m.add_argument("--origin", action="store_true", default=None,
+                   help="G92: the wire stands at the path's first point (no move to it; iso-wedm always)")
+    m.add_argument("--compensation", type=int, default=None, metavar="D",
+                   help="wire EDM: the controller offsets the wire by its D register (G41/G42 D, with the "
+                        "uncompensated path; instead of --kerf)")
+    m.add_argument("--corner-radius", type=float, default=0.0,
+                   help="flank: the tool's corner radius in APT's CUTTER (default 0, a flat end)")
+
+
+def _replay_parser(sub) -> None:
+    r = sub.add_parser("replay", help="read a machine file back (LinuxCNC's interpreter where installed) and measure "
+                                      "what it cuts against the part, both ways")
+    r.add_argument("file", help="the G-code or APT file ('ruled machine' writes them; a hand-edited one too)")
+    r.add_argument("--against", required=True, metavar="PART", help="the part: STEP (.step/.stp) or BREP (.brep)")
+    which = r.add_mutually_exclusive_group(required=True)
+    which.add_argument("--face", type=int, help="the face the file cuts (0-based, as 'ruled faces' lists)")
+    which.add_argument("--wall", metavar="auto|K,L-M", help="the wall the file cuts ('ruled faces PART --walls')")
+    r.add_argument("--post", default=None, metavar="NAME|FILE.toml",
+                   help="the post the file was written for (default: the one its Ruled comments name, else guessed)")
+    r.add_argument("--reader", choices=["auto", "linuxcnc", "ruled"], default="auto",
+                   help="auto: LinuxCNC's own interpreter for a LinuxCNC file where it is installed, else Ruled's "
+                        "reader for the post")
+    r.add_argument("--axis", default=None, help="the machine axis (x, y, z or ax,ay,az) when the file does not say it")
+    r.add_argument("--planes", default=None, help="the guide planes' heights a,b when the file does not say them")
+    r.add_argument("--kerf", type=float, default=None, help="the wire's kerf (default: the file's)")
+    r.add_argument("--side", choices=["outside", "inside"], default=None,
+                   help="the side the wire runs on (default: the file's)")
+    r.add_argument("--report", help="JSON report (its 'cut' has the keys of 'ruled machine''s)")
+    r.add_argument("--plot", help="PNG: the guides' paths and the deviation along the path")
+    r.add_argument("--measure-samples", type=int, default=30, help="n x n samples per face for the measure")
+    r.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
 class _Renamed(argparse.Action):

@@ -121,12 +121,14 @@ def _built(res: FitResult, source, slack: float, area: Optional[float], measure_
 def run_fit(input_path: str, face_index: int, output: str, *, samples=40, objective="sum", max_error=None,
             direction="auto", refine=True, report=None, plot=None, measure_samples=40, quiet=False, method="2d",
             elevations=None, step=None, metric="lsad", memory_cap_mb=None, rails=None, face=None, say=True,
-            text: Callable = str, face_timeout=None, ends="auto", replace=False) -> dict:
+            text: Callable = str, face_timeout=None, ends="auto", replace=False,
+            after: Optional[Callable] = None) -> dict:
     """The whole job: read, fit, build, measure, write. Returns the report dict.  face: the face, read
     already (the batch's workers keep the files they have read); say: print the warnings and notes
     (the batch keeps them in the reports); text: how the warnings name options (the door's terms);
     face_timeout: seconds the fit and the measure may take (None: no limit; the batch has its own);
-    replace: output holds the whole part, the face replaced by its result (ruled.occ.replace)."""
+    replace: output holds the whole part, the face replaced by its result (ruled.occ.replace); after(FaceFit):
+    more work on the fit (its machine file: the demo's, the batch's --post), its dict added to the report."""
     from ruled.fit.options import FitOptions
     opts = FitOptions(samples=samples, objective=objective, max_error=max_error, direction=direction,
                       refine=refine, method=method, elevations=elevations, step=step, metric=metric,
@@ -174,6 +176,8 @@ def run_fit(input_path: str, face_index: int, output: str, *, samples=40, object
         rep["replace"] = _replaced(part if part is not None else read_shape(input_path), face_index, ff.face,
                                    rep["error_bound"], output)
     rep["warnings"] = [text(w) for w in ff.warnings]
+    if after is not None:
+        rep.update(after(ff))
     for w in rep["warnings"] if say else ():
         print(f"ruled: warning: face {face_index}: {w}", file=sys.stderr)
     for note in res.notes if say else ():

@@ -45,4 +45,22 @@ def machine_job(face, opts, fit_options=None, progress=None, measure_samples: Op
     return fm
 
 
-__all__ = ["machine_job"]
+def machine_file(fm, output: str, settings=None, units: str = "mm") -> dict:
+    """The machine data's file by its post and its CSV (ruled.machine.output.write_checked: LinuxCNC's interpreter
+    checks a LinuxCNC file where it is installed), with the machine figures and what it cuts: the report section
+    the demo and the batch keep beside a fit ({"machine": ...})."""
+    from ruled.machine.output import write_checked
+    program = write_checked(fm.path, output, settings, units, fm.report.get("side"))
+    out = {**fm.report["machine"], "program": program}
+    for key in ("cut", "swept_tool", "fallback"):
+        if key in fm.report:
+            out[key] = fm.report[key]
+    return {"machine": out}
+
+
+def post_extension(settings) -> str:
+    """The file name ending of the post the settings name (a wire's)."""
+    return settings.resolved("xyuv")[0].extension
+
+
+__all__ = ["machine_job", "machine_file", "post_extension"]

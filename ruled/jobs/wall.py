@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Callable
+from typing import Callable, Optional
 
 from ruled import __version__
 from ruled.core.outputs import check_measure_samples, check_outputs
@@ -14,7 +14,7 @@ from ruled.core.outputs import check_measure_samples, check_outputs
 def run_wall(input_path: str, wall_spec, output: str, *, samples=40, objective="sum", max_error=None,
              refine=True, method="2d", elevations=None, step=None, metric="lsad", memory_cap_mb=None,
              report=None, measure_samples=40, quiet=False, shape=None, per_face=False,
-             text: Callable = str, say: bool = True) -> dict:
+             text: Callable = str, say: bool = True, after: Optional[Callable] = None) -> dict:
     """A wall's whole job (read, join, fit, measure, write): the report dict.  wall_spec: 'auto', 'K,L-M' or
     a list of face indices; samples: per face; shape: the part, read already; per_face: write the result
     in one piece per input face, sewn (ruled.occ.wallfaces), each measured against its face; text, say: how
@@ -53,6 +53,8 @@ def run_wall(input_path: str, wall_spec, output: str, *, samples=40, objective="
         write_step(shell, output)
     else:
         write_step(wf.face, output)
+    if after is not None:
+        rep.update(after(wf))
     rep["seconds"] = time.perf_counter() - t0
     if report:
         write_report(rep, report)

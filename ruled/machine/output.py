@@ -1,6 +1,6 @@
-"""Machine outputs written: LinuxCNC-style XYUV G-code, APT CL data, the CSV of either, the report's
-machine figures and the plot of the two contours with their synchronisation links (ruled.machine.paths
-makes the paths)."""
+"""Machine outputs written: the path's program by its post (G-code or APT: ruled.machine.program,
+ruled.machine.apt), the CSV of either, the report's machine figures and the plot of the two contours with their
+synchronisation links (ruled.machine.paths makes the paths)."""
 
 from __future__ import annotations
 
@@ -13,60 +13,74 @@ import numpy as np
 from ruled.core.errors import BadInputError
 from ruled.core.outputs import atomic, write_text
 from ruled.machine.paths import MachinePath, frame_of
+from ruled.machine.program import PostSettings, num, scale, side_text
 from ruled.machine.swept import axis_angles
 
 
 def _fmt(x: float, digits: int = 6) -> str:
-    s = f"{x:.{digits}f}"
-    return s[1:] if s.startswith("-") and not s.strip("-0.") else s
-
-
-UNITS = {"mm": 1.0, "inch": 1.0 / 25.4}     # output unit -> its coordinates per model unit (mm)
+    return num(x, digits)
 
 
 def _scale(units: str) -> float:
-    if units not in UNITS:
-        raise BadInputError(f"unknown output units {units!r}: use mm or inch")
-    return UNITS[units]
+    return scale(units)
+
+
+def program_lines(path: MachinePath, settings: Optional[PostSettings] = None, units: str = "mm",
+                  side: Optional[str] = None, title: str = "") -> tuple:
+    """(the post, the file's lines) of the path written by the post the settings name (None: the default post
+    for the path, linuxcnc for a wire, apt for flank milling), see ruled.machine.program and ruled.machine.apt."""
+    from ruled.machine.apt import apt_sync_lines, flank_apt_lines
+    from ruled.machine.program import gcode_lines
+    post, s = (settings or PostSettings()).resolved(path.mode)
+    if path.mode == "flank":
+        return post, flank_apt_lines(path, post, units, title, s.corner_radius)
+    if post.language == "apt":
+        return post, apt_sync_lines(path, post, units, side, title)
+    return post, gcode_lines(path, post, s, units, side, title)
+
+
+def write_program(path: MachinePath, filename: str, settings: Optional[PostSettings] = None, units: str = "mm",
+                  side: Optional[str] = None, title: str = ""):
+    """The path's program for a post (program_lines) written to filename; the title is the file's name unless
+    given (so that every front door writes the same bytes for the same path and settings).  Returns the post."""
+    post, lines = program_lines(path, settings, units, side, title or os.path.splitext(os.path.basename(filename))[0])
+    write_text(filename, "\n".join(lines) + "\n")
+    return post
+
+
+def write_checked(path: MachinePath, filename: str, settings: Optional[PostSettings] = None, units: str = "mm",
+                  side: Optional[str] = None, csv_path: Optional[str] = None) -> dict:
+    """The path's program (write_program) and its CSV, and, for a post its controller's own interpreter reads
+    (LinuxCNC's, where Debian's linuxcnc-uspace is installed), the file checked by it: the report's "program"
+    (the post, the file, the CSV, the check: None where the interpreter is not installed; else its move count
+    and its error or None).  Every front door writes machine files through here."""
+    from ruled.machine import linuxcnc
+    post = write_program(path, filename, settings, units, side)
+    csv_path = csv_path or os.path.splitext(filename)[0] + ".csv"
+    write_csv(path, csv_path, units, side)
+    check = None
+    if post.interpreter == "linuxcnc":
+        check = linuxcnc.check(filename, post.letters)
+        if check is not None:
+            check = {"interpreter": "LinuxCNC (gcode module, the AXIS preview's parser)", **check}
+    return {"post": post.name, "post_file": post.source, "file": os.path.abspath(filename),
+            "csv": os.path.abspath(csv_path), "check": check}
 
 
 def write_gcode(path: MachinePath, filename: str, title: str = "", units: str = "mm",
-                side: Optional[str] = None) -> None:
-    """LinuxCNC-style XYUV G-code: G21 (mm) or G20 (inch) G90, a rapid to the lead-in, then one G1 with
-    X Y U V and F per synchronized move (the lower guide in XY, the upper in UV); coordinates in the
-    output units (the model's are mm), the feed as given (output units per minute).  side: the side the wire
-    runs on (outside, inside), said in the header beside the kerf."""
-    k = _scale(units)
+                side: Optional[str] = None, settings: Optional[PostSettings] = None) -> None:
+    """The XYUV path as G-code by a G-code post (default linuxcnc: RS274/NGC, see ruled.machine.program)."""
     if path.mode != "xyuv":
         raise BadInputError("G-code is written for XYUV contours; flank paths are written as CL data (.apt/.csv)")
-    fr, (h0, h1) = path.frame, path.planes
-    lines = [f"(ruled XYUV contour{': ' + title if title else ''})",
-             f"(lower guide XY on the plane at height {_fmt(h0)}, upper guide UV at height {_fmt(h1)}, "
-             f"along the axis {_vec(fr.axis)})",
-             f"(X = p . {_vec(fr.e1)}, Y = p . {_vec(fr.e2)}; U, V the same on the upper plane)",
-             f"(synchronized points {path.stats['sync_points']}, chord tolerance {path.chord_tol:.6g}, "
-             f"kerf {path.radius:.6g}{_side(side)}, {'closed' if path.closed else 'open'} "
-             f"contour, in the model's mm)",
-             ("G21" if units == "mm" else "G20") + " G90 G94"]
-    m = path.moves * k
-    lines.append("G0 " + _xyuv(m[0]))
-    for row in m[1:]:
-        lines.append("G1 " + _xyuv(row) + f" F{path.feed:g}")
-    lines.append("M2")
-    write_text(filename, "\n".join(lines) + "\n")
+    write_program(path, filename, settings, units, side, title)
 
 
-def _side(side: Optional[str]) -> str:
-    """The side beside the kerf: ' on the outside' (a face's normal), ' inside the hole (off the material)'."""
-    return "" if not side else f" {side}" if " " in side else f" on the {side}"
-
-
-def _vec(v) -> str:
-    return "(" + ", ".join(f"{x:.12g}" for x in v) + ")"
-
-
-def _xyuv(r) -> str:
-    return " ".join(f"{k}{_fmt(x)}" for k, x in zip("XYUV", r))
+def write_apt(path: MachinePath, filename: str, title: str = "", units: str = "mm",
+              settings: Optional[PostSettings] = None) -> None:
+    """The flank path as APT CL data (ruled.machine.apt: the 7-parameter CUTTER, MULTAX/ON, GOTO tip and axis)."""
+    if path.mode != "flank":
+        raise BadInputError("APT CL data is written for flank paths; XYUV contours are written as G-code")
+    write_program(path, filename, settings, units, None, title)
 
 
 def write_csv(path: MachinePath, filename: str, units: str = "mm", side: Optional[str] = None) -> None:
@@ -80,7 +94,7 @@ def write_csv(path: MachinePath, filename: str, units: str = "mm", side: Optiona
         if path.mode == "xyuv":
             w.writerow(["kind", "X", "Y", "U", "V", "lower_x", "lower_y", "lower_z", "upper_x", "upper_y",
                         "upper_z", "u", "taper_deg", "kerf", "side"])
-            where = _side(side).strip()
+            where = side_text(side).strip()
             (h0, h1), fr = path.planes, path.frame
             i = 0
             for kind, row in zip(path.kinds, path.moves):
@@ -99,32 +113,12 @@ def write_csv(path: MachinePath, filename: str, units: str = "mm", side: Optiona
                 w.writerow([f"{uu:.12g}", *map(_fmt, p * k), *(_fmt(x, 9) for x in a), f"{g:.6f}"])
 
 
-def write_apt(path: MachinePath, filename: str, title: str = "", units: str = "mm") -> None:
-    """APT-style CL data: the tip centre and the unit tool axis of every CL point (GOTO/x,y,z,i,j,k), in
-    the output units (UNITS/MM or UNITS/INCHES)."""
-    k = _scale(units)
-    if path.mode != "flank":
-        raise BadInputError("APT CL data is written for flank paths; XYUV contours are written as G-code")
-    r, ta = path.radius * k, path.taper_deg
-    L = float(np.linalg.norm(path.upper - path.lower, axis=1).max()) * k
-    lines = [f"PARTNO/RULED FLANK{' ' + title.upper() if title else ''}",
-             "UNITS/MM" if units == "mm" else "UNITS/INCHES", "MULTAX/ON",
-             f"CUTTER/{_fmt(2 * r)},0,{_fmt(r) if ta == 0 else '0'},0,{_fmt(ta)},0,{_fmt(L)}",
-             f"FEDRAT/{path.feed:g}"]
-    for p, a in zip(path.lower * k, path.axes):
-        lines.append("GOTO/" + ",".join(_fmt(x) for x in p) + "," + ",".join(_fmt(x, 9) for x in a))
-    lines.append("FINI")
-    write_text(filename, "\n".join(lines) + "\n")
-
-
 def write_machine(path: MachinePath, filename: str, title: str = "", csv_path: Optional[str] = None,
-                  units: str = "mm", side: Optional[str] = None) -> str:
-    """The path's own file (G-code for XYUV, APT for flank) and its CSV (default: beside it, .csv), in
-    the output units (mm or inch); returns the CSV's name.  side: said in the G-code's header."""
-    if path.mode == "xyuv":
-        write_gcode(path, filename, title, units, side)
-    else:
-        write_apt(path, filename, title, units)
+                  units: str = "mm", side: Optional[str] = None, settings: Optional[PostSettings] = None) -> str:
+    """The path's own file by its post (settings.post; default linuxcnc G-code for XYUV, APT for flank) and its
+    CSV (default: beside it, .csv), in the output units (mm or inch); returns the CSV's name.  side: said in the
+    file's header."""
+    write_program(path, filename, settings, units, side, title)
     csv_path = csv_path or os.path.splitext(filename)[0] + ".csv"
     write_csv(path, csv_path, units, side)
     return csv_path

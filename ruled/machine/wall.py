@@ -1,5 +1,6 @@
 """A wall's one closed wire path on plain arrays: the closed ruled result started where the user says on the
-bottom contour (default: the middle of its longest straight edge), the wall's axis (the machine's, normal to
+bottom contour (default: the middle of its longest straight edge, ties broken by a rule), running
+counter-clockwise about the wall's axis, the wall's axis (the machine's, normal to
 its contours' planes) and which side of the joined surface is the part's outside.  Hosts give the bottom
 contour's edges (ruled.fit.wall.ring.RingEdge), the contours' points and the faces' outward normals
 (ruled.occ.wallmachine for OCCT, the workbench's export for FreeCAD), so that both write the same path."""
@@ -47,10 +48,40 @@ def start_parameter(R: Surface, bottom: list, size: float, start: Optional[tuple
             raise BadInputError(f"«start» ({start[0]:g}, {start[1]:g}) is {d[k]:.4g} off the wall's bottom contour "
                                 f"(its nearest point is ({x:.4g}, {y:.4g})); give a point on it")
         return float(s[k])
-    e = max([e for e in bottom if e.straight] or bottom, key=lambda e: e.length)
+    e = longest_edge(bottom, size)
     along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(e.points, axis=0), axis=1))])
     mid = np.array([np.interp(0.5 * along[-1], along, e.points[:, i]) for i in range(3)])   # half its length
     return float(s[int(np.argmin(np.linalg.norm(P - mid[None, :], axis=1)))])
+
+
+def longest_edge(bottom: list, size: float):
+    """The bottom contour's longest straight edge (or its longest edge), ties (lengths within 1e-6 of the wall's
+    size) broken by a rule every host follows: the edge whose middle has the least y, then the least x, then the
+    least z (each to 1e-6 of the size)."""
+    pool = [e for e in bottom if e.straight] or bottom
+    top = max(e.length for e in pool)
+    tied = [e for e in pool if e.length >= top - 1e-6 * size]
+
+    def key(e):
+        m = 0.5 * (np.asarray(e.points[0], float) + np.asarray(e.points[-1], float)) if len(e.points) else e.start
+        mid = np.asarray(e.points[len(e.points) // 2], float) if len(e.points) > 2 else m
+        return tuple(np.round(mid[[1, 0, 2]] / (1e-6 * size)))
+    return min(tied, key=key)
+
+
+def counter_clockwise(R: Surface, axis) -> Surface:
+    """R (closed, rulings along v, started: ruled.machine.wall.started) running counter-clockwise about the axis
+    (seen from its tip: the right-hand rule), reversed along u where it runs the other way; the start stays where
+    it was.  Every host's loop then goes the same way round."""
+    s = np.linspace(*R.domain[:2], 257)
+    P = R(s, np.full(s.size, R.domain[2]))
+    a = np.asarray(axis, float)
+    turn = float(np.sum(np.cross(P[:-1], P[1:]) @ a))          # twice the area the rail sweeps about the axis
+    if turn >= 0:
+        return R
+    ku = R.knots_u[0] + R.knots_u[-1] - R.knots_u[::-1]
+    W = None if R.weights is None else R.weights[::-1].copy()
+    return Surface(R.poles[::-1].copy(), ku, R.knots_v, R.degree_u, R.degree_v, W, periodic_u=R.periodic_u)
 
 
 def wall_axis(bottom: np.ndarray, top: np.ndarray) -> tuple:
@@ -92,4 +123,5 @@ def outside_sign(S: Surface, breaks, first: int, outward: Callable) -> float:
     return 1.0 if float(D.normals()[0] @ np.asarray(outward(D.P[0]), float)) >= 0 else -1.0
 
 
-__all__ = ["started", "start_parameter", "wall_axis", "outside_sign", "wall_side", "START_TOL"]
+__all__ = ["started", "start_parameter", "longest_edge", "counter_clockwise", "wall_axis", "outside_sign", "wall_side",
+           "START_TOL"]

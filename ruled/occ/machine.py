@@ -1,8 +1,8 @@
 """Machine outputs of a face with OCCT: fit the face (2D or 4D), make the XYUV contours or the flank
 tool axes (ruled.machine.paths), and measure what the machine will cut against the design face,
-independently: OCCT projections between the design face (offset by the kerf when there is one) and
-the surface swept between the exported lines; for flank milling, the tool surfaces against the
-design surface.  Also the STEP for CAM: the ruled result, optionally with its rulings as edges."""
+independently: the surface the wire sweeps between the exported lines against the face, both ways, less the
+kerf (ruled.machine.wirecut, as ``ruled replay`` measures a file); for flank milling, the tool surfaces against
+the design surface.  Also the STEP for CAM: the ruled result, optionally with its rulings as edges."""
 
 from __future__ import annotations
 
@@ -14,13 +14,13 @@ import numpy as np
 from OCP.TopAbs import TopAbs_REVERSED
 
 from ruled.fit.fit2d import FitResult
-from ruled.machine.envelope import cut_points, swept_surface, tool_envelope
+from ruled.machine.envelope import cut_points, tool_envelope
 from ruled.machine.flank import fit_points, machine_path
 from ruled.machine.output import path_report
 from ruled.machine.paths import Lines, MachineOptions, MachinePath
 from ruled.machine.swept import swept_measure
 from ruled.occ.convert import container_to_face, conversion_slack, face_to_container, segment_edge
-from ruled.occ.measure import _Projector, face_points, hausdorff, two_sided
+from ruled.occ.measure import _Projector, face_points, hausdorff
 
 
 @dataclass
@@ -37,30 +37,6 @@ class FaceMachine:
 def outward(face) -> float:
     """+1 when the face's outside (its normal in the solid) is its surface's Su x Sv, -1 when reversed."""
     return -1.0 if face.Orientation() == TopAbs_REVERSED else 1.0
-
-
-def offset_face(face, distance: float):
-    """The face as bounded by its edges, offset by `distance` along its outside normal (OCCT's offset
-    of the face itself, its edges offset with it), or None when OCCT cannot build it."""
-    from OCP.BRepOffset import BRepOffset_Skin
-    from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeOffsetShape
-    from OCP.GeomAbs import GeomAbs_Arc
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-    mk = BRepOffsetAPI_MakeOffsetShape()
-    try:
-        mk.PerformByJoin(face, float(distance), 1e-6, BRepOffset_Skin, False, False, GeomAbs_Arc, False)
-    except Exception:  # Standard_Failure and friends: no offset of this face
-        return None
-    if not mk.IsDone():
-        return None
-    ex = TopExp_Explorer(mk.Shape(), TopAbs_FACE)
-    faces = []
-    while ex.More():
-        faces.append(TopoDS.Face_s(ex.Current()))
-        ex.Next()
-    return faces[0] if len(faces) == 1 else None
 
 
 def cam_shapes(face, R, u: np.ndarray, rulings: bool = False) -> list:
@@ -128,20 +104,34 @@ def _whole_patches(faces: list, names: list) -> tuple:
     return out_f, out_n
 
 
-def measure_cut(target, path: MachinePath, n: int = 30, keep=None) -> dict:
-    """What the machine cuts against the target face, with OCCT: n x n samples of the target projected
-    onto the surface the lines sweep, and about 3 n^2 points of the lines inside the part projected
-    onto the target; and the same points on the exact lines (the ruled surface the path follows),
-    so that the cut is compared with the fit where it was measured.  keep(s, t): which points of the
-    lines (at the ruling s, the fraction t between the rails) lie over the face (a trimmed result:
-    the rest of a ruling that crosses the face runs past its end edges)."""
-    to_target = _Projector(target)
+def measure_cut(face, path: MachinePath, n: int = 30, keep=None, side: float = 1.0) -> dict:
+    """What the wire cuts against the face, from the path's lines alone (ruled.machine.wirecut over OCCT's
+    faces: what ``ruled replay`` measures of the file), side: +1 where the wire runs on the side of the face's
+    normal in its solid; and the same points on the exact lines (the ruled surface the path follows, the kerf
+    apart), so that the cut is compared with the fit where it was measured.  keep(s, t): which points of the
+    exact lines (at the ruling s, the fraction t between the rails) lie over the face (a trimmed result: the
+    rest of a ruling that crosses the face runs past its end edges)."""
+    from ruled.machine.wirecut import wire_cut
+    from ruled.occ.wirecut import FacesTarget
+    lower, upper = path_lines(path)
+    kerf = path.radius
+    c = wire_cut(FacesTarget([face], side, "the face" if not kerf else f"the face, at the kerf {kerf:g} from it"),
+                 lower, upper, np.arange(1, len(lower)), n, kerf, lead_moves(path.kinds))
     along = 11 if keep is None else 41
-    h = two_sided(face_points(target, n), cut_points(path, 3 * n * n, along, keep=keep), to_target,
-                  _Projector(container_to_face(swept_surface(path))))
-    exact = to_target.distances(cut_points(path, 3 * n * n, along, exact=True, keep=keep))
-    return {"max": h.max, "design_to_cut": h.max_a_to_b, "cut_to_design": h.max_b_to_a, "samples": h.samples,
-            "fit_on_the_same_lines": float(exact.max())}
+    exact = np.abs(_Projector(face).distances(cut_points(path, 3 * n * n, along, exact=True, keep=keep)) - kerf)
+    return {**c, "fit_on_the_same_lines": float(exact.max())}
+
+
+def path_lines(path: MachinePath) -> tuple:
+    """(lower, upper) (M, 3): the wire's lines of an XYUV path's moves, in the part's space."""
+    (h0, h1), fr = path.planes, path.frame
+    return fr.point(path.moves[:, :2], h0), fr.point(path.moves[:, 2:], h1)
+
+
+def lead_moves(kinds) -> tuple:
+    """(moves before the first cut line, moves after the last) of an XYUV path's kinds."""
+    kinds = list(kinds)
+    return (sum(k == "lead-in" for k in kinds), sum(k == "lead-out" for k in kinds))
 
 
 def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: Optional[int] = 30,
@@ -197,18 +187,11 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
             hausdorff(face, out_face, measure_samples)
         rep["fit"]["measured"] = h.max
         if opts.mode == "xyuv":
-            target = face if opts.kerf == 0 else offset_face(face, out_side * outward(face) * opts.kerf)
-            if target is None:
-                warns.append("OCCT cannot offset this face by the kerf: what the wire cuts is not measured")
-                rep["timings"] = {"fit": t1 - t0, "path": t2 - t1, "measure": time.perf_counter() - t2}
-                rep["warnings"] = warns
-                return FaceMachine(res, R, path, out_face, rep, out_side, warns)
-            c = measure_cut(target, path, measure_samples, keep)
+            c = measure_cut(face, path, measure_samples, keep, side)
             fit_err = max(h.max, c["fit_on_the_same_lines"])
             rep["fit"].update(measured=fit_err, measured_grid=h.max)     # the grid alone can miss narrow peaks
             # certified: the fit's bound, and what the path adds (the chords, the kerf offset's deviation)
-            rep["cut"] = {"against": "the face" if opts.kerf == 0 else f"the face offset by the kerf {opts.kerf:g}",
-                          **c, "fit_error": fit_err, "fit_bound": fit_rep["error_bound"],
+            rep["cut"] = {**c, "fit_error": fit_err, "fit_bound": fit_rep["error_bound"],
                           "bound": max(fit_rep["error_bound"], fit_err) + path.stats["cut_bound_beyond_fit"]}
         else:
             from ruled.machine.trimmed import along_tool

@@ -11,7 +11,7 @@ from typing import Optional
 import numpy as np
 
 from ruled.core.nurbs import Surface
-from ruled.machine.wall import started
+from ruled.machine.wall import counter_clockwise, started
 from ruled.occ.wall import Wall, WallFit
 
 
@@ -36,23 +36,18 @@ def wall_axis(wall: Wall) -> tuple:
     return axis(wall.ring.contour_points(0), wall.ring.contour_points(1))
 
 
-def measure_wall_cut(wall: Wall, path, kerf: float, n: int = 30) -> dict:
-    """What the wire cuts against the wall, both ways, each distance less the kerf: the swept lines' points
-    (inside the part) from the wall's faces, and the wall's points (about n x n a face) from the swept lines;
-    the fit's own measure stands for the exact lines'.  A wire of radius k cannot
-    cut an inside corner sharp: there the wall's corner is k (1 / sin(a / 2) - 1) from the cut, a the
-    corner's angle, and that shows in design_to_cut."""
-    from ruled.machine.envelope import cut_points
-    from ruled.occ.faceset import FaceSet, SweptLines
-    from ruled.occ.measure import face_points
-    to_wall = FaceSet(list(wall.faces))
-    cut = cut_points(path, 3 * n * n, 11)
-    P = np.concatenate([face_points(wall.faces[k], n) for k in wall.ring.kept])
-    design = np.abs(SweptLines(path.lower, path.upper).distances(P) - kerf)
-    cut_d = np.abs(to_wall.distances(cut) - kerf)
+def measure_wall_cut(wall: Wall, path, kerf: float, n: int = 30, side: float = 1.0) -> dict:
+    """What the wire cuts against the wall's faces, from the path's lines alone (ruled.machine.wirecut over OCCT's
+    faces: what ``ruled replay`` measures of the file), each distance less the kerf, the wire off the material
+    (side +1) or in it (-1).  A wire of radius k cannot cut an inside corner sharp: there the wall's corner is
+    k (1 / sin(a / 2) - 1) from the cut, a the corner's angle, and that shows in design_to_cut."""
+    from ruled.machine.wirecut import wire_cut
+    from ruled.occ.machine import lead_moves, path_lines
+    from ruled.occ.wirecut import FacesTarget
     against = "the wall's faces" if not kerf else f"the wall's faces, at the kerf {kerf:g} from them"
-    return {"against": against, "max": float(max(design.max(), cut_d.max())), "design_to_cut": float(design.max()),
-            "cut_to_design": float(cut_d.max()), "samples": int(design.size + cut_d.size)}
+    lower, upper = path_lines(path)
+    return wire_cut(FacesTarget([wall.faces[k] for k in wall.ring.kept], side, against), lower, upper,
+                    np.arange(1, len(lower)), n, kerf, lead_moves(path.kinds))
 
 
 def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None,
@@ -72,7 +67,7 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
     if opts.mode == "xyuv" and isinstance(opts.axis, str) and opts.axis == "auto":
         opts = replace(opts, axis=wall_axis(wall))
     opts = opts.checked()
-    R = started(fit.surface, start_parameter(wall, fit.surface, start))
+    R = counter_clockwise(started(fit.surface, start_parameter(wall, fit.surface, start)), wall_axis(wall))
     off, where = wall_side(wall.ring.role, side)
     sign = outside_sign(wall) * off
     path = machine_path(R, wall.surface, opts, sign, progress, None, fit.error_bound)
@@ -85,7 +80,7 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
     if fit.hausdorff is not None:
         rep["fit"]["measured"] = fit.hausdorff.max
     if measure_samples and opts.mode == "xyuv":
-        rep["cut"] = measure_wall_cut(wall, path, opts.kerf, measure_samples)
+        rep["cut"] = measure_wall_cut(wall, path, opts.kerf, measure_samples, off)
         fit_err = rep["fit"].get("measured", fit.error_bound)
         fillet = path.stats["inside_corner_fillet"]
         rep["cut"].update(fit_error=fit_err, fit_bound=fit.error_bound, inside_corner_fillet=fillet,

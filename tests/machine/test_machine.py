@@ -309,14 +309,15 @@ def test_readme_cadquery_example(tmp_path, monkeypatch):
 
 
 def _report_from_header(ngc) -> dict:
-    """The frame and the planes as the G-code header states them."""
+    """The frame and the planes as the G-code header states them (its 'ruled ... planes= e1= e2= axis=' comments)."""
     import re
     with open(ngc) as fh:
-        head = fh.read(2000)
-    h0, h1 = (float(x) for x in re.search(r"at height (\S+), upper guide UV at height (\S+),", head).groups())
-    vec = [np.array([float(x) for x in g.split(",")]) for g in re.findall(r"\(([-\d.e, ]+)\)", head)]
-    axis, e1, e2 = vec[0], vec[1], vec[2]
-    return {"machine": {"frame": {"e1": e1, "e2": e2, "axis": axis}, "plane_heights": [h0, h1]}}
+        head = fh.read(3000)
+
+    def vec(key):
+        return np.array([float(x) for x in re.search(rf"\b{key}=([-\d.e,+]+)", head).group(1).split(",")])
+    h0, h1 = vec("planes")
+    return {"machine": {"frame": {"e1": vec("e1"), "e2": vec("e2"), "axis": vec("axis")}, "plane_heights": [h0, h1]}}
 
 
 # ------------------------------------------------------------------------------------- sync (engine)

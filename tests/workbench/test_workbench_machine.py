@@ -121,6 +121,17 @@ def test_export_for_machining_of_a_trimmed_fit_follows_that_fit(tmp_path):
     to_swept, d, kept = trim_aware_cut(get_face(step, 6), lo, hi, every=2)
     assert kept > 100 and np.abs(d).max() <= fit["bound"] + 0.002 and to_swept <= fit["bound"] + 0.002
     assert rep["cut"]["max"] <= rep["cut"]["bound"] == pytest.approx(fit["bound"] + 0.002, rel=1e-9)
+    # issue 71, one file from every door: the command line's file of the same face and settings, named alike, is
+    # the workbench's byte for byte (LinuxCNC's post; the wire's cut measured alike, from its lines)
+    from ruled.cli.main import main
+    os.makedirs(tmp_path / "cli")
+    cli = str(tmp_path / "cli" / "blade.ngc")
+    assert main(["machine", step, "--face", "6", "--xyuv", "--chord-tol", "0.002", "-o", cli, "--report",
+                 str(tmp_path / "cli" / "blade.json"), "--measure-samples", "20", "--quiet"]) == 0
+    assert open(cli, "rb").read() == (tmp_path / "blade.ngc").read_bytes()
+    mine = json.loads((tmp_path / "cli" / "blade.json").read_text())["cut"]
+    for k in ("overcut", "undercut"):
+        assert abs(rep["cut"][k] - mine[k]) <= 1e-6 * 10, (k, rep["cut"][k], mine[k])
     env = json.loads((tmp_path / "mill.json").read_text())
     cl = env["tool_envelope"]["cl_positions"]
     assert env["fit"]["error_bound"] == rep["fit"]["error_bound"] and not env["warnings"]
