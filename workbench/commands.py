@@ -1,8 +1,11 @@
 """Commands of the Ruled workbench: "Fit ruled surface", "Fit several faces", "Split for ruling", "Fit
-to tolerance", "Cone spline", "Curve on face", "Replace in part" and "Export for machining...".  Registered when the
+to tolerance", "Cone spline", "Curve on face", "Replace in part", "Export for machining..." and "Replay a machine
+file...".  Registered when the
 workbench is activated (InitGui.py)."""
 
 from __future__ import annotations
+
+import os
 
 import FreeCAD
 import FreeCADGui
@@ -303,9 +306,66 @@ class ExportCommand(_Command):
         show_panel(ExportTaskPanel(FreeCADGui.Selection.getSelection()))
 
 
+def selected_design():
+    """(part, ["FaceN", ...]) of the selected face(s) of one part, or of a selected Ruled fit's or wall's source, or
+    (None, what is wrong)."""
+    sel = FreeCADGui.Selection.getSelectionEx()
+    if len(sel) == 1 and not sel[0].SubElementNames and type(getattr(sel[0].Object, "Proxy", None)).__name__ in (
+            "RuledFit", "RuledWall"):
+        part, subs = sel[0].Object.Source
+        return part, list(subs)
+    faces, why = selected_faces()
+    if faces is None:
+        return None, why.replace("select faces", "select the face (or a wall's faces) the file cuts")
+    parts = list(dict.fromkeys(o for o, _ in faces))
+    if len(parts) != 1:
+        return None, f"select faces of one part (the selection has faces of {', '.join(o.Label for o in parts)})"
+    return parts[0], [n for _, n in faces]
+
+
+CHOOSE_FILE = None      # (tests: a function giving the file to replay instead of the file dialog)
+
+
+class ReplayCommand(_Command):
+    """A machine file replayed against the selected face (or wall): a parametric RuledReplay drawn beside it."""
+
+    def GetResources(self):
+        return resources("replay.svg", "Replay a machine file...", "Read a G-code or APT file back (LinuxCNC's own "
+                         "interpreter where it is installed) and draw the wire it moves beside the part, coloured by "
+                         "how far its cut lies from the design", "the face (or a wall's faces, or a Ruled fit) the "
+                         "file cuts")
+
+    def why_not(self) -> str:
+        part, why = selected_design()
+        return why if part is None else ""
+
+    def Activated(self):
+        part, subs = selected_design()
+        if part is None:
+            _say(subs)
+            return None
+        if CHOOSE_FILE is not None:
+            path = CHOOSE_FILE()
+        else:
+            from PySide import QtGui
+            path, _ = QtGui.QFileDialog.getOpenFileName(None, "Replay a machine file", os.path.expanduser("~"),
+                                                        "Machine files (*.ngc *.nc *.gcode *.tap *.apt *.cls);;"
+                                                        "All files (*)")
+        if not path:
+            return None
+        from .replay import make_ruled_replay
+        doc = part.Document
+        doc.openTransaction("Replay a machine file")
+        try:
+            return _recomputed(make_ruled_replay(doc, part, subs, path))
+        finally:
+            doc.commitTransaction()
+
+
 COMMANDS = {"Ruled_Fit": FitCommand, "Ruled_FitMany": FitManyCommand, "Ruled_Split": SplitCommand,
             "Ruled_Partition": PartitionCommand, "Ruled_Cone": ConeCommand, "Ruled_Curve": CurveCommand,
-            "Ruled_Wall": WallCommand, "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand}
+            "Ruled_Wall": WallCommand, "Ruled_Replace": ReplaceCommand, "Ruled_Export": ExportCommand,
+            "Ruled_Replay": ReplayCommand}
 NAMES = list(COMMANDS)
 _RINGS: dict = {}          # {the wall selection: why its faces are no ring, None when they are one}
 

@@ -134,9 +134,9 @@ def metadata(path, post: Post, units: str, compensation: Optional[int], side: Op
     kinds = list(path.kinds)
     leads = f"{kinds.count('lead-in') + approach},{kinds.count('lead-out')}"
 
-    def vec(v, d=12):       # (fixed digits: the unit vectors to 1e-12, the heights to 1e-9 mm, from every door alike)
+    def vec(v, d=12):       # (fixed digits: the unit vectors to 1e-12, the heights to 1e-6 mm as the moves)
         return ",".join(fixed(x, d) for x in v)
-    return [f"ruled {__version__} post={post.name} machine=xyuv units={units} planes={vec((h0, h1), 9)} "
+    return [f"ruled {__version__} post={post.name} machine=xyuv units={units} planes={vec((h0, h1), 6)} "
             f"kerf={vec([path.radius], 9)} side={wire_side(side):+d} leads={leads} "
             f"compensation={'none' if compensation is None else compensation} closed={int(path.closed)}",
             f"ruled frame e1={vec(fr.e1)} e2={vec(fr.e2)}", f"ruled frame axis={vec(fr.axis)}"]

@@ -351,23 +351,36 @@ def main():
     with open(ngc) as fh:
         head = fh.read(200)
     res["export_by_extension"] = {"kind": ep.kind(), "text": ep.result.text(), "open": exportpanel.ACTIVE is ep,
-                                  "gcode": head.startswith("(ruled XYUV"),
+                                  "gcode": "ruled XYUV wire path" in head.splitlines()[0],
                                   "shot": grab(mw, "ruled_export_figures.png")}
     with open(os.path.join(OUT, "panel_as_wire.json")) as fh:
         res["export_by_extension"]["cut"] = json.load(fh).get("cut")
     ep.reject()
     exports = {}
+    from guitools import choose
     for fmt, path, settings in (
-            ("xyuv", os.path.join(OUT, "panel_wire.ngc"), {"Axis": "", "Units": "inch", "ChordTol": 0.01, "Kerf": 0.1,
-                                                      "Side": "outside", "Planes": "", "Lead": 2.0, "Feed": 50.0,
-                                                      "CamStep": True}),
+            ("xyuv", os.path.join(OUT, "panel_wire.gcode"), {"Axis": "", "Units": "inch", "ChordTol": 0.01,
+                                                        "Kerf": 0.1, "Side": "outside", "Planes": "", "Lead": 2.0,
+                                                        "Feed": 50.0, "CamStep": True, "WirePower": 800.0,
+                                                        "Dwell": 1.5, "Letters": "", "PostFile": "",
+                                                        "Compensation": ""}),
             ("flank", os.path.join(OUT, "panel_mill.apt"), {"Units": "mm", "ChordTol": 0.01, "ToolRadius": 3.0,
-                                                       "Taper": 5.0, "Feed": 80.0, "CamStep": False})):
+                                                       "Taper": 5.0, "Feed": 80.0, "CamStep": False,
+                                                       "CornerRadius": 0.5})):
         sel.clearSelection()
         sel.addSelection(mfit)
         toolbar_run("Ruled_Export")
         ep = exportpanel.ACTIVE
         ep.format.setCurrentIndex(ep.kinds.index(fmt))
+        if fmt == "xyuv":       # the post and its settings by real clicks (issue 71): the post list, feed mode, home
+            res["post_list"] = [ep.widgets["Post"].itemText(i) for i in range(ep.widgets["Post"].count())]
+            res["post_chosen"] = choose(ep.widgets["Post"], "grbl") and choose(ep.widgets["FeedMode"], "g94")
+            from PySide import QtCore
+            home = ep.widgets["Home"]               # (a click on its box: the widget is wider than the box)
+            for _ in range(2 if home.isChecked() else 1):
+                click(home, QtCore.QPoint(8, home.height() // 2))
+            res["home_clicked"] = home.isChecked()
+            res["suffix_follows_post"] = ep.path.text().endswith(".gcode")
         ep.path.setText(path)
         for key, val in settings.items():
             exportpanel._put(ep.widgets[key], val)
@@ -381,6 +394,23 @@ def main():
                         "shot": shot, "said": _said(mw, f"Ruled: Wrote {os.path.basename(path)}"),
                         "exists": os.path.exists(path), "closed": exportpanel.ACTIVE is None}
     res["export"] = exports
+    # Replay of the panel's file against Face7 (issue 71): the wire drawn beside the blade, coloured by its cut
+    commands.CHOOSE_FILE = lambda: os.path.join(OUT, "panel_wire.gcode")
+    sel.clearSelection()
+    sel.addSelection(imp, "Face7")
+    res["replay_toolbar"] = toolbar_run("Ruled_Replay")
+    rp = [o for o in doc.Objects if type(getattr(o, "Proxy", None)).__name__ == "RuledReplay"]
+    if rp:
+        ro = rp[0]
+        only(doc, imp, ro)
+        imp.ViewObject.Transparency = 60
+        res["replay"] = {"valid": ro.isValid(), "status": ro.Status, "lines": len(ro.Shape.Edges),
+                         "moves": ro.Moves, "overcut": value(ro.Overcut), "undercut": value(ro.Undercut),
+                         "reader": ro.Reader, "colours": len(set(map(tuple, ro.ViewObject.LineColorArray))),
+                         "label": ro.Label}
+        res["replay_shot"] = shoot("ruled_replay.png", ro)
+        imp.ViewObject.Transparency = 0
+        doc.removeObject(ro.Name)           # (the reopened document's figures are compared below for the others)
     # what the panel wrote follows the object's own fit (issue 55): its report's fit figure is the object's
     with open(os.path.join(OUT, "panel_wire.json")) as fh:
         res["export_fit"] = {"report": json.load(fh)["fit"]["error_bound"], "object": value(mfit.ErrorBound),

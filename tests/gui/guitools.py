@@ -135,6 +135,26 @@ def click(widget, pos=None) -> None:
         QTest.mouseClick(widget, Qt.LeftButton, Qt.NoModifier, pos)
 
 
+def choose(combo, text: str) -> bool:
+    """A real choice in a combo box, as a user makes it: a click on it (its list opens), the arrow keys to the entry
+    named text, Return; whether the combo shows it then.  (Qt ignores a click on the list's entry that comes right
+    after the click that opened it, and QTest's mouse moves do not hover.)"""
+    import FreeCADGui
+    from PySide2.QtCore import Qt
+    from PySide2.QtTest import QTest
+    click(combo)
+    for _ in range(3):
+        FreeCADGui.updateGui()
+    view = combo.view()
+    steps = combo.findText(text) - combo.currentIndex()
+    for _ in range(abs(steps)):
+        QTest.keyClick(view, Qt.Key_Down if steps > 0 else Qt.Key_Up)
+    QTest.keyClick(view, Qt.Key_Return)
+    for _ in range(3):
+        FreeCADGui.updateGui()
+    return combo.currentText() == text
+
+
 def key(widget, k) -> None:
     from PySide2.QtTest import QTest
     QTest.keyClick(widget, k)

@@ -385,3 +385,52 @@ def test_lint_post_files_are_in_the_package():
     from ruled.machine.posts import SHIPPED, load_post
     for name in SHIPPED:
         assert load_post(name, None).name == name
+
+
+def test_wire_compensation_is_on_the_wires_side(blade, files):
+    """iso-wedm with the controller's compensation (D1): the path uncompensated, G41 or G42 as the face's outside
+    lies left or right of the direction of travel (measured here: the face's normal at the first cut line by OCCT,
+    against the lower guide's direction), switched on with the lead-in and off with the lead-out."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepGProp import BRepGProp_Face
+    from OCP.gp import gp_Pnt, gp_Vec
+    from OCP.ShapeAnalysis import ShapeAnalysis_Surface
+
+    from ruled.machine.readback import read_program
+    fm, d = blade
+    path = d / "comp.nc"
+    _write(fm, path, post="iso-wedm", compensation=1)
+    text = open(path).read()
+    on = [ln for ln in text.splitlines() if re.search(r"\bG4[12] D1 G1\b", ln)]
+    off = [ln for ln in text.splitlines() if " G40 G1 " in ln]
+    assert len(on) == 1 and len(off) == 1 and "compensation=1" in text
+    prog = read_program(str(path))
+    lo, hi = lines_of(prog.points, files["kj66"][1])
+    e1, e2, ax, _, _ = frame_of_file(files["kj66"][1])
+    k = 2                                                   # (upright start, approach, lead-in: the first cut line)
+    mid = 0.5 * (lo[k] + hi[k])
+    face = get_face(files["kj66"][0], 6)
+    uv = ShapeAnalysis_Surface(BRep_Tool.Surface_s(face)).ValueOfUV(gp_Pnt(*map(float, mid)), 1e-9)
+    p, n = gp_Pnt(), gp_Vec()
+    BRepGProp_Face(face).Normal(uv.X(), uv.Y(), p, n)
+    nxy = np.array([np.dot(n.Coord(), e1), np.dot(n.Coord(), e2)])
+    t = prog.points[k + 1, :2] - prog.points[k, :2]
+    left = t[0] * nxy[1] - t[1] * nxy[0] > 0
+    assert on[0].split()[1] == ("G41" if left else "G42"), (on, t, nxy)
+
+
+def test_the_batch_writes_each_faces_file_as_the_command_line(files, tmp_path):
+    """ruled batch --post grbl: face 6's wire file beside its STEP, the command line's byte for byte (the same
+    name, post and defaults)."""
+    kj = files["kj66"][0]
+    run = ruled_process("batch", kj, "--faces", "6", "--post", "grbl", "--no-plots", "--jobs", "1",
+                        "--measure-samples", "12", "-o", tmp_path / "out", "--quiet")
+    assert run.returncode == 0, run.stderr
+    got = tmp_path / "out" / "kj66_impeller" / "face_6.gcode"
+    rep = json.load(open(tmp_path / "out" / "kj66_impeller" / "face_6.json"))
+    m = rep["machine"]
+    assert m["program"]["post"] == "grbl" and m["cut"]["max"] <= m["cut"]["bound"]
+    os.makedirs(tmp_path / "cli")
+    cli(tmp_path, "machine", kj, "--face", 6, "--xyuv", "--post", "grbl", "-o", tmp_path / "cli" / "face_6.gcode",
+        "--measure-samples", 4, "--quiet")
+    assert open(got, "rb").read() == open(tmp_path / "cli" / "face_6.gcode", "rb").read()

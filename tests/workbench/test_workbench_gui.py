@@ -44,7 +44,7 @@ def test_the_workbench_in_the_gui(tmp_path):
     needs_qttest()
     run = run_gui("smoke_gui.py", tmp_path / "home")
     r = json.load(open(os.path.join(OUT, "smoke.json")))
-    assert r["toolbar"] == r["names"] and len(r["names"]) == 9, r
+    assert r["toolbar"] == r["names"] and len(r["names"]) == 10, r
     assert r["enabled_on_nothing"] == [], r
     assert r["clicked"] and r["panel"] and r["closed"] and r["objects"] == ["Impeller"], r
     # greyed, each button says what to select, in its tooltip and in the status bar
@@ -245,7 +245,7 @@ def test_commands_and_the_export_panel(tmp_path):
     face 7 (and a cone), undo; the export panel writes the command line's G-code, CSV, APT and STEP for
     CAM with the same settings, remembers them across a restart, and the preferences page shows them."""
     import numpy as np
-    from machine_helpers import check_sync, parse_apt
+    from machine_helpers import parse_apt
     home = tmp_path / "home"
     run_gui("commands_gui.py", home)
     r = json.load(open(os.path.join(OUT, "commands.json")))
@@ -286,7 +286,7 @@ def test_commands_and_the_export_panel(tmp_path):
     assert _length_after(fb["text"], "the trimmed fit is bound ") == pytest.approx(fb["bound"], rel=5e-4), fb
     eb = r["export_by_extension"]     # STEP chosen, the file .ngc: G-code written, the panel says so and the figures
     assert eb["kind"] == "xyuv" and eb["gcode"] and eb["open"], eb
-    assert "The format follows the file's extension .ngc: XYUV G-code" in eb["text"], eb["text"]
+    assert "The format follows the file's extension .ngc: XYUV wire, by its post" in eb["text"], eb["text"]
     assert eb["cut"] and _length_after(eb["text"], "the cut measured ") == pytest.approx(eb["cut"]["max"], rel=5e-4)
     assert _length_after(eb["text"], "within its bound ") == pytest.approx(eb["cut"]["bound"], rel=5e-4), eb
     ef = r["export_fit"]       # the panel's G-code follows the RuledFit's own (trimmed) result
@@ -330,26 +330,51 @@ def test_commands_and_the_export_panel(tmp_path):
         e = ex[fmt]
         assert e["ok"] and e["exists"] and e["closed"] and e["tooltips"], e
         assert all(e["enabled"][n] for n in on) and not any(e["enabled"][n] for n in off)
+    # the post chosen by clicks (issue 71): GRBL, its settings; the panel's file is the command line's, byte for byte
+    assert r["post_list"] == ["linuxcnc", "grbl", "iso-wedm", "apt-sync"] and r["post_chosen"], r
+    assert r["suffix_follows_post"] and r["home_clicked"], r
+    os.makedirs(tmp_path / "cli")
+    cli_wire = str(tmp_path / "cli" / "panel_wire.gcode")
     _cli_machine(tmp_path, "--xyuv", "--kerf", "0.1", "--units", "inch", "--feed", "50", "--lead", "2",
-                 "--chord-tol", "0.01", "--side", "outside", "-o", str(tmp_path / "cli.ngc"),
-                 "--step", str(tmp_path / "cli_cam.step"), "--rulings")
+                 "--chord-tol", "0.01", "--side", "outside", "--post", "grbl", "--feed-mode", "g94", "--wire-power",
+                 "800", "--dwell", "1.5", "--home", "-o", cli_wire, "--cam-step", str(tmp_path / "cli_cam.step"),
+                 "--rulings")
     panel = os.path.join(OUT, "panel_wire")
-    assert _lines(panel + ".ngc", "(") == _lines(str(tmp_path / "cli.ngc"), "(")      # all but the comments
-    assert "G20 G90 G94" in open(panel + ".ngc").read()
-    parsed, kinds = check_sync(panel + ".ngc", panel + ".csv")       # G-code and CSV agree, in inches
-    assert kinds.count("cut") > 10
-    assert open(panel + ".csv").read() == open(str(tmp_path / "cli.csv")).read()
+    assert open(panel + ".gcode", "rb").read() == open(cli_wire, "rb").read()
+    text = open(panel + ".gcode").read()
+    assert "$H" in text and "G20 G90 G17" in text and "\nG94\n" in text and "M3 S800" in text and "G4 P1.5" in text
+    import gcodeparser
+    moves = [ln for ln in gcodeparser.parse_gcode_lines(text) if ln.command[0] == "G" and ln.command[1] in (0, 1)]
+    parsed = np.array([[m.params[c] for c in "XYZA"] for m in moves])       # GRBL's letters: lower X Y, upper Z A
+    rows = [ln.split(",") for ln in open(panel + ".csv").read().splitlines()[1:]]
+    csv_moves = np.array([[float(x) for x in row[1:5]] for row in rows])        # (the CSV's six decimals, the file's
+    assert parsed.shape == csv_moves.shape and np.abs(parsed - csv_moves).max() <= 0.5e-5 + 1e-9   # five: GRBL, inch)
+    assert sum(row[0] == "cut" for row in rows) > 10
+    assert open(panel + ".csv").read() == open(str(tmp_path / "cli" / "panel_wire.csv")).read()
     a, b = _step_geometry(panel + "_cam.step"), _step_geometry(str(tmp_path / "cli_cam.step"))
     assert a[:2] == b[:2] and a[1] > 20 and np.abs(a[2] - b[2]).max() <= 1e-9
+    # Replay of that file against Face7: the wire drawn beside the part, coloured, with the command line's figures
+    rp = r["replay"]
+    assert r["replay_toolbar"] and rp["valid"] and rp["status"] == "ok" and rp["lines"] == rp["moves"] == len(parsed)
+    assert rp["colours"] > 3 and rp["label"] == "Replay panel_wire.gcode" and os.path.getsize(r["replay_shot"]) > 20_000
+    import sys
+    run = subprocess.run([sys.executable, "-m", "ruled.cli", "replay", panel + ".gcode", "--against",
+                          data_file("kj66_impeller.step"), "--face", "6", "--measure-samples", "20", "--report",
+                          str(tmp_path / "replay.json"), "--quiet"], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    cut = json.load(open(tmp_path / "replay.json"))["cut"]
+    for k in ("overcut", "undercut"):
+        assert rp[k] == pytest.approx(cut[k], rel=1e-3, abs=1e-6), (k, rp[k], cut[k])
     _cli_machine(tmp_path, "--flank", "--tool-radius", "3", "--taper", "5", "--feed", "80", "--chord-tol", "0.01",
-                 "-o", str(tmp_path / "cli.apt"))
+                 "--corner-radius", "0.5", "-o", str(tmp_path / "cli" / "panel_mill.apt"))
     mill = os.path.join(OUT, "panel_mill")
     # the same lines; their numbers to 1e-6 (the blade's fit trimmed by its edges, made in FreeCAD's Python and
     # in this one, agrees to about 1e-7: the tool axes' ninth digits differ)
-    panel_apt, cli_apt = _lines(mill + ".apt", "PARTNO"), _lines(str(tmp_path / "cli.apt"), "PARTNO")
+    panel_apt, cli_apt = _lines(mill + ".apt", "PARTNO"), _lines(str(tmp_path / "cli" / "panel_mill.apt"), "PARTNO")
     assert [_words(x) for x in panel_apt] == [_words(x) for x in cli_apt]
     assert np.abs(_numbers(panel_apt) - _numbers(cli_apt)).max() <= 1e-6
-    panel_csv, cli_csv = open(mill + ".csv").read().splitlines(), open(str(tmp_path / "cli.csv")).read().splitlines()
+    panel_csv = open(mill + ".csv").read().splitlines()
+    cli_csv = open(str(tmp_path / "cli" / "panel_mill.csv")).read().splitlines()
     assert [_words(x) for x in panel_csv] == [_words(x) for x in cli_csv]
     # (the CSV's last column, the axis's turn in degrees, moves with those axes by up to 2e-6 rad: 1.2e-4 degrees)
     csv_num = [_numbers([ln]) for ln in panel_csv[1:]], [_numbers([ln]) for ln in cli_csv[1:]]
@@ -364,7 +389,8 @@ def test_commands_and_the_export_panel(tmp_path):
     assert rep["swept_tool"]["overcut"] <= rep["machine"]["positions"]["gouge_tol"], rep["swept_tool"]
     # remembered: in FreeCAD's parameters, shown by the preferences page, and after a restart
     want = {"Format": "flank", "Units": "mm", "ChordTol": 0.01, "Kerf": 0.1, "Lead": 2.0, "Feed": 80.0,
-            "ToolRadius": 3.0, "Taper": 5.0, "CamStep": False}
+            "ToolRadius": 3.0, "Taper": 5.0, "CamStep": False, "Post": "grbl", "FeedMode": "g94", "Home": True,
+            "WirePower": 800.0, "CornerRadius": 0.5}
     assert all(r["remembered"][k] == v for k, v in want.items()), r["remembered"]
     assert all(r["prefs"]["values"][k] == v for k, v in want.items() if k != "Format")
     assert r["fit_default_after_prefs"] == 30 and os.path.getsize(r["prefs"]["shot"]) > 5_000
