@@ -24,8 +24,8 @@ from machine_helpers import segment_distance, trim_aware_cut  # noqa: E402
 from ruled.machine import linuxcnc  # noqa: E402
 from ruled.occ.io import get_face, read_shape  # noqa: E402
 
-pytestmark = pytest.mark.skipif(not linuxcnc.available(),
-                                reason="LinuxCNC's interpreter is not installed (apt-get install linuxcnc-uspace)")
+needs_linuxcnc = pytest.mark.skipif(not linuxcnc.available(),
+                                    reason="LinuxCNC's interpreter is not installed (apt-get install linuxcnc-uspace)")
 
 
 def frame_of_file(path: str):
@@ -99,6 +99,8 @@ def comments_nest(text: str) -> bool:
 
 # ------------------------------------------------------------------------------------------ LinuxCNC reads
 
+@pytest.mark.slow
+@needs_linuxcnc
 @pytest.mark.parametrize("name", ["kj66", "wall", "hole", "demo"])
 def test_linuxcnc_reads_every_file_and_its_moves_cut_within_the_bound(files, name):
     src, ngc, rep_path, which = files[name]
@@ -128,6 +130,8 @@ def test_linuxcnc_reads_every_file_and_its_moves_cut_within_the_bound(files, nam
         assert np.abs(dw - kerf).max() <= bound + 1e-9, (np.abs(dw - kerf).max(), bound)
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_the_demo_is_a_wire_machines_job(files):
     """`ruled demo` (the README's command 1): the fit, the wire for the default post, checked by LinuxCNC's
     interpreter, replayed; a face a wire machine can cut (taper at most 30 degrees, no taper warning)."""
@@ -147,6 +151,8 @@ def test_the_demo_is_a_wire_machines_job(files):
 
 # -------------------------------------------------------------------------------------- replay = machine
 
+@pytest.mark.slow
+@needs_linuxcnc
 @pytest.mark.parametrize("name", ["demo", "kj66", "hole"])
 def test_replay_reports_the_machines_own_cut(files, name, tmp_path):
     src, ngc, rep_path, which = files[name]
@@ -164,6 +170,8 @@ def test_replay_reports_the_machines_own_cut(files, name, tmp_path):
     assert set(r["cut"]) - {"per_move"} <= set(cut)                     # the same keys as 'ruled machine''s
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_replay_catches_a_move_shifted_by_hand(files, tmp_path):
     """kj66 face 6's file with one cut move shifted 0.1 off the face (both guides, along the face's normal in the
     machine's plane): the replay's undercut rises by that 0.1."""
@@ -219,6 +227,8 @@ def _write(fm, path, **settings):
     return write_checked(fm.path, str(path), PostSettings(**settings), "mm", fm.report.get("side"))
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_the_command_line_and_cadquery_write_the_same_bytes(files, blade):
     """One file from every door: kj66 face 6's G-code from the command line (the fixture) and from the job's
     path written as ruled.cq writes it, the same name, the same bytes."""
@@ -229,6 +239,8 @@ def test_the_command_line_and_cadquery_write_the_same_bytes(files, blade):
     assert open(d / "cq" / "blade.ngc", "rb").read() == open(files["kj66"][1], "rb").read()
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_grbl_files_read_by_a_grbl_reader_under_their_letters(files, blade):
     fm, d = blade
     ref = interpreted(files["kj66"][1])[0]
@@ -244,6 +256,8 @@ def test_grbl_files_read_by_a_grbl_reader_under_their_letters(files, blade):
         assert all("F" in ln.params for ln in moves[1:])
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_iso_wedm_relative_uv_gives_the_same_wire_lines(files, blade, tmp_path):
     """The iso-wedm post's U V are the upper guide's offset from X Y: read back (the project's reader), the same
     wire lines as the LinuxCNC file's, to 1e-6 with a post of six decimals (a user's own post: the shipped
@@ -270,6 +284,8 @@ def test_iso_wedm_relative_uv_gives_the_same_wire_lines(files, blade, tmp_path):
         assert abs(float(w["U"])) < 20 and abs(float(w["V"])) < 20     # offsets, not the upper guide's position
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_apt_sync_and_flank_apt_read_back(files, blade, tmp_path):
     from ruled.machine.readback import read_program
     fm, d = blade
@@ -302,6 +318,8 @@ def test_apt_sync_and_flank_apt_read_back(files, blade, tmp_path):
     assert np.abs(prog.points[:, 3:] - fl.path.axes).max() <= 1e-8
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_g93_times_each_move_by_its_longer_guide_on_a_tapered_cut(tmp_path):
     """Elber's ex2 fitted (its rulings 47 degrees from the machine axis): every move's time, as LinuxCNC's
     interpreter runs the file (its X Y length at the feed rate it derives from G93's F), is the longer guide's
@@ -329,24 +347,38 @@ def test_g93_times_each_move_by_its_longer_guide_on_a_tapered_cut(tmp_path):
 
 # -------------------------------------------------------------------------------------------- bad input
 
-def test_bad_posts_and_a_file_for_another_face_are_refused_in_one_line(files, tmp_path):
+def test_bad_posts_are_refused_in_one_line_before_any_work(tmp_path):
     from ruled.machine.posts import HERE
-    kj = files["kj66"][0]
+    kj = data_file("kj66_impeller.step")
     bad = tmp_path / "bad.toml"
     bad.write_text("\n".join(ln for ln in open(os.path.join(HERE, "linuxcnc.toml")).read().splitlines()
                              if not ln.startswith("cut =")))
+    typo = tmp_path / "typo.toml"
+    typo.write_text(open(os.path.join(HERE, "linuxcnc.toml")).read().replace('"G64 P{chord}"', '"G64 P{chord_tol}"'))
     for args, words in (
             (("machine", kj, "--face", 6, "--xyuv", "--post", "fanuc-9000", "-o", tmp_path / "a.ngc"),
              "unknown post --post fanuc-9000: use one of linuxcnc, grbl"),
             (("machine", kj, "--face", 6, "--xyuv", "--post", bad, "-o", tmp_path / "a.ngc"),
              "the post bad.toml has no field cut"),
+            (("machine", kj, "--face", 6, "--xyuv", "--post", typo, "-o", tmp_path / "a.ngc"),
+             "names {chord_tol}, which Ruled does not fill"),
             (("machine", kj, "--face", 6, "--flank", "--tool-radius", 1, "--post", "grbl", "-o", tmp_path / "a.apt"),
              "the post grbl writes a wire's XYUV path, not a flank-milling tool path"),
-            (("replay", files["kj66"][1], "--against", kj, "--face", 7),
-             "does not cut face 7 of kj66_impeller.step")):
+            (("machine", kj, "--face", 6, "--xyuv", "--compensation", 1, "-o", tmp_path / "a.ngc"),
+             "the post linuxcnc has no wire compensation codes"),
+            (("replay", tmp_path / "none.ngc", "--against", kj, "--face", 6), "no such file")):
         run = ruled_here(*map(str, args))
         assert run.returncode == 2 and words in run.stderr and run.stderr.count("\n") == 1, run.stderr
     assert not os.path.exists(tmp_path / "a.ngc")
+
+
+@pytest.mark.slow
+@needs_linuxcnc
+def test_a_file_for_another_face_is_refused_in_one_line(files):
+    kj = files["kj66"][0]
+    run = ruled_here("replay", files["kj66"][1], "--against", kj, "--face", "7")
+    assert run.returncode == 2 and run.stderr.count("\n") == 1, run.stderr
+    assert "blade.ngc does not cut face 7 of kj66_impeller.step" in run.stderr, run.stderr
 
 
 def test_posts_lists_the_shipped_posts_and_prints_one():
@@ -358,6 +390,8 @@ def test_posts_lists_the_shipped_posts_and_prints_one():
     assert 'letters = ["X", "Y", "Z", "A"]' in one.stdout
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_a_walls_start_and_direction_by_a_rule(files):
     """The drafted rectangle's bottom contour has two longest straight edges of the same length (y = -10 and
     y = 10): the loop starts in the middle of the one of least y, whichever order a host lists the edges in, and
@@ -387,6 +421,8 @@ def test_lint_post_files_are_in_the_package():
         assert load_post(name, None).name == name
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_wire_compensation_is_on_the_wires_side(blade, files):
     """iso-wedm with the controller's compensation (D1): the path uncompensated, G41 or G42 as the face's outside
     lies left or right of the direction of travel (measured here: the face's normal at the first cut line by OCCT,
@@ -419,6 +455,8 @@ def test_wire_compensation_is_on_the_wires_side(blade, files):
     assert on[0].split()[1] == ("G41" if left else "G42"), (on, t, nxy)
 
 
+@pytest.mark.slow
+@needs_linuxcnc
 def test_the_batch_writes_each_faces_file_as_the_command_line(files, tmp_path):
     """ruled batch --post grbl: face 6's wire file beside its STEP, the command line's byte for byte (the same
     name, post and defaults)."""
@@ -434,3 +472,36 @@ def test_the_batch_writes_each_faces_file_as_the_command_line(files, tmp_path):
     cli(tmp_path, "machine", kj, "--face", 6, "--xyuv", "--post", "grbl", "-o", tmp_path / "cli" / "face_6.gcode",
         "--measure-samples", 4, "--quiet")
     assert open(got, "rb").read() == open(tmp_path / "cli" / "face_6.gcode", "rb").read()
+
+
+def test_every_post_round_trips_a_path_through_its_reader(tmp_path):
+    """The engine alone, for the loop: a twisted ruled quad's XYUV path (no fit) written by every wire post and read
+    back by the project's reader for it (and LinuxCNC's interpreter for the LinuxCNC file, where it is installed):
+    the same X Y U V, the upper guide absolute, to the post's digits; G93's times by the longer guide."""
+    from ruled.core.nurbs import Surface
+    from ruled.machine.output import write_checked
+    from ruled.machine.paths import MachineOptions, xyuv_path
+    from ruled.machine.program import PostSettings
+    from ruled.machine.readback import read_program
+    P = np.array([[[0.0, 0, 0], [3.0, 1, 10]], [[20.0, 0, 0], [16.0, -3, 10]]])     # rulings tilted up to 22 degrees
+    R = Surface(P, np.array([0, 0, 1, 1.0]), np.array([0, 0, 1, 1.0]), 1, 1)
+    path = xyuv_path(R, MachineOptions(chord_tol=0.01, feed=120.0))
+    for post, digits in (("linuxcnc", 6), ("grbl", 4), ("iso-wedm", 4), ("apt-sync", 6)):
+        f = tmp_path / f"quad-{post}.txt"
+        out = write_checked(path, str(f), PostSettings(post=post, power=500.0), "mm", "outside")
+        prog = read_program(str(f))
+        got = prog.points[-len(path.moves):]
+        assert got.shape == path.moves.shape and prog.post == post
+        rounding = (1.0 if post in ("linuxcnc", "grbl") else 2.0) * 0.5 * 10.0 ** -digits   # (two numbers: U V, APT's)
+        assert np.abs(got - path.moves).max() <= rounding + 1e-9
+        if post == "linuxcnc":
+            assert "G93" in f.read_text() and prog.power == 500.0
+            t = prog.minutes[prog.feed_moves]
+            d = np.diff(prog.points, axis=0)[prog.feed_moves - 1]
+            longer = np.maximum(np.linalg.norm(d[:, :2], axis=1), np.linalg.norm(d[:, 2:], axis=1))
+            assert np.allclose(t, longer / 120.0, rtol=1e-6)
+            if linuxcnc.available():
+                from ruled.machine.posts import load_post
+                assert out["check"]["error"] is None and out["check"]["moves"] == len(path.moves)
+                lc = linuxcnc.to_program(str(f), load_post("linuxcnc"))
+                assert np.abs(lc.points - prog.points).max() <= 1e-9
