@@ -62,6 +62,31 @@ def bench_machine() -> None:
           f"{t / TARGET_FLANK_S:.2f}), {p.stats['cl_points']} CL points, {env['samples']} tool circles, peak "
           f"{peak:.0f} MB (target {TARGET_MB}, ratio {peak / TARGET_MB:.2f})")
     _envelope(S, R, sign)
+    _replay()
+
+
+def _replay() -> None:
+    """Issue 71: the wire's whole job and its file's replay (start-up, read, LinuxCNC's interpreter where it is
+    installed, the measure), CPU seconds of the whole processes, best of 2."""
+    from ruled.machine import linuxcnc
+    print("== the wire's file and its replay (kj66 face 6, CPU s of the whole process, best of 2)")
+    with tempfile.TemporaryDirectory() as d:
+        ngc = os.path.join(d, "k6.ngc")
+        runs = {"ruled machine kj66 face 6 --xyuv (and LinuxCNC's check)":
+                [RULED, "machine", DATA, "--face", "6", "--xyuv", "--quiet", "-o", ngc],
+                "ruled replay k6.ngc --against kj66 --face 6": [RULED, "replay", ngc, "--against", DATA, "--face", "6",
+                                                                "--quiet"]}
+        cpu = {}
+        for what, cmd in runs.items():
+            _child(cmd, USER_ENV)
+            cpu[what] = min(_child(cmd, USER_ENV)[1] for _ in range(2))
+            print(f"   {what:62s} {cpu[what]:7.3f} CPU s")
+        lc = linuxcnc.check(ngc) if linuxcnc.available() else None
+        c0 = time.perf_counter()
+        if lc is not None:
+            linuxcnc.check(ngc)
+        print("   LinuxCNC's interpreter on the file: "
+              + ("not installed" if lc is None else f"{lc['moves']} moves, {time.perf_counter() - c0:.3f} s wall"))
 
 
 def _envelope(S, R, sign) -> None:

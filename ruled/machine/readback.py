@@ -232,14 +232,14 @@ def _read_gcode(text: str, post: Post, name: str) -> ReadProgram:
 
 def _minutes(a: np.ndarray, b: np.ndarray, f: float, mode: str, post: Post) -> float:
     """A feed move's minutes: G93's F is 1 / minutes; G94's F is per minute along the lower guide (LinuxCNC's and
-    the ISO controls' X Y), or along all four axes together where the post says so (GRBL's)."""
+    the ISO controls' X Y), or along all four axes together where the post says so (feed_along: GRBL's)."""
     if not f > 0:
         return math.nan
     if mode == "g93":
         return 1.0 / f
     d = b - a
-    length = float(np.linalg.norm(d)) if post.name == "grbl" else float(np.linalg.norm(d[:2]) or
-                                                                      np.linalg.norm(d[2:]))
+    length = float(np.linalg.norm(d)) if post.feed_along == "all" else float(np.linalg.norm(d[:2]) or
+                                                                             np.linalg.norm(d[2:]))
     return length / f
 
 

@@ -49,6 +49,9 @@ def read_file(filename: str, post: Optional[str] = None, reader: str = "auto"):
     warnings = []
     use_lc = p.machine == "xyuv" and p.language == "gcode" and reader != "ruled" and (
         p.interpreter == "linuxcnc" or reader == "linuxcnc")
+    if use_lc and any(c in "ABC" for c in p.letters):
+        raise BadInputError(f"LinuxCNC reads {' '.join(c for c in p.letters if c in 'ABC')} as rotary axes (degrees), "
+                            f"not a guide's position: leave «reader» out for the post {p.name}")
     if use_lc and not linuxcnc.available():
         if reader == "linuxcnc":
             raise BadInputError("LinuxCNC's interpreter is not installed (Debian: apt-get install linuxcnc-uspace); "

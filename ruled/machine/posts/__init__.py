@@ -65,6 +65,7 @@ class Post:
     percent: bool = False                   # a % line before and after the program (tape format)
     feed_modes: tuple = ("g94",)
     interpreter: str = ""                   # linuxcnc: checked by LinuxCNC's own interpreter where installed
+    feed_along: str = "lower"               # G94's F: along the lower guide's X Y (LinuxCNC, ISO) or all four axes
     rapid: str = "G0"
     cut: str = "G1"
     blocks: dict = field(default_factory=dict)      # header, home, origin, start, wire_on, approach, wire_off, footer
@@ -185,7 +186,10 @@ def read_post(path: str) -> Post:
         for key in ("feed_digits", "line_numbers"):
             if key in data and (isinstance(data[key], bool) or not isinstance(data[key], int) or data[key] < 0):
                 raise BadInputError(f"the post {name}'s field {key} must be a whole number >= 0, not {data[key]!r}")
-        kw.update(letters=letters, upper=g["upper"], feed_modes=modes, rapid=g["rapid"], cut=g["cut"],
+        along = str(data.get("feed_along", "lower"))
+        if along not in ("lower", "all"):
+            raise BadInputError(f"the post {name}'s field feed_along is lower or all, not {along!r}")
+        kw.update(letters=letters, upper=g["upper"], feed_modes=modes, rapid=g["rapid"], cut=g["cut"], feed_along=along,
                   blocks=blocks, codes=codes, feed_digits=int(data.get("feed_digits", 7)),
                   line_numbers=int(data.get("line_numbers", 0)), percent=bool(data.get("percent", False)),
                   interpreter=str(data.get("interpreter", "")))
