@@ -55,7 +55,10 @@ def run_cli(tmp_path, face_file, face, *args, name="out"):
                "--quiet"])
     assert rc == 0
     with open(rep) as fh:
-        return out, json.load(fh), cam
+        report = json.load(fh)
+    check = report["program"]["check"]          # every LinuxCNC file checked by LinuxCNC's interpreter (issue 71)
+    assert check is None or check["error"] is None, check
+    return out, report, cam
 
 
 def check_sync(ngc, csv_path):
