@@ -200,18 +200,25 @@ class FitManyCommand(_Command):
         return made
 
 
-def selected_wall():
-    """(object, ["FaceN", ...]) of the selected faces of one part, at least two, or (None, what is wrong)."""
+def faces_of_one_part(what: str):
+    """(object, ["FaceN", ...]) of the selected faces of one part, or (None, what is wrong); what: the faces' use, in
+    words ("the faces of a part's wall")."""
     faces, why = selected_faces()
     if faces is None:
-        return None, why.replace("select faces", "select the faces of a part's wall")
+        return None, why.replace("select faces", f"select {what}")
     parts = list(dict.fromkeys(o for o, _ in faces))
     if len(parts) != 1:
-        return None, f"a wall's faces are of one part (the selection has faces of {', '.join(o.Label for o in parts)})"
-    if len(faces) < 2:
+        return None, f"select faces of one part (the selection has faces of {', '.join(o.Label for o in parts)})"
+    return parts[0], [n for _, n in faces]
+
+
+def selected_wall():
+    """(object, ["FaceN", ...]) of the selected faces of one part, at least two, or (None, what is wrong)."""
+    part, subs = faces_of_one_part("the faces of a part's wall")
+    if part is not None and len(subs) < 2:
         return None, ("select every face of the wall (the ring of faces between the part's bottom and top contours; "
                       "Ctrl+click adds a face), not one")
-    return parts[0], [n for _, n in faces]
+    return part, subs
 
 
 class WallCommand(_Command):
@@ -314,13 +321,7 @@ def selected_design():
             "RuledFit", "RuledWall"):
         part, subs = sel[0].Object.Source
         return part, list(subs)
-    faces, why = selected_faces()
-    if faces is None:
-        return None, why.replace("select faces", "select the face (or a wall's faces) the file cuts")
-    parts = list(dict.fromkeys(o for o, _ in faces))
-    if len(parts) != 1:
-        return None, f"select faces of one part (the selection has faces of {', '.join(o.Label for o in parts)})"
-    return parts[0], [n for _, n in faces]
+    return faces_of_one_part("the face (or a wall's faces) the file cuts")
 
 
 CHOOSE_FILE = None      # (tests: a function giving the file to replay instead of the file dialog)
