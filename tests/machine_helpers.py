@@ -7,6 +7,7 @@ import csv
 import json
 import math
 import os
+import re
 
 import numpy as np
 import pytest
@@ -345,3 +346,40 @@ def wall_cut_check(path: str, ngc: str, rep: dict, kerf: float, heights: tuple):
         cls.Perform(gp_Pnt(*map(float, p)), 1e-7)
         assert cls.State() == TopAbs_OUT
     return cut, lo
+
+
+# ------------------------------------------------------------------------------------- posts (issue 71)
+
+def frame_of_file(path: str):
+    """(e1, e2, axis, (h0, h1), kerf) from the file's 'ruled' comments, read here with a regular expression."""
+    head = open(path).read(4000)
+
+    def vec(key):
+        return np.array([float(x) for x in re.search(rf"\b{key}=([-\d.e,+]+)", head).group(1).split(",")])
+    return vec("e1"), vec("e2"), vec("axis"), tuple(vec("planes")), float(vec("kerf")[0])
+
+
+def lines_of(points, path):
+    """The wire's lines (lower, upper 3D points) of X Y U V points, by the file's frame."""
+    e1, e2, ax, (h0, h1), _ = frame_of_file(path)
+    P = np.asarray(points, float)
+    return (P[:, :1] * e1 + P[:, 1:2] * e2 + h0 * ax, P[:, 2:3] * e1 + P[:, 3:4] * e2 + h1 * ax)
+
+
+def interpreted(path):
+    """LinuxCNC's moves of the file (X Y U V in mm) and their kinds; asserts it reads the file without an error."""
+    from ruled.machine import linuxcnc
+    out = linuxcnc.interpret(path, ("X", "Y", "U", "V"))
+    assert out["error"] is None, out["error"]
+    return np.array([m[2] for m in out["moves"]]), [m[0] for m in out["moves"]], out
+
+
+def rect_wall():
+    """A rectangle 40 x 20 extruded 10 with a 5 degree draft: its two longest bottom edges tie (y = -10, y = 10)."""
+    import cadquery as cq
+    return cq.Workplane("XY").rect(40, 20).extrude(10, taper=5).val()
+
+
+def comments_nest(text: str) -> bool:
+    """Whether any comment of the G-code holds a '(' (RS274/NGC forbids nesting: LinuxCNC's error 5)."""
+    return any("(" in c for c in re.findall(r"\(([^)]*)\)", text))

@@ -19,36 +19,21 @@ from conftest import ROOT, data_file, ruled_here, ruled_process
 
 gcodeparser = pytest.importorskip("gcodeparser")
 
-from machine_helpers import segment_distance, trim_aware_cut  # noqa: E402
+from machine_helpers import (  # noqa: E402
+    comments_nest,
+    frame_of_file,
+    interpreted,
+    lines_of,
+    rect_wall,
+    segment_distance,
+    trim_aware_cut,
+)
 
 from ruled.machine import linuxcnc  # noqa: E402
 from ruled.occ.io import get_face, read_shape  # noqa: E402
 
 needs_linuxcnc = pytest.mark.skipif(not linuxcnc.available(),
                                     reason="LinuxCNC's interpreter is not installed (apt-get install linuxcnc-uspace)")
-
-
-def frame_of_file(path: str):
-    """(e1, e2, axis, (h0, h1), kerf) from the file's 'ruled' comments, read here with a regular expression."""
-    head = open(path).read(4000)
-
-    def vec(key):
-        return np.array([float(x) for x in re.search(rf"\b{key}=([-\d.e,+]+)", head).group(1).split(",")])
-    return vec("e1"), vec("e2"), vec("axis"), tuple(vec("planes")), float(vec("kerf")[0])
-
-
-def lines_of(points, path):
-    """The wire's lines (lower, upper 3D points) of X Y U V points, by the file's frame."""
-    e1, e2, ax, (h0, h1), _ = frame_of_file(path)
-    P = np.asarray(points, float)
-    return (P[:, :1] * e1 + P[:, 1:2] * e2 + h0 * ax, P[:, 2:3] * e1 + P[:, 3:4] * e2 + h1 * ax)
-
-
-def interpreted(path):
-    """LinuxCNC's moves of the file (X Y U V in mm) and their kinds; asserts it reads the file without an error."""
-    out = linuxcnc.interpret(path, ("X", "Y", "U", "V"))
-    assert out["error"] is None, out["error"]
-    return np.array([m[2] for m in out["moves"]]), [m[0] for m in out["moves"]], out
 
 
 def cli(tmp_path, *args):
@@ -84,17 +69,6 @@ def files(tmp_path_factory):
     out["demo"] = (str(r / "input.step"), str(r / "wire.ngc"), str(r / "wire.json"), {"face": 0})
     out["demo_run"] = demo
     return out
-
-
-def rect_wall():
-    """A rectangle 40 x 20 extruded 10 with a 5 degree draft: its two longest bottom edges tie (y = -10, y = 10)."""
-    import cadquery as cq
-    return cq.Workplane("XY").rect(40, 20).extrude(10, taper=5).val()
-
-
-def comments_nest(text: str) -> bool:
-    """Whether any comment of the G-code holds a '(' (RS274/NGC forbids nesting: LinuxCNC's error 5)."""
-    return any("(" in c for c in re.findall(r"\(([^)]*)\)", text))
 
 
 # ------------------------------------------------------------------------------------------ LinuxCNC reads

@@ -95,7 +95,7 @@ def test_fit_through_the_task_panel(tmp_path):
     r = json.load(open(os.path.join(OUT, "result.json")))
     assert r["toolbar"] and all(r["toolbar"])          # each command clicked in the Ruled toolbar
     assert r["commands"] == ["Ruled_Fit", "Ruled_FitMany", "Ruled_Split", "Ruled_Partition", "Ruled_Cone",
-                             "Ruled_Curve", "Ruled_Wall", "Ruled_Replace", "Ruled_Export"]
+                             "Ruled_Curve", "Ruled_Wall", "Ruled_Replace", "Ruled_Export", "Ruled_Replay"]
     for sub, active, msg in r["bad"]:
         assert not active and msg and "\n" not in msg
         assert ("nothing is selected" in msg) if sub is None else (sub in msg and "not a face" in msg)

@@ -171,6 +171,12 @@ def fit_region(region: Region, options: FitOptions = FitOptions(), progress: Pro
         res = _skew_noted(skewed, theta, res)
     if flat is not None and (res is None or flat.error_bound + _lead(region, res) < res.error_bound):
         res = flat
+    if res is not None and rails is None and res.error_bound > size:
+        # a bound past the face's size (the own surface's rectangle trimmed round a sliver, say): the whole
+        # rectangle, untrimmed, where it does better
+        got = _fit_inscribed(region, size, opts, progress)
+        if got is not None and got.error_bound < res.error_bound:
+            return got
     if res is None and rails is None:
         # no map of any kind above: the parallelogram along the surface's own iso lines, run a little past the
         # face (its own rectangle's rails touch a face inscribed in it, where a map onto the result folds)
