@@ -229,6 +229,7 @@ def test_a_face_with_a_boundary_collapsed_to_a_point_is_ruled_from_it(tmp_path):
     assert measured <= 1e-9 * _size(face) and measured <= bound and abs(area - 1.0) <= 1e-5   # (OCCT area to 1e-6)
 
 
+@pytest.mark.slow
 def test_a_face_with_no_four_sided_map_is_ruled_between_the_iso_lines_bounding_its_surface():
     """t4mec face 0: a doubly curved patch (degree 7 x 7) trimmed by 20 edges with three corners, whose
     four-sided map cannot be interpolated (it was refused for that): ruled between the iso lines that bound

@@ -252,6 +252,7 @@ def test_a_face_with_a_hole_gets_a_bound_that_covers_the_spanning_part():
     assert not any("comes near" in w for w in fit.warnings), fit.warnings
 
 
+@pytest.mark.slow
 def test_a_face_with_a_hole_comes_back_with_the_hole_when_trimmed():
     """Issue 35: trimmed by the face's edges, the result has the face's hole: OCCT finds it within its bound
     both ways (no spanning part), its area the face's, and no warning about spanning the hole."""

@@ -53,6 +53,7 @@ def test_a_bent_elliptic_tube_is_within_its_semi_minor_axis_of_its_folded_fit():
     assert ends > 4.0 * fit.error_bound
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not os.path.exists(os.path.join(DATA, "asitus_BSplHelix.brep")), reason="helix file absent")
 def test_the_helical_tube_folded_is_nearer_than_part_ruled_between_its_seam_and_itself():
     """The helix (a tube of radius 5 swept half a turn round a helix): rulings between its end circles were the

@@ -300,6 +300,7 @@ def test_ruled_fit_wall_writes_one_closed_face_and_its_report(tmp_path):
     assert report["hausdorff"]["max"] <= report["error_bound"] <= 1e-6 * report["size"]
 
 
+@pytest.mark.slow
 def test_cadquery_fit_wall_takes_a_part_or_its_faces_in_any_order():
     import cadquery as cq
 
@@ -351,6 +352,7 @@ def test_batch_walls_fits_every_wall_of_many_parts_as_ruled_fit_wall_does(tmp_pa
         assert (tmp_path / "out" / row["file"].replace(".step", "") / "wall_0.step").exists()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["square to circle", "tapered extrusion"])
 def test_per_face_cuts_the_closed_result_into_its_faces_pieces_sewn(exact_fits, tmp_path, name):
     """--per-face: one piece per face of the wall, each its face to round-off (the rulings of the square to

@@ -29,6 +29,7 @@ for n, o in objs.items():
 """
 
 
+@pytest.mark.slow
 def test_a_document_saved_before_the_reorganisation_loads_and_recomputes_the_same(tmp_path):
     path = tmp_path / "doc.FCStd"
     with open(os.path.join(LOCAL_DATA, "saved_before_reorganisation.FCStd"), "rb") as fh:

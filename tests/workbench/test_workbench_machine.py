@@ -98,6 +98,7 @@ export([fit], os.path.join(TMP, "mill.apt"), "flank", tool_radius=0.05)
 """
 
 
+@pytest.mark.slow
 def test_export_for_machining_of_a_trimmed_fit_follows_that_fit(tmp_path):
     """Issue 55: Export for machining of the RuledFit of kj66's Face7 (its result trimmed by the face's edges, as
     'ruled fit' returns it) follows that result, not the fit pinned to the face's corners: the report's fit is
@@ -147,6 +148,7 @@ def test_export_for_machining_of_a_trimmed_fit_follows_that_fit(tmp_path):
 FALLBACK_AXIS = "0.3864,-0.7174,0.5798"     # 88 degrees from a ruling of face 8's trimmed fit, 60 from its pinned one's
 
 
+@pytest.mark.slow
 def test_a_trimmed_fit_that_cannot_be_machined_falls_back_saying_so_in_freecad(tmp_path):
     """Issue 55, no silent fallback: along an axis that a ruling of kj66 Face9's trimmed fit (and none of its
     pinned fit's) nearly lies across, Export for machining follows the pinned fit, and its warning gives both

@@ -138,6 +138,7 @@ def made(tmp_path_factory):
     return tmp, path, json.loads(out.read_text()), run.stdout + run.stderr
 
 
+@pytest.mark.slow
 def test_fit_to_tolerance(made):
     """Every strip within the tolerance (certified), the same partition as the engine's here, the split
     curves on the face, the measured distance within the bound."""
@@ -253,6 +254,7 @@ out["area_ratio"] = blade.Shape.Area / imp.Shape.getElement("Face7").Area
 """
 
 
+@pytest.mark.slow
 def test_a_cone_splines_bound_holds_its_measure(tmp_path):
     """The figures of a cone spline agree (issue 38): its Hausdorff, measured against what its ErrorBound
     bounds, is at most the bound, on the kj66 blade fit's cone spline and on a cone's face (exact).  Issue 55:

@@ -90,6 +90,7 @@ out["side"] = rep["side"]
 """
 
 
+@pytest.mark.slow
 def test_a_die_holes_wall_in_freecad_cuts_as_the_command_line_and_per_face(tmp_path):
     """The die block's hole: FreeCAD's RuledWall exported with the kerf on its default side (in the hole, off
     the material) is 'ruled machine --wall hole''s file byte for byte; with PerFace, one valid sewn shell
