@@ -1,5 +1,5 @@
-"""What a machine path cuts: the tool's envelope against the face, the surface the wire sweeps, and
-points of the cut for the independent measure."""
+"""What a machine path cuts: the tool's envelope against the face, and points of the exact lines for the
+independent measure (the surface the wire sweeps: ruled.machine.wirecut)."""
 
 from __future__ import annotations
 
@@ -72,15 +72,6 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     if moves:
         out["with_moves"] = ext(slice(0, sd.shape[0]))
     return out
-
-
-def swept_surface(path: MachinePath) -> Surface:
-    """The surface the machine's lines sweep from the lower to the upper point (the planes for XYUV, the
-    tool's ends for flank): straight lines between the synchronized pairs, bilinear between consecutive
-    ones (degree 1 x 1), as plain arrays."""
-    n = path.lower.shape[0]
-    ku = np.concatenate([[0.0], np.arange(n, dtype=float), [n - 1.0]])
-    return Surface(np.stack([path.lower, path.upper], axis=1), ku, np.array([0.0, 0.0, 1.0, 1.0]), 1, 1)
 
 
 def cut_points(path: MachinePath, count: int = 2700, along: int = 11, exact: bool = False, keep=None) -> np.ndarray:

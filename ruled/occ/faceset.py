@@ -53,30 +53,6 @@ class FaceSet:
         return screened(self, X)
 
 
-class SweptLines:
-    """Distances to the surface a machine's straight lines sweep (bilinear between consecutive lines: the
-    swept surface of ruled.machine.envelope), by exact segment distances (to_lines) rather than projections
-    on it as a face, where its every line is a crease a local search stops at (a wall's long loop)."""
-
-    def __init__(self, lower: np.ndarray, upper: np.ndarray):
-        self.lower, self.upper = np.asarray(lower, float), np.asarray(upper, float)
-        # parametrized by how far the lines move (their ends' mean step), so that a long move between two
-        # lines gets as many of to_lines' samples as its length asks, and a pivot round a corner its share
-        step = 0.5 * (np.linalg.norm(np.diff(self.lower, axis=0), axis=1)
-                      + np.linalg.norm(np.diff(self.upper, axis=0), axis=1))
-        x = np.concatenate([[0.0], np.cumsum(np.maximum(step, 1e-9 * max(float(step.sum()), 1e-300)))])
-        self.x = x / x[-1]
-
-    def _ends(self, v):
-        v = np.asarray(v, float)
-        A = np.stack([np.interp(v, self.x, self.lower[:, k]) for k in range(3)], axis=-1)
-        B = np.stack([np.interp(v, self.x, self.upper[:, k]) for k in range(3)], axis=-1)
-        return A, B
-
-    def distances(self, X: np.ndarray) -> np.ndarray:
-        return to_lines(np.asarray(X, float).reshape(-1, 3), self._ends, m=max(2049, 8 * len(self.lower) + 1))
-
-
 def sample_faces(faces, n: int) -> np.ndarray:
     """About n x n samples of each face as bounded by its edges (OCCT evaluation), stacked."""
     return np.concatenate([face_points(f, n) for f in faces])
