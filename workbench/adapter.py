@@ -275,7 +275,15 @@ class Wall:
             devs.append(dev)
         self.surface, self.breaks, self.corners, slack = joined(patches, lengths, [self.names[i] for i in self.kept],
                                                                 o.size, devs)
-        self.slack = max((float(e.Tolerance) for e in edges), default=0.0) + slack
+        tol = max((float(e.Tolerance) for e in edges), default=0.0)
+        if tol > 0.0:       # or the edges' measured distance from the joined surface (as ruled.occ.wall._slack)
+            from ruled.core.edgerows import EDGE_SAMPLES
+
+            from .measure import screened_distances
+            E = np.array([tuple(p) for f in self.faces for e in f.Edges if not e.Degenerated
+                          for p in e.discretize(Number=EDGE_SAMPLES)], float).reshape(-1, 3)
+            tol = max(tol, float(screened_distances(E, surface_to_face(self.surface)).max(initial=0.0)))
+        self.slack = tol + slack
         slivers = [f for f, s in zip(self.faces, self.slivers) if s]
         if slivers:       # a sliver's distance from the faces kept, measured (as ruled.occ.wall._slack)
             from .measure import distances, face_points

@@ -167,7 +167,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
     fit pinned to the face's corners with a warning naming both figures (the report's "fallback")."""
     from ruled.core.errors import BadInputError
     from ruled.fit.face.fit import face_patch
-    from ruled.machine.envelope import tool_envelope
+    from ruled.machine.envelope import overcut_said, tool_envelope
     from ruled.machine.flank import fit_points, machine_path
     from ruled.machine.output import path_report, write_checked
     from ruled.machine.paths import MachineOptions
@@ -231,9 +231,14 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
                           + mp.stats["cut_bound_beyond_fit"]}
     elif measure_samples:
         from ruled.machine.swept import swept_measure
-        rep["tool_envelope"] = tool_envelope(S, out_side, mp, keep=None if keep is None else along_tool(mp, keep))
+        X = face_points(src, measure_samples)      # (the face as bounded by its edges)
+        rep["tool_envelope"] = tool_envelope(S, out_side, mp, keep=None if keep is None else along_tool(mp, keep),
+                                             near=X)
         # and from the face: its points against the tool swept through the moves (as ruled machine --flank)
-        rep["swept_tool"] = swept_measure(mp, face_points(src, measure_samples))
+        rep["swept_tool"] = swept_measure(mp, X)
+        said = overcut_said(rep, mp)
+        if said:
+            warnings.append(said)
     rep["warnings"] = warnings + list(mp.warnings)
     if fallback:
         rep["fallback"] = fallback

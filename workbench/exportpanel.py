@@ -397,7 +397,8 @@ def wrote_text(path: str, rep) -> str:
         out += (f": the cut measured {length(cut['max'])} from the face, within its bound {length(cut['bound'])} "
                 f"(the fit's {length(rep.get('fit', {}).get('error_bound', 0.0))})")
     elif swept:
-        out += (f": the tool swept through its moves overcuts the face by {length(swept['overcut'])}"
+        over = (rep.get("overcut") or {}).get("larger", swept["overcut"])     # (the larger of the two measures)
+        out += (f": the tool swept through its moves overcuts the face by {length(over)}"
                 f"{f' (gouge tolerance {length(gouge)})' if gouge is not None else ''} and leaves "
                 f"{length(swept['undercut'])}; its axis turns at most {swept['axis_angle_max_deg']:.2g} deg a move")
     elif env:

@@ -218,13 +218,39 @@ def _result_side(f, design, n: int, progress) -> tuple:
     return _filled(full, keep, m), d
 
 
-def hausdorff(results: list, design, n: int = 24, progress=None, parts=None) -> Hausdorff:
+def corner_points(face, n: int) -> np.ndarray:
+    """n points along each ruling of the face's B-spline surface at its corners (ruled.core.edgerows.
+    corner_rulings, as the OCCT measure takes them), inside its parameter range; none for another surface."""
+    from ruled.core.edgerows import corner_rulings
+    s = face.Surface
+    if not isinstance(s, Part.BSplineSurface):
+        return np.zeros((0, 3))
+
+    def flat(knots, mults):
+        return [k for k, m in zip(knots, mults) for _ in range(m)]
+    uv = corner_rulings(flat(s.getUKnots(), s.getUMultiplicities()), flat(s.getVKnots(), s.getVMultiplicities()),
+                        s.UDegree, s.VDegree, face.ParameterRange, n)
+    return np.array([tuple(s.value(float(u), float(v))) for u, v in uv], float).reshape(-1, 3)
+
+
+def _wall_points(results: list, design, n: int) -> tuple:
+    """A wall's extra samples (ruled.occ.wall.measure_wall's): CORNERS x n points along the result's corner
+    rulings, and along every edge of the wall's faces."""
+    from ruled.core.edgerows import CORNERS
+    ra = np.concatenate([corner_points(f, CORNERS * n) for f in results]) if results else np.zeros((0, 3))
+    pb = [np.array([tuple(p) for p in e.discretize(Number=CORNERS * n)], float).reshape(-1, 3)
+          for f in design.Faces for e in f.Edges if not e.Degenerated]
+    return ra, np.concatenate(pb) if pb else np.zeros((0, 3))
+
+
+def hausdorff(results: list, design, n: int = 24, progress=None, parts=None, wall: bool = False) -> Hausdorff:
     """Several result faces (strips, sides, patches) against the face they replace together (or a wall's
     faces, a compound of them, against its closed result): each
     result's n x n grid to the bounded design face (kept per face, in order, for colouring; a result
     trimmed by the design's edges measured inside its edges and along them), and the design face's points
     to the nearest result (one compound, so the distance is to their union; of parts, the results' smooth
-    parts, where given: OCCT's distance search does not cross a crease)."""
+    parts, where given: OCCT's distance search does not cross a crease); a wall's: its extra samples too
+    (_wall_points)."""
     total = len(results) * n * n
     g_design, g_results = _offset(design.Faces), _offset(results)
     colours, dab, done = [], [], 0
@@ -237,9 +263,12 @@ def hausdorff(results: list, design, n: int = 24, progress=None, parts=None) -> 
         if len(rows):
             dab.append(screened_distances(rows, design))
         done += n * n
+    ra, rb = _wall_points(results, design, n) if wall else (np.zeros((0, 3)), np.zeros((0, 3)))
+    if len(ra):
+        dab.append(screened_distances(ra, design))
     dab = np.concatenate(dab) if dab else np.zeros(0)
     pb = np.concatenate([np.concatenate([face_points(f, n), _extra(f, n, g_results)])
-                         for f in design.Faces])      # (a face, or a wall's faces)
+                         for f in design.Faces] + [rb])      # (a face, or a wall's faces)
     dba = screened_distances(pb, Part.Compound(parts or results),
                     None if progress is None else (lambda x: progress(0.5 + 0.5 * x)))
     alld = np.concatenate([dab, dba])
@@ -247,7 +276,7 @@ def hausdorff(results: list, design, n: int = 24, progress=None, parts=None) -> 
                      tuple(np.concatenate(colours)) if colours else ())
 
 
-def measure_into(obj, results: list, design, progress=None, parts=None) -> None:
+def measure_into(obj, results: list, design, progress=None, parts=None, wall: bool = False) -> None:
     """Measure the result faces against the design face into obj.Hausdorff and obj.Deviation (skipped,
     0 and empty, when obj.MeasureSamples < 2); parts: the results' smooth parts (faces) to measure the
     design's points against, where a result has creases."""
@@ -255,5 +284,5 @@ def measure_into(obj, results: list, design, progress=None, parts=None) -> None:
     if n < 2 or not results:
         obj.Hausdorff, obj.Deviation = 0.0, []
         return
-    h = hausdorff(results, design, n, progress, parts)
+    h = hausdorff(results, design, n, progress, parts, wall)
     obj.Hausdorff, obj.Deviation = h.max, list(h.a_to_b)

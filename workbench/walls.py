@@ -89,7 +89,8 @@ class RuledWall(_Feature):
             design = Part.Compound(wall.faces)
             parts = ([surface_to_face(p) for p in smooth_parts(ring.surface)] if int(obj.MeasureSamples) >= 2
                      else None)
-            measure_into(obj, [out], design, lambda f: progress("measuring (distances to the wall)", f), parts)
+            measure_into(obj, [out], design, lambda f: progress("measuring (distances to the wall)", f), parts,
+                         wall=True)
         finally:
             progress.stop()
         if obj.PerFace and len(wall.kept) > 1:

@@ -195,6 +195,9 @@ def cmd_machine(args) -> int:
             past = f" ({w['unreached']} of its points past the tool's ends)" if w["unreached"] else ""
             print(f"the face against the swept tool: overcut {w['overcut']:.6g}, undercut {w['undercut']:.6g}{past}; "
                   f"the axis turns by at most {w['axis_angle_max_deg']:.3g} degrees from one CL point to the next")
+        oc = rep.get("overcut")
+        if oc and not oc["agree"]:
+            print(f"the two measures' overcuts differ by more than 10 %: the larger, {oc['larger']:.6g}, is the figure")
     pr = rep["program"]
     check = pr.get("check")
     what_file = "G-code" if m["mode"] == "xyuv" and not pr["post"].startswith("apt") else "APT"

@@ -141,4 +141,27 @@ def edge_rows(views: list, n: int, offset: float, inside: Callable) -> np.ndarra
     return np.array([surface(float(u), float(v)) for u, v in cand], float).reshape(-1, 3)
 
 
-__all__ = ["EdgeView", "edge_offsets", "edge_rows", "off_edge_points", "OFF_EDGE", "RELATIVE", "ROWS", "DENSE"]
+CORNERS = 8                 # a wall's edges and its result's corner rulings: this many times the measure's n
+EDGE_SAMPLES = 512          # points along each of a wall's edges for their distance from its joined surface
+
+
+def corner_rulings(knots_u, knots_v, degree_u: int, degree_v: int, bounds, n: int) -> np.ndarray:
+    """(m, 2) parameters of n points along each ruling of a ruled B-spline surface (degree 1 in one direction;
+    knots: full knot vectors) at its C0 knots across the rulings (its corners: where a ruled surface through a
+    wall's bowed joint lies farthest from it), inside bounds (u0, u1, v0, v1); none for another surface."""
+    u0, u1, v0, v1 = bounds
+    out = []
+    for knots, across, along, lo, hi, t0, t1, swap in ((knots_u, degree_u, degree_v, u0, u1, v0, v1, False),
+                                                       (knots_v, degree_v, degree_u, v0, v1, u0, u1, True)):
+        if along != 1:
+            continue
+        k, mult = np.unique(np.asarray(knots, float), return_counts=True)
+        for x in k[(mult >= across) & (k >= lo) & (k <= hi)]:
+            t = np.linspace(t0, t1, n)
+            uv = np.stack([np.full(n, x), t], 1)
+            out.append(uv[:, ::-1] if swap else uv)
+    return np.concatenate(out) if out else np.zeros((0, 2))
+
+
+__all__ = ["EdgeView", "corner_rulings", "CORNERS", "EDGE_SAMPLES",
+           "edge_offsets", "edge_rows", "off_edge_points", "OFF_EDGE", "RELATIVE", "ROWS", "DENSE"]

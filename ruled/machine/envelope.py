@@ -14,14 +14,18 @@ from ruled.machine.sync import _seeds, tool_between
 
 
 def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, moves: bool = True,
-                  iters: int = 5, progress: Progress = None, keep=None) -> dict:
+                  iters: int = 5, progress: Progress = None, keep=None, near=None) -> dict:
     """Over- and undercut of the tool against the design surface S, measured on the tool surfaces: at
     every CL position (and, with moves=True, half way through every move), on `slices` circles along
     the tool, the point of each circle deepest towards S (alternating projections onto S, exact
     Newton feet); its signed distance along S's normal on the side `side` (negative: inside the
-    material, an overcut; positive: material left, an undercut).  keep(s, t): only the circles at the
-    ruling s and the fraction t along the tool for which it is true count (the tool over a trimmed
-    face: its rulings run past the face, and what the tool does there is not a cut of the face)."""
+    material, an overcut; positive: material left, an undercut), where its foot is an orthogonal foot (a circle
+    beside the face, its nearest point held at the surface's edge, does not cut it).  keep(s, t): only the
+    circles at the ruling s and the fraction t along the tool for which it is true count (the tool over a
+    trimmed face: its rulings run past the face, and what the tool does there is not a cut of the face).
+    near (N, 3): points of the face as bounded by its edges, the feet's first guesses (S may run far past the
+    face: a trimmed fit's extended patch, whose nearest point to a wide tool's axis can lie out there).
+    The circles run along the tool's whole cutting length at every position (path.flute)."""
     from ruled.core.distance import project_points
     lo, hi, us = path.lower, path.upper, np.asarray(path.u, float)
     if moves:       # (half way through a move as the machine moves the tool: ruled.machine.sync.tool_between)
@@ -34,12 +38,22 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     ax = hi - lo
     Lx = np.linalg.norm(ax, axis=1)
     a = ax / Lx[:, None]
-    s = np.linspace(0.0, 1.0, slices)
-    C = (lo[:, None] + s[None, :, None] * ax[:, None]).reshape(-1, 3)
+    # the circles along the tool's whole cutting length (the APT CUTTER's h) at every position: t their fractions
+    # of the position's own line (past 1 where that is shorter)
+    t = np.linspace(0.0, 1.0, slices)[None, :] * (path.flute / Lx)[:, None]
+    C = (lo[:, None] + t[:, :, None] * ax[:, None]).reshape(-1, 3)
     A = np.repeat(a, slices, axis=0)
-    rho = (path.radius + s[None, :] * Lx[:, None] * math.tan(math.radians(path.taper_deg))).ravel()
+    rho = (path.radius + t * Lx[:, None] * math.tan(math.radians(path.taper_deg))).ravel()
     cu, cv = S.periodic_u, S.periodic_v
-    uv = _seeds(S, C)
+    if near is not None and len(near) > 1:
+        # seeded from the face's points (S may run far past the face: a trimmed fit's extended patch, whose
+        # nearest point to a wide tool's axis can lie out there)
+        from scipy.spatial import cKDTree
+        near = np.asarray(near, float)
+        uv_near, _ = project_points(S, near, _seeds(S, near), iters=8, closed_u=cu, closed_v=cv)
+        uv = uv_near[cKDTree(near).query(C)[1]]
+    else:
+        uv = _seeds(S, C)
     uv, _ = project_points(S, C, uv, iters=8, closed_u=cu, closed_v=cv)
     q = C
     for k in range(iters):
@@ -52,11 +66,25 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
         q = C + rho[:, None] * w
         uv, _ = project_points(S, q, uv, iters=6, closed_u=cu, closed_v=cv)
     D = S.evaluate(uv[:, 0], uv[:, 1], 1)
-    sd = np.einsum("ij,ij->i", q - D.P, side * D.normals()).reshape(-1, slices)
+    nrm = side * D.normals()
+    r = q - D.P
+    sd = np.einsum("ij,ij->i", r, nrm)
+    # a circle whose deepest point's foot is held at the surface's edge and is no orthogonal foot there (the tool
+    # beside the face, past it) does not cut the face there: the face's points against the swept tool see its edges
+    tang = np.linalg.norm(r - sd[:, None] * nrm, axis=1)
+    u0, u1, v0, v1 = S.domain
+    eu, ev = 1e-9 * (u1 - u0), 1e-9 * (v1 - v0)
+    held = np.zeros(len(uv), bool)
+    if not cu:
+        held |= (uv[:, 0] <= u0 + eu) | (uv[:, 0] >= u1 - eu)
+    if not cv:
+        held |= (uv[:, 1] <= v0 + ev) | (uv[:, 1] >= v1 - ev)
+    orthogonal = (~held | (tang <= 0.2 * np.abs(sd) + 1e-7 * S.diagonal())).reshape(-1, slices)
+    sd = sd.reshape(-1, slices)
     if progress:
         progress("tool envelope", 1.0)
-    over = np.ones(sd.shape, bool) if keep is None else \
-        np.asarray(keep(np.repeat(us, slices), np.tile(s, us.size)), bool).reshape(sd.shape)
+    over = orthogonal if keep is None else \
+        orthogonal & np.asarray(keep(np.repeat(us, slices), t.ravel()), bool).reshape(sd.shape)
 
     def ext(rows):
         x = np.where(over[rows], sd[rows], np.nan)
@@ -72,6 +100,29 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     if moves:
         out["with_moves"] = ext(slice(0, sd.shape[0]))
     return out
+
+
+def overcut_said(rep: dict, path: MachinePath) -> str | None:
+    """The flank measures' overcut held to the gouge tolerance, or said: rep["overcut"] gets the two independent
+    figures (the face's points against the swept tool, rep["swept_tool"]; the tool's circles against the face,
+    rep["tool_envelope"] with the moves), whether they agree within 10 %, and the larger, the figure; and the
+    warning (None: held) where that larger figure is past the path's gouge tolerance (envelope positions)."""
+    sw = (rep.get("swept_tool") or {}).get("overcut")
+    en = ((rep.get("tool_envelope") or {}).get("with_moves") or {}).get("overcut")
+    figs = [x for x in (sw, en) if x is not None]
+    if not figs:
+        return None
+    larger = max(figs)
+    floor = 1e-3 * max(path.chord_tol, 1e-12)       # (two figures at the round-off both agree)
+    rep["overcut"] = {"swept_tool": sw, "tool_envelope": en, "larger": larger,
+                      "agree": len(figs) < 2 or min(figs) >= 0.9 * larger or larger <= floor}
+    gouge = (path.stats.get("positions") or {}).get("gouge_tol")
+    if gouge is None or larger <= gouge * (1.0 + 1e-9):
+        return None
+    both = "; ".join(f"{w} {x:.3g}" for w, x in (("the face against the swept tool", sw),
+                                                   ("the tool's circles against the face", en)) if x is not None)
+    return (f"the tool overcuts the face by {larger:.3g} ({both}), past the gouge tolerance {gouge:.3g}: raise "
+            f"«gouge_tol», or use a smaller tool or the offset positions")
 
 
 def cut_points(path: MachinePath, count: int = 2700, along: int = 11, exact: bool = False, keep=None) -> np.ndarray:

@@ -82,6 +82,14 @@ def flank_path(R: Surface, opts: MachineOptions, sign: float = 1.0, progress: Pr
                            max_turn=MAX_TURN / 2)
         both, info = envelope_positions(offset, grid, lines.closed, r, opts.taper_deg, points, hold, progress)
         stats["positions"] = {**info, "gouge_tol": gouge, "grid_stations": int(grid.size)}
+        fit_over, off_over = (info.get(k, {}).get("overcut", 0.0) for k in ("after", "before"))
+        if fit_over > hold * (1.0 + 1e-9) and off_over < fit_over:
+            # the envelope could not hold the gouge tolerance and the offset rulings cut less: they are the path
+            both = offset
+            stats["positions"]["fallback"] = "offset rulings"
+            warnings.append(f"the envelope positions overcut the face's points by {fit_over:.3g}, past the gouge "
+                            f"tolerance {gouge:.3g} less the chords; the offset rulings overcut {off_over:.3g}: the "
+                            f"path follows the offset rulings")
         if tol > gouge:
             warnings.append(f"the chord tolerance {tol:.3g} exceeds the gouge tolerance {gouge:.3g}: the moves "
                             f"between CL points may cut into the face by up to the chord tolerance; lower "

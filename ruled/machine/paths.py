@@ -262,6 +262,12 @@ class MachinePath:
         d = self.upper - self.lower
         return d / np.linalg.norm(d, axis=1)[:, None]
 
+    @property
+    def flute(self) -> float:
+        """The longest line (flank: the tool's cutting length, the APT CUTTER's h: the real tool is this long at
+        every position, not only as long as its ruling there)."""
+        return float(np.linalg.norm(self.upper - self.lower, axis=1).max())
+
 
 def _where(u, P) -> str:
     return f"u = {u:.6g}, at ({P[0]:.6g}, {P[1]:.6g}, {P[2]:.6g})"

@@ -38,6 +38,8 @@ class Stations(Protocol):
     def radius(self) -> float: ...
     @property
     def taper_deg(self) -> float: ...
+    @property
+    def flute(self) -> float: ...
 
 
 @dataclass(frozen=True)
@@ -48,6 +50,11 @@ class Tool:
     upper: np.ndarray
     radius: float
     taper_deg: float = 0.0
+
+    @property
+    def flute(self) -> float:
+        """The tool's cutting length: its longest position's."""
+        return float(np.linalg.norm(self.upper - self.lower, axis=1).max())
 
 
 def tool_positions(path: Stations, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -63,9 +70,9 @@ def tool_positions(path: Stations, g: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return P[..., 0, :], D / L[..., None], L
 
 
-def _signed(path: Stations, X: np.ndarray, T: np.ndarray, A: np.ndarray, L: np.ndarray) -> np.ndarray:
-    """Signed distances of the points X (..., 3) to the tool's side at the positions (T, A, L) (broadcast); inf
-    where the foot on the side is past the tool's ends."""
+def _signed(path: Stations, X: np.ndarray, T: np.ndarray, A: np.ndarray, L) -> np.ndarray:
+    """Signed distances of the points X (..., 3) to the tool's side at the positions (T, A; L their lengths, or
+    one length for all: the flute) (broadcast); inf where the foot on the side is past the tool's ends."""
     alpha = math.radians(path.taper_deg)
     ca, sa, ta = math.cos(alpha), math.sin(alpha), math.tan(alpha)
     D = X - T
@@ -83,13 +90,14 @@ def nearest_along(tool: Stations, X: np.ndarray, grid: np.ndarray, place: Callab
     place(s) -> (tips, unit axes, lengths) of a parameter s: the nearest of the positions at the increasing
     parameters `grid`, then a golden-section search between that one's neighbours (the sweep is continuous:
     the grid's positions alone would leave scallops between them)."""
-    T, A, L = place(grid)
+    T, A, _ = place(grid)
+    L = tool.flute          # (the real tool is its cutting length at every position, not its ruling's)
     X = np.asarray(X, float).reshape(-1, 3)
     best = np.full(len(X), np.inf)
     j = np.zeros(len(X), np.int64)
     chunk = max(1, min(chunk, 2_000_000 // grid.size))       # (the temporaries: some 50 bytes a point and position)
     for s in range(0, len(X), chunk):
-        sd = _signed(tool, X[s:s + chunk, None, :], T[None], A[None], L[None])
+        sd = _signed(tool, X[s:s + chunk, None, :], T[None], A[None], L)
         j[s:s + chunk] = np.argmin(sd, axis=1)
         best[s:s + chunk] = sd[np.arange(sd.shape[0]), j[s:s + chunk]]
     at = grid[j]
@@ -98,7 +106,7 @@ def nearest_along(tool: Stations, X: np.ndarray, grid: np.ndarray, place: Callab
         Xo = X[ok]
 
         def f(ss):
-            return _signed(tool, Xo, *place(ss))
+            return _signed(tool, Xo, *place(ss)[:2], L)
         lo, hi = grid[np.maximum(j[ok] - 1, 0)], grid[np.minimum(j[ok] + 1, grid.size - 1)]
         x, fx = golden(f, lo, hi, rounds)
         better = fx < best[ok]

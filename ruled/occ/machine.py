@@ -14,7 +14,7 @@ import numpy as np
 from OCP.TopAbs import TopAbs_REVERSED
 
 from ruled.fit.fit2d import FitResult
-from ruled.machine.envelope import cut_points, tool_envelope
+from ruled.machine.envelope import cut_points, overcut_said, tool_envelope
 from ruled.machine.flank import fit_points, machine_path
 from ruled.machine.output import path_report
 from ruled.machine.paths import Lines, MachineOptions, MachinePath
@@ -195,8 +195,9 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
                           "bound": max(fit_rep["error_bound"], fit_err) + path.stats["cut_bound_beyond_fit"]}
         else:
             from ruled.machine.trimmed import along_tool
+            X = face_points(face, measure_samples)      # (the face as bounded by its edges)
             env = tool_envelope(S, out_side, path, progress=progress,
-                                keep=None if keep is None else along_tool(path, keep))
+                                keep=None if keep is None else along_tool(path, keep), near=X)
             if keep is not None:
                 env["against"] = "the face as bounded by its edges (the tool where it lies over the face's trim)"
             if opts.positions == "offset":      # (the offset rulings' deviation bounds what the fit adds)
@@ -204,7 +205,10 @@ def machine_of_face(face, opts: MachineOptions, progress=None, measure_samples: 
                 env["bound_moves"] = h.max + path.offset_deviation + path.chord_tol
             rep["tool_envelope"] = env
             # and from the face: its points against the tool swept through the moves (ruled.machine.swept)
-            rep["swept_tool"] = swept_measure(path, face_points(face, measure_samples))
+            rep["swept_tool"] = swept_measure(path, X)
+            said = overcut_said(rep, path)
+            if said:
+                warns.append(said)
     rep["timings"] = {"fit": t1 - t0, "path": t2 - t1, "measure": time.perf_counter() - t2}
     rep["warnings"] = warns
     return FaceMachine(res, R, path, out_face, rep, out_side, warns)

@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
+from OCP.BRepTools import BRepTools
 from OCP.BRepTopAdaptor import BRepTopAdaptor_FClass2d
 from OCP.Extrema import Extrema_GenLocateExtPS
 from OCP.GeomAdaptor import GeomAdaptor_Surface
@@ -102,6 +103,26 @@ def _edge_polylines(face, n: int) -> list:
         out.append(np.array([_p3(c.Value(float(t))) for t in np.linspace(c.FirstParameter(), c.LastParameter(), n)])
                    .reshape(-1, 3))
     return out
+
+
+def corner_points(face, n: int) -> np.ndarray:
+    """n points along each ruling of the face's B-spline surface at its corners (ruled.core.edgerows.
+    corner_rulings), inside its (u, v) bounds; none for another surface."""
+    from OCP.GeomAbs import GeomAbs_BSplineSurface
+
+    from ruled.core.edgerows import corner_rulings
+    surf = BRep_Tool.Surface_s(face)
+    ad = GeomAdaptor_Surface(surf)
+    if ad.GetType() != GeomAbs_BSplineSurface:
+        return np.zeros((0, 3))
+    bs = ad.BSpline()
+
+    def flat(knots, mults, count):
+        return [knots(k) for k in range(1, count + 1) for _ in range(mults(k))]
+    uv = corner_rulings(flat(bs.UKnot, bs.UMultiplicity, bs.NbUKnots()),
+                        flat(bs.VKnot, bs.VMultiplicity, bs.NbVKnots()), bs.UDegree(), bs.VDegree(),
+                        BRepTools.UVBounds_s(face), n)
+    return np.array([_p3(surf.Value(float(u), float(v))) for u, v in uv]).reshape(-1, 3)
 
 
 def _boundary_polygon(face, per_edge: int = 256):

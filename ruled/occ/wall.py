@@ -154,17 +154,25 @@ def wall_of(shape, indices="auto", faces: Optional[list] = None) -> Wall:
         ring = replace(ring, role=ring_role(ring, faces))
     tfaces = tuple(faces[i] for i in ring.faces)
     S, breaks, corners, slack = joined_surface(ring, tfaces)
-    return Wall(ring, tfaces, S, breaks, corners, _slack(ring, tfaces) + slack)
+    return Wall(ring, tfaces, S, breaks, corners, _slack(ring, tfaces, S) + slack)
 
 
-def _slack(ring: Ring, faces: tuple) -> float:
+def _slack(ring: Ring, faces: tuple, S=None) -> float:
     """How far the wall's faces, as bounded by their edges, can be from the joined surface: their edges'
-    tolerances (an edge's 3D curve lies that close to its faces' surfaces), and a sliver's largest distance
-    from the faces kept, sampled densely (a sliver is a crease thinner than its samples' spacing, so this
-    term is measured, not certified)."""
+    tolerances (an edge's 3D curve lies that close to its faces' surfaces), or where larger, their edges'
+    distance from the joined surface S as bounded by the contours (EDGE_SAMPLES along each: a file's edge may
+    lie farther off than its tolerance says, or off along the surface, past the contour the joined surface
+    ends at; measured, and so the measure's CORNERS x n along them are within it), and a sliver's largest
+    distance from the faces kept, sampled densely (a sliver is a crease thinner than its samples' spacing, so
+    this term is measured, not certified)."""
+    from ruled.core.edgerows import EDGE_SAMPLES
+    from ruled.occ.convert import container_to_face
     from ruled.occ.faceset import FaceSet
-    from ruled.occ.measure import face_samples
+    from ruled.occ.measure import _edge_polylines, _Projector, face_samples
     tol = max((BRep_Tool.Tolerance_s(e) for f in faces for e in _face_edges(f)), default=0.0)
+    if S is not None and tol > 0.0:
+        E = np.concatenate([e for f in faces for e in _edge_polylines(f, EDGE_SAMPLES)])
+        tol = max(tol, float(_Projector(container_to_face(S)).distances(E).max()))
     slivers = [f for f, s in zip(faces, ring.slivers) if s]
     if not slivers:
         return float(tol)
@@ -211,16 +219,22 @@ class WallFit:
 
 
 def measure_wall(faces, out_face, n: int = 40):
-    """The two-sided measure between the wall's faces (their union, each bounded by its edges) and a face."""
+    """The two-sided measure between the wall's faces (their union, each bounded by its edges) and a face: about
+    n x n points of each face and n along every edge, and CORNERS times as many along the wall's edges (its
+    joints and corners) and along the result's rulings where it has a corner (ruled.core.edgerows.corner_rulings:
+    a corner's ruling is where a ruled surface through a bowed joint lies farthest from it)."""
     from dataclasses import replace as _replace
 
+    from ruled.core.edgerows import CORNERS
     from ruled.occ.faceset import FaceSet
-    from ruled.occ.measure import _Projector, face_samples, two_sided
+    from ruled.occ.measure import _edge_polylines, _Projector, corner_points, face_samples, two_sided
     to_wall, to_out = FaceSet(list(faces)), _Projector(out_face)
     got = [face_samples(f, n, resolution=True) for f in faces]
-    pa = np.concatenate([p for p, _ in got])
+    pa = np.concatenate([p for p, _ in got] + [e for f in faces for e in _edge_polylines(f, CORNERS * n)])
     pb, rb = face_samples(out_face, n, to_out.inside, resolution=True)
+    pb = np.concatenate([pb, corner_points(out_face, CORNERS * n)])
     return _replace(two_sided(pa, pb, to_wall, to_out), resolution=max([rb] + [r for _, r in got]))
+
 
 
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:

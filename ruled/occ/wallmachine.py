@@ -86,13 +86,18 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
         rep["cut"].update(fit_error=fit_err, fit_bound=fit.error_bound, inside_corner_fillet=fillet,
                           bound=max(fit.error_bound, fit_err) + path.stats["cut_bound_beyond_fit"] + fillet)
     elif measure_samples:
-        from ruled.machine.envelope import tool_envelope
-        env = tool_envelope(wall.surface, sign, path, progress=progress)
+        from ruled.machine.envelope import overcut_said, tool_envelope
+        from ruled.occ.measure import face_points
+        env = tool_envelope(wall.surface, sign, path, progress=progress,
+                            near=np.concatenate([face_points(wall.faces[k], measure_samples) for k in wall.ring.kept]))
         env["against"] = "the wall (its faces joined into one surface, exactly)"
         if opts.positions == "offset":          # (the offset rulings' deviation bounds what the fit adds)
             env["bound_cl"] = fit.error_bound + path.offset_deviation
             env["bound_moves"] = fit.error_bound + path.offset_deviation + path.chord_tol
         rep["tool_envelope"] = env
+        said = overcut_said(rep, path)
+        if said:
+            warns.append(said)
     rep["warnings"] = warns
     return FaceMachine(None, R, path, container_to_face(R), rep, sign, warns)
 

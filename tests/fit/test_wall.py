@@ -387,8 +387,10 @@ def test_per_face_cuts_the_closed_result_into_its_faces_pieces_sewn(exact_fits, 
 
 @pytest.mark.parametrize("name, faces", [("occt_bug25994_wing_periodic.brep", [0, 3]), ("asitus_BSplHelix.brep", [0])])
 def test_walls_of_real_files_are_fitted_within_their_bounds(name, faces):
-    """A periodic wing between two planar caps (its edges 0.65 off its surface, as the file's tolerances say)
-    and a helical tube (one periodic face, not ruled): found, joined and fitted, measured within the bound."""
+    """A periodic wing between two planar caps (its edges 0.65 off its surface, as the file's tolerances say, and
+    up to 0.664 from the joined surface as the contours bound it: past their tolerance, which the bound counts
+    since issue 72, when the measure sampled the wall's edges densely) and a helical tube (one periodic face,
+    not ruled): found, joined and fitted, measured within the bound."""
     from ruled.fit.options import FitOptions
     from ruled.occ.io import read_shape
     from ruled.occ.wall import fit_wall, wall_of
@@ -397,5 +399,6 @@ def test_walls_of_real_files_are_fitted_within_their_bounds(name, faces):
     assert sorted(wall.ring.faces) == faces
     fit = fit_wall(wall, FitOptions(samples=30 * len(wall.faces)), measure_samples=20)
     assert fit.hausdorff.max <= fit.error_bound
-    if name.startswith("occt"):          # exactly ruled, its edges within their tolerance of it
-        assert fit.error_bound <= 0.65 and fit.hausdorff.mean <= 1e-2
+    if name.startswith("occt"):          # exactly ruled, its edges about their tolerance off it
+        assert fit.error_bound <= 0.67 and fit.hausdorff.mean <= 1e-2
+        assert fit.hausdorff.max >= 0.66            # (the wall's edges, sampled densely)

@@ -111,6 +111,26 @@ def _two_sided(wall: list, result, n: int = 400) -> float:
     return max(worst(W, _smooth_parts(result)), worst(face_points(result, 30), compound(wall)))
 
 
+def _corner_rulings(wall: list, result, n: int = 400) -> float:
+    """The largest distance, by OCCT's BRepExtrema, from n points along each of the result's rulings at its C0
+    knots (its corners; degree 1 along v) to the wall's faces (their union)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeVertex
+    from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+
+    from ruled.occ.io import compound
+    s = BRepAdaptor_Surface(result).BSpline()
+    assert s.VDegree() == 1
+    u0, u1, v0, v1 = s.Bounds()
+    to, worst = compound(wall), 0.0
+    for i in range(1, s.NbUKnots() + 1):
+        if s.UMultiplicity(i) >= s.UDegree():
+            for v in np.linspace(v0, v1, n):
+                p = s.Value(s.UKnot(i), float(v))
+                worst = max(worst, BRepExtrema_DistShapeShape(BRepBuilderAPI_MakeVertex(p).Vertex(), to).Value())
+    return worst
+
+
 @pytest.mark.parametrize("name", list(PARTS))
 def test_each_wall_is_fitted_within_its_bound_and_its_distance_from_ruled(parts, name):
     from ruled.occ.io import faces_of, read_shape
@@ -125,6 +145,10 @@ def test_each_wall_is_fitted_within_its_bound_and_its_distance_from_ruled(parts,
     measured = _two_sided([design[i] for i in faces], result[0])
     size = rep["size"]
     assert measured <= rep["error_bound"], (measured, rep["error_bound"])
+    # issue 72: the report's measure samples the rulings through the contours' corners densely (the punch's
+    # corner ruling is the farthest from its wall, 0.1308: the measure's grid missed it, 0.104)
+    corners = _corner_rulings([design[i] for i in faces], result[0])
+    assert corners <= rep["error_bound"] and rep["hausdorff"]["max"] >= 0.95 * corners, (corners, rep["hausdorff"])
     if exact:
         assert rep["error_bound"] <= 1e-6 * size and measured <= 1e-6 * size
     else:

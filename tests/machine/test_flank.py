@@ -117,11 +117,13 @@ def test_flank_twisted_offset_and_envelope(tmp_path, hyp_file):
     assert e["overcut"] <= 1.02 * bound and e["undercut"] <= 1.02 * bound
     assert rep["tool_envelope"]["with_moves"]["overcut"] <= 1.02 * bound + m["chord_tol"]
     # the face's points against the swept tool (ruled.machine.swept) and the tool's circles against the surface
-    # (tool_envelope) are two independent measures of one cut: 0.2175 and 0.2186 over, 0.139 and 0.146 under
+    # (tool_envelope) are two independent measures of one cut: 0.2148 and 0.2151 over; under, the circles see only
+    # where their feet lie on the face (0.071), the face's points its rims too (0.139: the tool's ends hang past them)
     sw, w = rep["swept_tool"], rep["tool_envelope"]["with_moves"]
     assert sw["unreached"] == 0
     assert abs(sw["overcut"] - w["overcut"]) <= 0.03 * w["overcut"], (sw["overcut"], w["overcut"])
-    assert abs(sw["undercut"] - w["undercut"]) <= 0.1 * w["undercut"], (sw["undercut"], w["undercut"])
+    assert rep["overcut"]["agree"] and rep["overcut"]["larger"] == max(sw["overcut"], w["overcut"])
+    assert 0 < w["undercut"] <= 1.1 * sw["undercut"], (sw["undercut"], w["undercut"])
     offset = max(sw["overcut"], sw["undercut"])
     # issue 61: the envelope's positions, measured both ways
     (tmp_path / "env").mkdir()
@@ -239,9 +241,11 @@ def _inside_points(face, n: int = 48):
     return np.array(out)
 
 
-def _to_tool_axes(P, tip, axis, length, per_move: int = 8):
+def _to_tool_axes(P, tip, axis, length, per_move: int = 8, r=None):
     """Each point's distance to the tool's axis swept through the moves (tip and axis direction linear
-    between CL positions, per_move steps each), the axis a segment of the tool's length from its tip."""
+    between CL positions, per_move steps each), the axis a segment of the tool's length from its tip.  With r:
+    the signed distance to the flat-ended cylinder of radius r instead (negative: inside it, by its depth;
+    a point past the tool's tip or top is not inside, however near the axis)."""
     f = np.arange(per_move) / per_move
     T = (tip[:-1, None] + f[None, :, None] * (tip[1:] - tip[:-1])[:, None]).reshape(-1, 3)
     A = (axis[:-1, None] + f[None, :, None] * (axis[1:] - axis[:-1])[:, None]).reshape(-1, 3)
@@ -250,8 +254,16 @@ def _to_tool_axes(P, tip, axis, length, per_move: int = 8):
     best = np.full(len(P), np.inf)
     for i in range(0, len(T), 200):
         d = P[:, None] - T[None, i:i + 200]
-        h = np.clip(np.einsum("pkc,kc->pk", d, A[i:i + 200]), 0.0, length)
-        best = np.minimum(best, np.linalg.norm(d - h[..., None] * A[None, i:i + 200], axis=2).min(axis=1))
+        h0 = np.einsum("pkc,kc->pk", d, A[i:i + 200])
+        h = np.clip(h0, 0.0, length)
+        if r is None:
+            best = np.minimum(best, np.linalg.norm(d - h[..., None] * A[None, i:i + 200], axis=2).min(axis=1))
+            continue
+        rad = np.linalg.norm(d - h0[..., None] * A[None, i:i + 200], axis=2)
+        inside = (h0 >= 0.0) & (h0 <= length) & (rad <= r)
+        out = np.hypot(np.maximum(rad - r, 0.0), h0 - h)
+        depth = np.minimum(np.minimum(r - rad, h0), length - h0)
+        best = np.minimum(best, np.where(inside, -depth, out).min(axis=1))
     return best
 
 
@@ -298,11 +310,45 @@ def test_flank_on_a_trimmed_face_reports_the_cut_of_the_face(tmp_path):
     assert max(cl["overcut"], cl["undercut"]) <= fit.error_bound + 1e-5, cl
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("r", [1.0, 3.0])
+def test_envelope_positions_on_a_bumped_twisted_face(tmp_path, r):
+    """Issue 72: a 15-degree twisted strip with a 0.05 Gaussian bump (tests/cases.bumped_twist), tools r = 1 and 3:
+    the envelope positions' overcut within the gouge tolerance by both of the report's measures and by this
+    file's own (OCCT's points inside the face against the APT's tool axes swept at 32 steps a move), or a
+    warning naming both figures; and never worse than the offset rulings by any of them."""
+    from cases import bumped_twist
+
+    from ruled.occ.io import faces_of, read_shape
+    src = str(tmp_path / "bump.step")
+    write_step(container_to_face(bumped_twist()), src)
+    P = _inside_points(faces_of(read_shape(src))[0], 40)
+    figs = {}
+    for pos in ("envelope", "offset"):
+        apt, rep, _ = run_cli(tmp_path, src, 0, "--flank", "--tool-radius", str(r), "--positions", pos, name=pos)
+        tip, axis = parse_apt(apt)
+        with open(apt) as fh:
+            length = float(next(ln for ln in fh if ln.startswith("CUTTER/")).split(",")[-1])
+        own = float(max(0.0, -_to_tool_axes(P, tip, axis, length, 32, r).min()))
+        oc = rep["overcut"]
+        assert oc["larger"] == max(oc["swept_tool"], oc["tool_envelope"])
+        figs[pos] = (oc["swept_tool"], oc["tool_envelope"], own, rep)
+    sw, en, own, rep = figs["envelope"]
+    gouge = rep["machine"]["positions"]["gouge_tol"]
+    said = [w for w in rep["warnings"] if "past the gouge tolerance" in w]
+    if max(sw, en) > gouge:
+        assert said and f"{sw:.3g}" in said[0] and f"{en:.3g}" in said[0], rep["warnings"]
+    else:
+        assert not said and own <= gouge * 1.02, (own, gouge)
+    for k in range(3):      # (the offset rulings cut into the bump's flanks several times deeper)
+        assert figs["envelope"][k] <= figs["offset"][k], (k, figs["envelope"][:3], figs["offset"][:3])
+
+
 def test_the_tool_envelope_counts_only_the_circles_kept():
     """tool_envelope's keep(s, t) on a twisted bilinear patch (its own design): keeping every circle is the
     whole measure; keeping none gives no cut and no samples; keeping the half of the tool from its tip
-    counts that half's circles only (9 of 17 per position, half way through the moves too), and its cut
-    is no deeper than the whole tool's."""
+    counts that half's circles only (9 of 17 per position, half way through the moves too, but the circles
+    past the patch's edges), and its cut is no deeper than the whole tool's."""
     from ruled.machine.envelope import tool_envelope
     from ruled.machine.flank import flank_path
     from ruled.machine.paths import MachineOptions
@@ -315,7 +361,9 @@ def test_the_tool_envelope_counts_only_the_circles_kept():
     none = tool_envelope(R, 1.0, path, keep=lambda s, t: np.zeros(s.shape, bool))
     assert none["samples"] == 0 and none["with_moves"]["overcut"] == none["with_moves"]["undercut"] == 0.0
     half = tool_envelope(R, 1.0, path, keep=lambda s, t: t <= 0.5)
-    assert whole["samples"] == 17 * rows and half["samples"] == 9 * rows
+    # (every circle counts but those whose deepest point lies past the patch's edge, its foot held there)
+    # (and the half is of each position's own line, the circles spaced along the tool's whole length)
+    assert 0.8 * 17 * rows <= whole["samples"] <= 17 * rows and 0.6 * 9 * rows <= half["samples"] <= 9 * rows
     assert whole["with_moves"]["overcut"] > 0
     for k in ("overcut", "undercut"):
         assert half["with_moves"][k] <= whole["with_moves"][k]

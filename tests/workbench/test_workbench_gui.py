@@ -385,7 +385,9 @@ def test_commands_and_the_export_panel(tmp_path):
     # what the panel says it wrote: the face against the tool swept through its moves, as its report has it
     said, rep = ex["flank"]["said"], json.load(open(mill + ".json"))
     assert "the tool swept through its moves overcuts the face by " in said, said
-    assert _length_after(said, "overcuts the face by ") == pytest.approx(rep["swept_tool"]["overcut"], rel=5e-4)
+    # (the larger of the report's two measures: the face against the swept tool, the tool's circles against it)
+    assert _length_after(said, "overcuts the face by ") == pytest.approx(rep["overcut"]["larger"], rel=5e-4)
+    assert rep["overcut"]["larger"] >= rep["swept_tool"]["overcut"]
     assert rep["swept_tool"]["overcut"] <= rep["machine"]["positions"]["gouge_tol"], rep["swept_tool"]
     # remembered: in FreeCAD's parameters, shown by the preferences page, and after a restart
     want = {"Format": "flank", "Units": "mm", "ChordTol": 0.01, "Kerf": 0.1, "Lead": 2.0, "Feed": 80.0,

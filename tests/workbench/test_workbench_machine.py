@@ -78,8 +78,12 @@ def test_export_for_machining_in_freecadcmd(tmp_path):
         return n
     assert count(TopAbs_FACE) == 1 and count(TopAbs_EDGE) > 20
     assert os.path.exists(tmp_path / "mill.csv")
-    env = json.loads((tmp_path / "mill.json").read_text())["tool_envelope"]["cl_positions"]
-    assert 0 < env["overcut"] < 0.3 and 0 < env["undercut"] < 0.3     # the twisted hyperboloid: reported
+    mill = json.loads((tmp_path / "mill.json").read_text())
+    env = mill["tool_envelope"]["with_moves"]      # the twisted hyperboloid: reported (the positions hold the
+    assert 0 < env["overcut"] < 0.3 and 0 < env["undercut"] < 0.3     # overcut at the CL points: it is between)
+    # the two measures' overcuts, the larger the figure, within the gouge tolerance (issue 72)
+    oc = mill["overcut"]
+    assert oc["larger"] == max(oc["swept_tool"], oc["tool_envelope"]) <= mill["machine"]["positions"]["gouge_tol"]
 
 
 BLADE = """
