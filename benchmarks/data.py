@@ -7,7 +7,6 @@ off the face's by more than 0.5 % while it is within 0.1 % of its size (issue 34
 
 from __future__ import annotations
 
-import glob
 import json
 import os
 import subprocess
@@ -19,15 +18,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tests"))
 
 
-def data_files() -> list:
-    """The CAD files of tests/data, and those of ../shared/data not copied there."""
-    own = sorted(glob.glob(os.path.join(ROOT, "tests", "data", "*.st*p")) +
-                 glob.glob(os.path.join(ROOT, "tests", "data", "*.brep")))
-    names = {os.path.basename(p) for p in own}
-    shared = os.path.join(os.path.dirname(ROOT), "shared", "data")
-    more = sorted(p for p in glob.glob(os.path.join(shared, "*")) if p.lower().endswith((".step", ".stp", ".brep"))
-                  and os.path.basename(p) not in names)
-    return own + more
+from sound_corpus import data_files  # noqa: E402 (the CAD files of tests/data and ../shared/data)
 
 
 def bench_data(jobs: int = 2, n: int = 12) -> int:

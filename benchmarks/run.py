@@ -1,7 +1,7 @@
 """Benchmarks: the full 2D fit, and the 4D-DP engine; per-stage times, peak memory, ratios to targets.
 
     .venv/bin/python benchmarks/run.py [--suite all|2d|4d|cos|cone|split|machine|trimmed|job|batch|fuzz|data|wall|wavy
-                                                |engine|census [--ends auto|pinned]]
+                                                |engine|census [--ends auto|pinned]|soundness [--count N]]
                                        [--against COMMIT (engine, job, batch)]
                                        [--n 50 100 200] [--surface ex2] [--no-numpy]
 
@@ -17,7 +17,8 @@ run: benchmarks/engine.py; the whole-part batch (--jobs 1 against
 face of the data files, re-measured by OCCT alone: benchmarks/data.py; every B-spline face fitted, its
 refusals and results that do not cover it counted (--suite census, not in all): benchmarks/census.py; a part's
 wall fitted closed: benchmarks/wall.py; trimmed faces with wavy boundaries counted (--suite wavy, not in
-all): benchmarks/wavy.py.
+all): benchmarks/wavy.py; the soundness corpus, every source's faces measured at 80 x 80 against their bounds
+(--suite soundness, not in all): benchmarks/soundness.py.
 The NumPy-only times (no numba, as in FreeCAD's Python) are printed too, from a subprocess with
 RULED_NO_NUMBA=1.
 
@@ -51,13 +52,14 @@ TARGET_MB = 400
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--suite", choices=["all", "2d", "4d", "cos", "cone", "split", "machine", "trimmed", "job",
-                                        "engine", "batch", "fuzz", "data", "census", "wall", "wavy"],
+                                        "engine", "batch", "fuzz", "data", "census", "wall", "wavy", "soundness"],
                     default="all")
     ap.add_argument("--slow", action="store_true", help="with --suite job: the closed 4D fit at n = 100 too")
     ap.add_argument("--against", metavar="COMMIT", help="with --suite engine, job or batch: a commit's figures beside "
                     "today's, in one run")
     ap.add_argument("--ends", choices=["auto", "pinned", "trimmed"], default="auto",
                     help="with --suite census: the fit's ends (pinned: the fit before issue 35)")
+    ap.add_argument("--count", type=int, default=40, help="with --suite soundness: the wavy and ruled faces each")
     ap.add_argument("--n", type=int, nargs="+", default=[50, 100, 200])
     ap.add_argument("--surface", choices=sorted(EXAMPLES), default="ex2")
     ap.add_argument("--repeat", type=int, default=3)
@@ -114,6 +116,9 @@ def main(argv=None) -> int:
     if args.suite == "census":
         from census import bench_census
         bench_census(args.ends)
+    if args.suite == "soundness":    # (not in all: an hour)
+        from soundness import bench_soundness
+        bad += bench_soundness(args.count)
     return 1 if bad else 0
 
 

@@ -211,10 +211,11 @@ def swept_blade_face(profile: int = 200, stations: int = 40):
     return BRepBuilderAPI_MakeFace(bs, 1e-7).Face()
 
 
-def ruled_sheet_face(hole: float = 0.0):
-    """A twisted sheet that is ruled exactly along v (z = 3 sin(3u) v + 2u^2 over 40 x 30), trimmed by a
-    wavy bottom, a sloping top and two v-lines; hole: the radius (in (u, v)) of a round hole at (0.45, 0.5),
-    or 0 for none.  Its ruled fit is within round-off of it (where it spans no hole)."""
+def ruled_sheet_face(hole: float = 0.0, curved: float = 0.0):
+    """A twisted sheet that is ruled exactly along v (z = 3 sin(3u) v + 2u^2 over 40 x 30, a bicubic), trimmed by a
+    wavy bottom, a sloping top and two v-lines (curved > 0: two sides bowed that far in u, four curved edges);
+    hole: the radius (in (u, v)) of a round hole at (0.45, 0.5), or 0 for none.  Its ruled fit is within
+    round-off of it (where it spans no hole)."""
     s, t = np.meshgrid(np.linspace(0, 1, 5), np.linspace(0, 1, 4), indexing="ij")
     S = bspline_surface(np.stack([40 * s, 30 * t, 3 * np.sin(3 * s) * t + 2 * s * s], -1),
                         [0, 0.5, 1], [4, 1, 4], [0, 1], [4, 4], 3, 3)
@@ -224,8 +225,13 @@ def ruled_sheet_face(hole: float = 0.0):
 
     def top(u):
         return 0.9 - 0.05 * u * u
-    loops = [[graph2d(0.05, 0.95, bot), curve2d([[0.95, bot(0.95)], [0.95, top(0.95)]]),
-              graph2d(0.05, 0.95, top, reverse=True), curve2d([[0.05, top(0.05)], [0.05, bot(0.05)]])]]
+    def side(u, a, b):          # from v = a to v = b at u, bowed by `curved` in u between
+        if not curved:
+            return curve2d([[u, a], [u, b]])
+        f = np.linspace(0.0, 1.0, 9)
+        return curve2d(np.stack([u + curved * np.sin(np.pi * f), a + (b - a) * f], 1))
+    loops = [[graph2d(0.05, 0.95, bot), side(0.95, bot(0.95), top(0.95)),
+              graph2d(0.05, 0.95, top, reverse=True), side(0.05, top(0.05), bot(0.05))]]
     if hole:
         a = np.linspace(0, 2 * np.pi, 25)
         loops.append([curve2d(np.stack([0.45 + hole * np.cos(-a), 0.5 + hole * np.sin(-a)], 1))])

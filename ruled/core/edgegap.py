@@ -42,7 +42,10 @@ def off_face(region, n: int = 257) -> float:
     (sampled at n points per edge): each point's distance to its closest point on the surface where that lies
     inside the face, else to the surface's image of the edge's pcurve.  An edge that strays off its pcurve but
     stays on the surface inside the face (a planar face's edge bowed inward) is on the face: what a result
-    within its bound of the face's surface must also come near is only how far the edges leave it."""
+    within its bound of the face's surface must also come near is only how far the edges leave it.  A foot
+    the classifier cannot tell from the boundary (Region.contains counts points within a hair of its polylines
+    inside, and their chords stray from a curved pcurve by their sagitta) takes the larger of the two: an edge
+    that strays off its pcurve along the surface, out of the face by less than that, is off the face."""
     cache = region.__dict__
     if "_off_face" in cache:
         return cache["_off_face"]
@@ -51,6 +54,9 @@ def off_face(region, n: int = 257) -> float:
     from ruled.core.distance import project_points
     from ruled.core.nearest import to_curve
     S = region.surface
+    u0, u1, v0, v1 = S.domain
+    b = S.derivative_bounds()
+    speed = max(float(b["Su"].max()), float(b["Sv"].max()))
     pairs = [(c, c3) for c, c3, bad in zip(region.loop, region.edges3d or (), region.degenerate)
              if c3 is not None and not bad]
     pairs += [(c, c3) for h, h3 in zip(region.holes, region.hole_edges3d) for c, c3 in zip(h, h3) if c3 is not None]
@@ -64,10 +70,45 @@ def off_face(region, n: int = 257) -> float:
         foot, d = project_points(S, X, uv[tree.query(X)[1]], 8, *region.closed)
         on = region.contains(foot) & np.isfinite(d)
         # off the face: to the edge's image on the surface itself (its polyline's chords would add their sagitta)
-        d[~on] = to_curve(X[~on], lambda x, c=c: S(*region.inside(c(x)).T), tp, P, tree) if (~on).any() else 0.0
+        image = to_curve(X, lambda x, c=c: S(*region.inside(c(x)).T), tp, P, tree)
+        # the band the classifier cannot decide in, in space: its hair and the polygon's chords' sagitta
+        t200 = np.linspace(c.domain[0], c.domain[1], 200)
+        q = c(t200)
+        sag = float(np.linalg.norm(c(0.5 * (t200[1:] + t200[:-1])) - 0.5 * (q[1:] + q[:-1]), axis=1).max())
+        band = 2.0 * (1e-7 * max(u1 - u0, v1 - v0) + sag) * speed
+        along = np.sqrt(np.maximum(image * image - np.where(np.isfinite(d), d, 0.0) ** 2, 0.0))
+        unsure = on & (along <= band)
+        if unsure.any():        # decided by the side of the pcurve itself the foot lies on
+            unsure[unsure] = ~_inner_side(region, lambda x, c=c: region.inside(c(x)), c.domain, foot[unsure])
+        d = np.where(on & ~unsure, d, image)
         worst = max(worst, float(d.max()))
     cache["_off_face"] = worst
     return worst
+
+
+def _inner_side(region, c, domain, uv: np.ndarray) -> np.ndarray:
+    """Whether each (u, v) point lies on the face's side of the pcurve c (t -> (u, v) in the surface's domain, on
+    `domain`) or on it: the sign of the cross product of c's tangent at its nearest point with the way to the
+    point, against the side a probe beside the middle of c lies on (Region.contains, far outside its hair)."""
+    from ruled.core.nearest import golden
+    t0, t1 = domain
+    ts = np.linspace(t0, t1, 2049)
+    Q = c(ts)
+    k = np.argmin(np.linalg.norm(uv[:, None, :] - Q[None], axis=2), axis=1)
+    lo, hi = ts[np.maximum(k - 1, 0)], ts[np.minimum(k + 1, ts.size - 1)]
+    t, _ = golden(lambda x: np.linalg.norm(c(x) - uv, axis=1), lo, hi, 60)
+    h = 1e-6 * (t1 - t0)
+    T = c(np.minimum(t + h, t1)) - c(np.maximum(t - h, t0))
+    w = uv - c(t)
+    cross = T[:, 0] * w[:, 1] - T[:, 1] * w[:, 0]
+    tm = 0.5 * (t0 + t1)
+    Tm = c(np.array([tm + h])) - c(np.array([tm - h]))
+    left = np.array([-Tm[0, 1], Tm[0, 0]]) / max(float(np.linalg.norm(Tm)), 1e-300)
+    u0, u1, v0, v1 = region.surface.domain
+    probe = c(np.array([tm]))[0] + 1e-4 * max(u1 - u0, v1 - v0) * left
+    side = 1.0 if bool(region.contains(probe[None])[0]) else -1.0
+    scale = 1e-12 * max(u1 - u0, v1 - v0)
+    return (side * cross >= 0.0) | (np.linalg.norm(w, axis=1) <= scale)
 
 
 __all__ = ["gap_of", "off_face"]

@@ -236,7 +236,6 @@ def measure_wall(faces, out_face, n: int = 40):
     return _replace(two_sided(pa, pb, to_wall, to_out), resolution=max([rb] + [r for _, r in got]))
 
 
-
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
     """The wall's one closed ruled surface (ruled.fit.wall.fit.fit_ring on the joined surface), built as one face
     and measured against the wall's faces, both ways."""
