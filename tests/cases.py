@@ -75,7 +75,7 @@ def bumped_twist(twist_deg: float = 15.0, bump: float = 0.05, sigma: float = 0.3
                  width: float = 1.0) -> Surface:
     """A twisted ruled strip (rulings `width` long across x, turning by twist_deg over `length`) with a Gaussian
     bump of height `bump` (standard deviation sigma in the unit parameters) along its normal in the middle: not
-    ruled (Bézier interpolant, degree 15 x 11)."""
+    ruled (Bézier interpolant, degree 10 x 8: within 4e-6 of it)."""
     def f(u, v):
         th = np.radians(twist_deg) * (u - 0.5)
         w = (v - 0.5) * width
@@ -83,7 +83,7 @@ def bumped_twist(twist_deg: float = 15.0, bump: float = 0.05, sigma: float = 0.3
         n = np.stack([np.zeros_like(u), -np.sin(th), np.cos(th)], axis=-1)
         g = bump * np.exp(-((u - 0.5) ** 2 + (v - 0.5) ** 2) / (2 * sigma ** 2))
         return P + g[..., None] * n
-    return bezier_interpolant(f, 16, 12)
+    return bezier_interpolant(f, 10, 8)
 
 
 def _cubic(P):

@@ -24,7 +24,8 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     circles at the ruling s and the fraction t along the tool for which it is true count (the tool over a
     trimmed face: its rulings run past the face, and what the tool does there is not a cut of the face).
     near (N, 3): points of the face as bounded by its edges, the feet's first guesses (S may run far past the
-    face: a trimmed fit's extended patch, whose nearest point to a wide tool's axis can lie out there).
+    face: a trimmed fit's extended patch, whose nearest point to a wide tool's axis can lie out there); a
+    circle counts only where its foot lies among them (within their spacing of one).
     The circles run along the tool's whole cutting length at every position (path.flute)."""
     from ruled.core.distance import project_points
     lo, hi, us = path.lower, path.upper, np.asarray(path.u, float)
@@ -45,13 +46,15 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
     A = np.repeat(a, slices, axis=0)
     rho = (path.radius + t * Lx[:, None] * math.tan(math.radians(path.taper_deg))).ravel()
     cu, cv = S.periodic_u, S.periodic_v
-    if near is not None and len(near) > 1:
+    tree = None
+    if near is not None and len(near) > 5:
         # seeded from the face's points (S may run far past the face: a trimmed fit's extended patch, whose
         # nearest point to a wide tool's axis can lie out there)
         from scipy.spatial import cKDTree
         near = np.asarray(near, float)
+        tree = cKDTree(near)
         uv_near, _ = project_points(S, near, _seeds(S, near), iters=8, closed_u=cu, closed_v=cv)
-        uv = uv_near[cKDTree(near).query(C)[1]]
+        uv = uv_near[tree.query(C)[1]]
     else:
         uv = _seeds(S, C)
     uv, _ = project_points(S, C, uv, iters=8, closed_u=cu, closed_v=cv)
@@ -79,7 +82,13 @@ def tool_envelope(S: Surface, side: float, path: MachinePath, slices: int = 17, 
         held |= (uv[:, 0] <= u0 + eu) | (uv[:, 0] >= u1 - eu)
     if not cv:
         held |= (uv[:, 1] <= v0 + ev) | (uv[:, 1] >= v1 - ev)
-    orthogonal = (~held | (tang <= 0.2 * np.abs(sd) + 1e-7 * S.diagonal())).reshape(-1, slices)
+    orthogonal = (~held | (tang <= 1e-3 * np.abs(sd) + 1e-7 * S.diagonal())).reshape(-1, slices)
+    if tree is not None:
+        # a foot out on the extended patch, away from the face's points (a circle whose deepest point went
+        # sideways, its axis along the normal there), is no point of the face: within the points' spacing
+        # (their fourth neighbours': a grid's coarser direction too) of one of them
+        reach = float(tree.query(near, k=5)[0][:, 4].max())
+        orthogonal &= (tree.query(D.P)[0] <= reach).reshape(orthogonal.shape)
     sd = sd.reshape(-1, slices)
     if progress:
         progress("tool envelope", 1.0)

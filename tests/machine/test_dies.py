@@ -148,7 +148,9 @@ def test_each_wall_is_fitted_within_its_bound_and_its_distance_from_ruled(parts,
     # issue 72: the report's measure samples the rulings through the contours' corners densely (the punch's
     # corner ruling is the farthest from its wall, 0.1308: the measure's grid missed it, 0.104)
     corners = _corner_rulings([design[i] for i in faces], result[0])
-    assert corners <= rep["error_bound"] and rep["hausdorff"]["max"] >= 0.95 * corners, (corners, rep["hausdorff"])
+    assert corners <= rep["error_bound"], (corners, rep["error_bound"])
+    if corners > 1e-9 * size:       # (an exactly ruled wall: both round-off)
+        assert rep["hausdorff"]["max"] >= 0.95 * corners, (corners, rep["hausdorff"])
     if exact:
         assert rep["error_bound"] <= 1e-6 * size and measured <= 1e-6 * size
     else:

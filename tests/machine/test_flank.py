@@ -325,7 +325,8 @@ def test_envelope_positions_on_a_bumped_twisted_face(tmp_path, r):
     P = _inside_points(faces_of(read_shape(src))[0], 40)
     figs = {}
     for pos in ("envelope", "offset"):
-        apt, rep, _ = run_cli(tmp_path, src, 0, "--flank", "--tool-radius", str(r), "--positions", pos, name=pos)
+        apt, rep, _ = run_cli(tmp_path, src, 0, "--flank", "--tool-radius", str(r), "--positions", pos,
+                              "--samples", "20", "--measure-samples", "20", name=pos)
         tip, axis = parse_apt(apt)
         with open(apt) as fh:
             length = float(next(ln for ln in fh if ln.startswith("CUTTER/")).split(",")[-1])
