@@ -106,25 +106,18 @@ def test_a_curved_trimmed_face_whose_edges_lie_off_it_is_bound_above_the_dense_m
 
 
 @pytest.mark.parametrize("curved", [0.0, 0.03])
-def test_an_exactly_ruled_bicubic_trimmed_by_curved_edges_is_its_own_surface_tightly_bound(curved):
-    """Issue 72: the twisted sheet of ruled_sheet_face is a bicubic whose columns of poles are lines' own
-    representations (linear along v); trimmed by four curved edges (curved: its sides bowed too), its fit is
-    that surface, reduced to degree 1 along v, trimmed by the face's edges: measured (OCCT, 40 x 40 and its edges,
-    both ways) within 1e-6 of its size, the bound within 10x of the measure (before: 1.47e-5 bound, 1.07e-5
-    measured, a rebuilt rail's tolerance)."""
+def test_an_exactly_ruled_face_trimmed_by_curved_edges_is_bound_above_the_dense_measure(curved):
+    """Issue 72 (its first case: a trimmed exactly ruled face with four curved edges was refused, measured above
+    its bound): the twisted sheet of ruled_sheet_face, its edges curved (curved: its sides bowed too), the 3D
+    edges OCCT built within 1e-5 of their pcurves: the bound is at least the dense measure (OCCT, 40 x 40 of each
+    face and along their edges, both ways), which is within 1e-6 of the size, and within 10x of it (before: an
+    edge straying off its pcurve along the surface, out of the face, was counted on it, bound 4.16e-6 against
+    5.48e-6 measured)."""
     from trimmed_faces import ruled_sheet_face
 
-    from ruled.fit.face.trimfit import linear_along_v
     from ruled.occ.measure import hausdorff
-    face = ruled_sheet_face(curved=curved)
-    region = face_region(face)
-    reduced, off = linear_along_v(region.surface, 50.0)
-    uu, vv = np.meshgrid(np.linspace(0, 1, 23), np.linspace(0, 1, 19), indexing="ij")
-    assert reduced.degree_v == 1 and off <= 1e-12 * 50.0
-    assert np.abs(reduced(uu.ravel(), vv.ravel()) - region.surface(uu.ravel(), vv.ravel())).max() <= 1e-11
-    fit = rcq.fit_face(face, measure_samples=20)
+    fit = rcq.fit_face(ruled_sheet_face(curved=curved), measure_samples=20)
     size = fit.result.patch.face_size
-    assert fit.result.patch.own and fit.result.best.trim is not None
-    h = hausdorff(face, fit.job.face, 40)
+    h = hausdorff(ruled_sheet_face(curved=curved), fit.job.face, 40)
     assert h.max <= 1e-6 * size and fit.hausdorff.max <= fit.error_bound, (h, size)
     assert h.max <= fit.error_bound <= max(10.0 * h.max, 1e-9 * size), (fit.error_bound, h.max)

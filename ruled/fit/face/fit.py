@@ -261,8 +261,7 @@ def _fit_region(region: Region, opts: FitOptions, progress: Progress, rails: Opt
     # only raises it) decide where they can; its final, compacted fit is made where it is the result or the
     # decision needs its final bound
     pinned = None if lazy is None else lazy.lower
-    # (a surface linear along its iso lines in a higher degree: its own trimmed, where the ends are free)
-    own = own_patch(region, region_size(region), opts.ends == Ends.PINNED) if rails is None else None
+    own = own_patch(region, region_size(region)) if rails is None else None
     if own is not None:
         got, _ = fit_patch(own, opts, progress)
         # within the file's own edge tolerance both are as exact as the file allows: the own surface needs no map

@@ -88,40 +88,11 @@ def _trimmed_open(region: Region) -> bool:
     return not (region.is_rectangle() or any(region.closed) or any(region.seams) or S.periodic_u or S.periodic_v)
 
 
-LINEAR_TOL = 1e-12       # poles off a line's exact representation by at most this fraction of the face's size
-
-
-def linear_along_v(S: Surface, size: float) -> Optional[tuple]:
-    """(S with degree 1 and two poles along v, the largest distance between their points), where S is exactly
-    linear along v in a higher degree or more spans (each column of poles a line's own representation: the
-    poles at the Greville abscissae of the line between its ends, the weights constant along it; a ruled
-    surface an exporter wrote as a bicubic, a loft's degree raised): the two differ by at most how far a pole
-    lies off that representation (the weights alike, a point is an affine combination of the pole
-    differences with positive coefficients summing to one); None otherwise."""
-    p, m = S.degree_v, S.poles.shape[1]
-    if p == 1 and m == 2:
-        return None
-    v0, v1 = S.domain[2], S.domain[3]
-    g = np.array([np.mean(S.knots_v[j + 1:j + p + 1]) for j in range(m)])
-    g = (g - v0) / (v1 - v0)
-    A, B = S.poles[:, :1], S.poles[:, -1:]
-    off = float(np.max(np.linalg.norm(S.poles - (A + g[None, :, None] * (B - A)), axis=2)))
-    if off > LINEAR_TOL * size:
-        return None
-    W = None
-    if S.weights is not None:
-        if np.max(np.ptp(S.weights, axis=1) / np.max(S.weights, axis=1)) > 1e-14:
-            return None
-        W = S.weights[:, [0, -1]]
-    return Surface(S.poles[:, [0, -1]], S.knots_u, np.array([v0, v0, v1, v1]), S.degree_u, 1, W), off
-
-
-def own_patch(region: Region, size: float, exact_only: bool = False) -> Optional[FacePatch]:
+def own_patch(region: Region, size: float) -> Optional[FacePatch]:
     """The face's own surface, whole, as the patch, when it is exactly ruled along its iso lines (one
-    span of degree 1 across them: a plane, a cylinder's or a cone's face, a bilinear patch; unless exact_only,
-    also a surface exactly linear along its iso lines in a higher degree, linear_along_v, reduced to that) and
-    the face is a trimmed region of it: the fit recovers the surface, and the result is it trimmed by the face's
-    own edges (no four-sided map of the face is needed).  Oriented so that the rulings run along v, on the
+    span of degree 1 across them: a plane, a cylinder's or a cone's face, a bilinear patch) and the face is
+    a trimmed region of it: the fit recovers the surface, and the result is it trimmed by the face's own
+    edges (no four-sided map of the face is needed).  Oriented so that the rulings run along v, on the
     unit square; None otherwise (or where the face runs past the surface's domain)."""
     S = region.surface
     if not _trimmed_open(region):
@@ -130,14 +101,6 @@ def own_patch(region: Region, size: float, exact_only: bool = False) -> Optional
         return box_patch(region, size, False, True)
     if S.degree_u == 1 and S.poles.shape[0] == 2:
         return box_patch(region, size, True, True)
-    if exact_only:
-        return None
-    for swap in (False, True):
-        got = linear_along_v(S.transposed() if swap else S, size)
-        if got is not None:
-            R, off = got
-            p = box_patch(replace(region, surface=R.transposed() if swap else R), size, swap, True)
-            return None if p is None else replace(p, deviation=p.deviation + off)
     return None
 
 
