@@ -85,6 +85,7 @@ def test_the_extra_samples_are_the_bowed_edges_and_rows_inward_of_the_sides(way)
     assert np.all(np.min(np.abs(frac[:, None] - np.array([0.5, 0.25])[None]), axis=1) <= 2e-3), frac
 
 
+@pytest.mark.slow
 def test_a_curved_trimmed_face_whose_edges_lie_off_it_is_bound_above_the_dense_measure():
     """Issue 72: the exactly ruled twisted sheet of tests/trimmed_faces.ruled_sheet_face (trimmed by four edges,
     the bottom wavy), all four edges' 3D curves bowed 5e-3 off its surface within their tolerance 1e-2 (as real
@@ -105,6 +106,7 @@ def test_a_curved_trimmed_face_whose_edges_lie_off_it_is_bound_above_the_dense_m
     assert fit.hausdorff.max <= fit.error_bound <= 2.5 * off, (fit.hausdorff, fit.error_bound)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("curved", [0.0, 0.03])
 def test_an_exactly_ruled_face_trimmed_by_curved_edges_is_bound_above_the_dense_measure(curved):
     """Issue 72 (its first case: a trimmed exactly ruled face with four curved edges was refused, measured above
