@@ -67,7 +67,7 @@ def cutter(path, units: str = "mm", corner_radius: float = 0.0) -> tuple:
     if r > 0.5 * d:
         raise BadInputError(f"the corner radius «corner_radius={corner_radius:g}» is larger than the tool's radius "
                             f"{path.radius:g}")
-    h = float(np.linalg.norm(path.upper - path.lower, axis=1).max()) * k
+    h = path.flute * k
     return d, r, 0.5 * d - r, r, 0.0, path.taper_deg, h
 
 

@@ -266,7 +266,12 @@ class MachinePath:
     def flute(self) -> float:
         """The longest line (flank: the tool's cutting length, the APT CUTTER's h: the real tool is this long at
         every position, not only as long as its ruling there)."""
-        return float(np.linalg.norm(self.upper - self.lower, axis=1).max())
+        return flute_of(self.lower, self.upper)
+
+
+def flute_of(lower: np.ndarray, upper: np.ndarray) -> float:
+    """The longest of the lines between the stations' lower and upper points (flank: the tool's cutting length)."""
+    return float(np.linalg.norm(upper - lower, axis=1).max())
 
 
 def _where(u, P) -> str:

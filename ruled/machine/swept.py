@@ -20,7 +20,7 @@ from typing import Callable, Protocol
 import numpy as np
 
 from ruled.core.nearest import golden
-from ruled.machine.paths import MachinePath
+from ruled.machine.paths import MachinePath, flute_of
 from ruled.machine.sync import tool_between
 
 # the tool's side counts this fraction of its length past its two ends (the face's rails lie at its ends)
@@ -54,7 +54,7 @@ class Tool:
     @property
     def flute(self) -> float:
         """The tool's cutting length: its longest position's."""
-        return float(np.linalg.norm(self.upper - self.lower, axis=1).max())
+        return flute_of(self.lower, self.upper)
 
 
 def tool_positions(path: Stations, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
