@@ -42,7 +42,9 @@ def _polylines(face, per_edge: int = 256):
 
 def classifier(face) -> PolygonClassifier:
     """Which (u, v) are inside the face: its pcurves' polylines, Part's isPartOfDomain near them."""
-    return PolygonClassifier(lambda: _polylines(face), face_bounds(face), face.isPartOfDomain)
+    S = face.Surface
+    periods = (S.UPeriod() if S.isUPeriodic() else 0.0, S.VPeriod() if S.isVPeriodic() else 0.0)
+    return PolygonClassifier(lambda: _polylines(face), face_bounds(face), face.isPartOfDomain, periods)
 
 
 def _inside(face, n: int) -> tuple:

@@ -158,8 +158,9 @@ class PolygonClassifier:
     12 x 12 grid of the bounds, against the host).  polylines: a function giving them (or None), called
     on the first question about more than a few points."""
 
-    def __init__(self, polylines, bounds, exact):
+    def __init__(self, polylines, bounds, exact, periods=(0.0, 0.0)):
         self.exact, self.bounds, self._polylines = exact, bounds, polylines
+        self.periods = tuple(float(p or 0.0) for p in periods)
         u0, u1, v0, v1 = bounds
         self.scale = np.array([max(u1 - u0, 1e-300), max(v1 - v0, 1e-300)])
         self._built = False
@@ -185,7 +186,23 @@ class PolygonClassifier:
         if (self._poly_grid(us, vs) != self._exact_grid(us, vs)).any():
             self.P = None
 
+    def wrap(self, uv: np.ndarray) -> np.ndarray:
+        """uv (N, 2) with each coordinate of a periodic direction that lies outside the face's bounds moved by
+        whole periods into them: a local search on a periodic surface returns its foot in any period (a band
+        round the seam, its bounds [a0, a0 + period), has points inside it at u < a0)."""
+        uv = np.array(uv, float).reshape(-1, 2)
+        for ax, per in enumerate(self.periods):
+            if per > 0.0:
+                lo, hi = self.bounds[2 * ax], self.bounds[2 * ax + 1]
+                x = uv[:, ax]
+                tol = 1e-12 * per
+                out = (x < lo - tol) | (x > hi + tol)
+                x[out] = lo + np.mod(x[out] - lo, per)
+        return uv
+
     def __call__(self, u, v) -> bool:
+        if any(self.periods):
+            u, v = self.wrap(np.array([[u, v]], float))[0]
         return bool(self.exact(float(u), float(v)))
 
     def _exact_grid(self, us, vs) -> np.ndarray:
@@ -236,7 +253,7 @@ class PolygonClassifier:
 
     def points(self, uv: np.ndarray) -> np.ndarray:
         """Booleans for scattered points uv (N, 2)."""
-        uv = np.asarray(uv, float).reshape(-1, 2)
+        uv = self.wrap(uv) if any(self.periods) else np.asarray(uv, float).reshape(-1, 2)
         if len(uv) > 64:
             self._build()
         if self.P is None or len(uv) <= 64:

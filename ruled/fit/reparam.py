@@ -86,8 +86,12 @@ def _space(breaks: np.ndarray, mult: np.ndarray, p: int, closed: bool):
         flat = np.repeat(breaks, mult)
         n = flat.size
         if n < p + 1:
-            # too few spans for a periodic space: add uniform breaks
-            return None
+            # too few spans for a periodic space: uniform breaks added between the given ones
+            extra = np.linspace(0.0, 1.0, p + 2)[1:-1]
+            extra = extra[np.min(np.abs(extra[:, None] - breaks[None, :]), axis=1) > 1e-3]
+            order = np.argsort(np.concatenate([breaks, extra]), kind="stable")
+            return _space(np.concatenate([breaks, extra])[order],
+                          np.concatenate([mult, np.ones(extra.size, int)])[order], p, closed)
         knots = np.concatenate([flat[n - p:] - 1.0, flat, flat[: p + 1] + 1.0])
         return knots, n
     flat = np.repeat(breaks, mult)

@@ -147,7 +147,9 @@ def _classifier(face) -> PolygonClassifier:
 
     def exact(u, v) -> bool:
         return cls.Perform(gp_Pnt2d(u, v)) in (TopAbs_State.TopAbs_IN, TopAbs_State.TopAbs_ON)
-    return PolygonClassifier(lambda: _boundary_polygon(face), face_bounds(face), exact)
+    surf = BRep_Tool.Surface_s(face)
+    periods = (surf.UPeriod() if surf.IsUPeriodic() else 0.0, surf.VPeriod() if surf.IsVPeriodic() else 0.0)
+    return PolygonClassifier(lambda: _boundary_polygon(face), face_bounds(face), exact, periods)
 
 
 def _crease_knots(surf, bounds) -> tuple:
@@ -243,11 +245,23 @@ class _Projector:
         if self._local is None:
             from scipy.spatial import cKDTree
             pts, uv = interior_grid(self.face, SEED_GRID, self.inside)
-            adaptor = GeomAdaptor_Surface(self.surf, self.u0, self.u1, self.v0, self.v1)
+            adaptor = GeomAdaptor_Surface(self.surf, *self._search_bounds(self.u0, self.u1, self.v0, self.v1))
             self._local = (adaptor, Extrema_GenLocateExtPS(adaptor, 1e-10, 1e-10),
                            cKDTree(pts) if len(pts) else None, uv,
                            cKDTree(self.edge_pts) if len(self.edge_pts) else None)
         return self._local
+
+    def _search_bounds(self, a, b, c, d) -> tuple:
+        """A local search's (u, v) bounds: (a, b, c, d), reaching half a period past the face's own bounds in a
+        periodic direction (a search held at the face's seam stops there short of a foot just across it; its
+        foot is brought back by the classifier's wrap)."""
+        per = self.inside.periods
+        half = (0.5 * per[0], 0.5 * per[1])
+        a = a - half[0] if a <= self.u0 else a
+        b = b + half[0] if b >= self.u1 else b
+        c = c - half[1] if c <= self.v0 else c
+        d = d + half[1] if d >= self.v1 else d
+        return a, b, c, d
 
     def _pieces(self) -> list:
         """The face's smooth pieces between its creases (none without creases): for each, OCCT's local
@@ -269,7 +283,7 @@ class _Projector:
                             continue
                         uv = np.stack([us[iu], vs[iv]], axis=1)
                         pts = np.array([_p3(self.surf.Value(float(u), float(v))) for u, v in uv])
-                        ad = GeomAdaptor_Surface(self.surf, a, b, c, d)
+                        ad = GeomAdaptor_Surface(self.surf, *self._search_bounds(a, b, c, d))
                         self._piece_cache.append((Extrema_GenLocateExtPS(ad, 1e-10, 1e-10), cKDTree(pts), uv, ad))
         return [(loc, tree, uv) for loc, tree, uv, _ in self._piece_cache]
 

@@ -131,7 +131,7 @@ def _corner_rulings(wall: list, result, n: int = 400) -> float:
     return worst
 
 
-@pytest.mark.parametrize("name", list(PARTS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if "star" in n else n for n in PARTS])
 def test_each_wall_is_fitted_within_its_bound_and_its_distance_from_ruled(parts, name):
     from ruled.occ.io import faces_of, read_shape
     paths, d = parts

@@ -93,6 +93,7 @@ SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow     # (29 s: the loop stays under 3 minutes; CI runs it)
 def test_ruled_fit_object_in_freecadcmd(tmp_path):
     step = data_file("kj66_impeller.step")
     out = tmp_path / "out.json"

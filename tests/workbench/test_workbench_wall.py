@@ -36,6 +36,7 @@ out["bad"] = {k: [o.isValid(), o.Status] for k, o in bad.items()}
 """
 
 
+@pytest.mark.slow     # (11 s: the loop stays under 3 minutes; CI runs it)
 def test_a_wall_read_by_freecad_is_the_command_lines(tmp_path):
     from wall_parts import airfoil_loft, square_to_circle, tapered_extrusion
 

@@ -103,12 +103,17 @@ def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int 
             return max(both, float(es.max()), float(et.max()))
         d = None if refine else deviation()
         if not refine and d <= tol:
-            return SideSurface(side, d, (bs.size - 1, bt.size - 1))
+            # accepted at three points a span: the deviation between them, bounded on a denser grid (a kink of
+            # the map or the surface between the sites can hold twice what they show)
+            d, bad_s, bad_t = deviation_bound(S, strip, side, bs, bt, tol)
+            if d <= tol:
+                return SideSurface(side, d, (bs.size - 1, bt.size - 1))
+            refine = bad_s.any() or bad_t.any()
         if not refine:
             bad_s[:] = True
             bad_t[:] = True
         if max(bs.size - 1 + bad_s.sum(), bt.size - 1 + bad_t.sum()) > max_spans:
-            d = deviation() if d is None else d
+            d = deviation_bound(S, strip, side, bs, bt, 0.5 * tol)[0]
             if d <= max(tol, accept or 0.0):
                 return SideSurface(side, d, (bs.size - 1, bt.size - 1))
             raise BadInputError(f"the {strip.name} could not be interpolated within {tol:.3g} with "
@@ -119,15 +124,52 @@ def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int 
             bt = np.unique(np.concatenate([bt, 0.5 * (bt[:-1] + bt[1:])[bad_t]]))
 
 
-def dense_deviation(S: Surface, strip, P: Surface, per_span: int = 8) -> float:
-    """The largest distance between a sampled surface P (side_surface's) and its target S o Omega on a grid of
-    per_span points across each of P's spans, both ways, its sides included: denser than side_surface's own
-    estimate (three points a span), which can miss a quarter of the deviation (an airfoil's leading edge)."""
-    def grid(knots):
-        k = np.unique(knots)
-        return np.unique(np.concatenate([np.linspace(a, b, per_span + 1) for a, b in zip(k[:-1], k[1:])]))
-    ss, tt = np.meshgrid(grid(P.knots_u), grid(P.knots_v), indexing="ij")
-    return float(np.linalg.norm(_target(S, strip, ss, tt) - P(ss.ravel(), tt.ravel()), axis=1).max())
+PER_SPAN = 4        # the deviation bound's grid: points across each span of the sampled surface
+REMAINDER_SAFETY = 2.0   # the second differences' estimate of the second derivatives, doubled
 
 
-__all__ = ["DEGREE", "SideSurface", "side_surface", "dense_deviation"]
+def _span_grid(breaks: np.ndarray, per_span: int) -> tuple:
+    """(grid, span of each grid cell) of per_span cells across each span between breaks."""
+    g = np.concatenate([np.linspace(a, b, per_span + 1)[:-1] for a, b in zip(breaks[:-1], breaks[1:])] + [breaks[-1:]])
+    return g, np.repeat(np.arange(breaks.size - 1), per_span)
+
+
+def _second(E: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """|second differences| of E (n, m, 3) along its first axis on the grid of steps h (n - 1), per node
+    (the end nodes take their neighbour's)."""
+    D = np.diff(E, axis=0) / h[:, None, None]
+    d2 = np.linalg.norm(2.0 * np.diff(D, axis=0) / (h[:-1] + h[1:])[:, None, None], axis=-1)
+    if d2.shape[0] == 0:
+        return np.zeros(E.shape[:2])
+    return np.concatenate([d2[:1], d2, d2[-1:]], axis=0)
+
+
+def deviation_bound(S: Surface, strip, P: Surface, bs: np.ndarray, bt: np.ndarray, flag: float,
+                    per_span: int = PER_SPAN) -> tuple:
+    """(bound, bad_s, bad_t): the largest distance between the sampled surface P and its target S o Omega (+ the
+    map's offset) over the unit square, bounded cell by cell on a grid of per_span cells across each of P's spans
+    (breaks bs, bt): the largest at the cell's corners plus the bilinear interpolation remainder
+    (h_s^2 M_ss + h_t^2 M_tt) / 8 of the difference, its second derivatives M estimated by the grid's second
+    differences (REMAINDER_SAFETY times the largest at the cell's corners: a kink between two nodes shows as
+    a second difference of its jump over the step).  bad_s / bad_t: the spans whose cells exceed flag."""
+    gs, cs = _span_grid(bs, per_span)
+    gt, ct = _span_grid(bt, per_span)
+    ss, tt = np.meshgrid(gs, gt, indexing="ij")
+    E = (_target(S, strip, ss, tt) - P(ss.ravel(), tt.ravel())).reshape(gs.size, gt.size, 3)
+    n = np.linalg.norm(E, axis=-1)
+    hs, ht = np.diff(gs), np.diff(gt)
+    Ms = _second(E, hs)
+    Mt = _second(np.transpose(E, (1, 0, 2)), ht).T
+
+    def corners(A):      # the largest of a node array over each cell's four corners
+        return np.maximum(np.maximum(A[:-1, :-1], A[1:, :-1]), np.maximum(A[:-1, 1:], A[1:, 1:]))
+    cell = corners(n) + REMAINDER_SAFETY * (hs[:, None] ** 2 * corners(Ms) + ht[None, :] ** 2 * corners(Mt)) / 8.0
+    bad = cell > flag
+    bad_s = np.zeros(bs.size - 1, bool)
+    bad_t = np.zeros(bt.size - 1, bool)
+    np.logical_or.at(bad_s, cs, bad.any(axis=1))
+    np.logical_or.at(bad_t, ct, bad.any(axis=0))
+    return float(cell.max()), bad_s, bad_t
+
+
+__all__ = ["DEGREE", "SideSurface", "side_surface", "deviation_bound"]

@@ -55,22 +55,15 @@ def contour_patch(region: Region, bottom, top, name=""):
     """The face as the sampled Coons patch of its contour sides (ruled.fit.face.patch.FacePatch: its surface
     runs along s from side 3 to side 1 and along t from the bottom contour to the top one, its deviation
     from the bounded face).  Refused in one line where the map folds."""
-    from dataclasses import replace
-
     from ruled.fit.face.coons import coons_map
-    from ruled.fit.face.fit import EDGE_MARGIN, sided_patch
-    from ruled.fit.face.sampled import dense_deviation
+    from ruled.fit.face.fit import sided_patch
     sides = contour_sides(region, bottom, top, name)
     try:
-        m = coons_map(region, sides)
-        fp = sided_patch(region, sides, m)
+        # (the sampled patch's deviation is bounded cell by cell on a dense grid: ruled.fit.face.sampled)
+        return sided_patch(region, sides, coons_map(region, sides))
     except DegenerateFaceError as exc:
         raise BadInputError(f"face {name} of the wall cannot be mapped from its bottom contour edges to its top "
                             f"ones ({exc}); fit it alone («one_face»)") from None
-    # the sampled patch's deviation, checked again on a denser grid (a wall's joined surface has no
-    # second chance: its bound is the fit's on it plus this)
-    dense = EDGE_MARGIN * dense_deviation(region.surface, m, fp.surface) + fp.edge_gap + fp.hole_span
-    return replace(fp, deviation=max(fp.deviation, dense))
 
 
 __all__ = ["contour_sides", "contour_patch"]
