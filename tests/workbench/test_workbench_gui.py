@@ -37,6 +37,7 @@ def run_gui(script: str, home, screen: str = "1280x1024", **env_more):
     return run
 
 
+@pytest.mark.slow     # (13 s: the loop stays under 3 minutes; CI runs it)
 def test_the_workbench_in_the_gui(tmp_path):
     """The quick GUI check (the loop while you work): the workbench activates, its toolbar holds every
     command, none enabled with nothing selected (a real click on a greyed one says why in the status bar), and a

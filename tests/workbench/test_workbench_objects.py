@@ -212,6 +212,7 @@ def test_bad_input_parametric_and_undo(made):
     assert n_after == n_before - 1 and gone and redone
 
 
+@pytest.mark.slow     # (9 s: the loop stays under 3 minutes; CI runs it)
 def test_reopen_in_a_fresh_freecadcmd(made):
     tmp, path, r, _ = made
     home = tmp / "home"

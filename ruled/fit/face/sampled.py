@@ -87,6 +87,7 @@ def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int 
     def dev(side, ss, tt):
         return np.linalg.norm(_target(S, strip, ss, tt) - side(ss.ravel(), tt.ravel()), axis=1).reshape(ss.shape)
 
+    rounds_on_bound = 0
     while True:
         ks, kt = _clamped(bs, DEGREE), _clamped(bt, DEGREE)
         side = _solve_grid(S, strip, ks, kt)
@@ -106,8 +107,12 @@ def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int 
             # accepted at three points a span: the deviation between them, bounded on a denser grid (a kink of
             # the map or the surface between the sites can hold twice what they show)
             d, bad_s, bad_t = deviation_bound(S, strip, side, bs, bt, tol)
-            if d <= tol:
+            # one round of refinement where the bound is above the tolerance, no more: at a kink of the target
+            # each round only halves the remainder, and the finer spans raise the patch's derivative bounds
+            # (the certificate's remainders) by more than the deviation gains
+            if d <= tol or (rounds_on_bound >= BOUND_ROUNDS and d <= max(tol, accept or 0.0)):
                 return SideSurface(side, d, (bs.size - 1, bt.size - 1))
+            rounds_on_bound += 1
             refine = bad_s.any() or bad_t.any()
         if not refine:
             bad_s[:] = True
@@ -124,6 +129,7 @@ def side_surface(S: Surface, strip, tol: Optional[float] = None, max_spans: int 
             bt = np.unique(np.concatenate([bt, 0.5 * (bt[:-1] + bt[1:])[bad_t]]))
 
 
+BOUND_ROUNDS = 1    # refinement rounds driven by the deviation bound (beyond them a bound up to ``accept`` is kept)
 PER_SPAN = 4        # the deviation bound's grid: points across each span of the sampled surface
 REMAINDER_SAFETY = 2.0   # the second differences' estimate of the second derivatives, doubled
 
