@@ -43,6 +43,7 @@ SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow     # (14 s: the loop stays under 3 minutes; CI runs it)
 def test_export_for_machining_in_freecadcmd(tmp_path):
     from cases import hyperboloid
     from conftest import HERE

@@ -160,6 +160,7 @@ def test_fit_to_tolerance(made):
     assert 0 < p["h"] <= p["bound"] * (1 + 1e-6)
 
 
+@pytest.mark.slow     # (the module's FreeCAD document takes 20 s: the loop stays under 3 minutes; CI runs it)
 def test_cone_spline_of_a_face_and_of_a_fit(made):
     """The cone's own face: three exact cone patches sewn into one shell; the cone spline of a RuledFit
     adds the fit's bound to its own."""
@@ -173,6 +174,7 @@ def test_cone_spline_of_a_face_and_of_a_fit(made):
     assert f["bound"] == pytest.approx(f["fit"] + f["cone"]) and f["h"] <= f["bound"]
 
 
+@pytest.mark.slow     # (the module's FreeCAD document takes 20 s: the loop stays under 3 minutes; CI runs it)
 def test_curve_on_face_from_a_sketch_and_from_points(made):
     """Both curves lie on the face (FreeCAD's own distance), within their certified bound of the exact
     image, and the picked points' curve (smooth through them) passes within that bound of them."""
@@ -186,6 +188,7 @@ def test_curve_on_face_from_a_sketch_and_from_points(made):
     assert r["points"]["through"] <= r["points"]["bound"]     # the exact image passes through them
 
 
+@pytest.mark.slow     # (the module's FreeCAD document takes 20 s: the loop stays under 3 minutes; CI runs it)
 def test_bad_input_parametric_and_undo(made):
     _, _, r, log = made
     (tol0, not_ruled, no_curve, outside, edge, leaves) = r["bad"]
