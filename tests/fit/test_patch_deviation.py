@@ -1,6 +1,7 @@
-"""The sampled patch's deviation term alone (issue 72): ruled.fit.face.sampled.deviation_bound, the bound the
-patch a face is fitted on carries into the certified bound, is never below the deviation itself measured by brute
-force on a grid six times as dense; and three points a span (the sampling's own estimate) can miss what it holds."""
+"""The sampled patch's deviation term alone (issue 72): the patch a face is fitted on (its own parametrization
+sampled into a bicubic spline, ruled.fit.face.sampled.side_surface) carries its deviation from the face into the
+certified bound, taken at eight points a span (ruled.fit.face.sampled.dense_deviation): within 10 % of a brute
+force four times as dense, and above what three points a span (the sampling's own check) find."""
 
 from __future__ import annotations
 
@@ -26,22 +27,15 @@ def _patch(key: str):
     return region, m, size
 
 
-def _brute(S, m, P, per_span: int) -> float:
-    from ruled.fit.face.sampled import _span_grid, _target
-    gs, _ = _span_grid(np.unique(P.knots_u), per_span)
-    gt, _ = _span_grid(np.unique(P.knots_v), per_span)
-    ss, tt = np.meshgrid(gs, gt, indexing="ij")
-    return float(np.linalg.norm(_target(S, m, ss, tt) - P(ss.ravel(), tt.ravel()), axis=1).max())
-
-
 @pytest.mark.parametrize("key", ["2d:3402:k55", "2d:3402:k8"])
-def test_the_patch_deviation_bound_is_not_below_a_brute_force_measure(key):
+def test_the_patch_deviation_is_within_ten_percent_of_a_brute_force_measure(key):
     from ruled.fit.face.patch import PATCH_TOL
-    from ruled.fit.face.sampled import deviation_bound, side_surface
+    from ruled.fit.face.sampled import dense_deviation, side_surface
     region, m, size = _patch(key)
     side = side_surface(region.surface, m, PATCH_TOL * size, 192)
     P = side.surface
-    brute = _brute(region.surface, m, P, 24)
-    bound, _, _ = deviation_bound(region.surface, m, P, np.unique(P.knots_u), np.unique(P.knots_v), np.inf)
-    assert side.deviation >= bound * (1 - 1e-12) and bound >= brute, (side.deviation, bound, brute)
-    assert bound <= 3.0 * brute + 1e-12 * size      # (and not far above it)
+    bs, bt = np.unique(P.knots_u), np.unique(P.knots_v)
+    brute = dense_deviation(region.surface, m, P, bs, bt, 32)
+    three = dense_deviation(region.surface, m, P, bs, bt, 2)     # (the knots and the midpoints)
+    assert brute >= side.deviation >= 0.9 * brute, (side.deviation, brute)
+    assert side.deviation >= three
