@@ -71,7 +71,7 @@ def _fillets(rng, count: int) -> list:
 def cq_faces(seed: int = 72) -> list:
     """[(name, face)]: lofts, sweeps and variable-radius fillets (see the module doc)."""
     rng = np.random.default_rng(seed)
-    return _lofts(rng, 7) + _sweeps(rng, 6) + _fillets(rng, 5)
+    return _lofts(rng, 7) + _sweeps(rng, 6) + _fillets(rng, 2)
 
 
 __all__ = ["cq_faces"]
