@@ -78,6 +78,7 @@ def test_a_start_off_the_contour_is_refused_in_one_line(part, tmp_path):
                                 "is (25.01, 0)); give a point on it")
 
 
+@pytest.mark.slow     # (6 s: the loop stays under 3 minutes; CI runs it)
 def test_cadquery_xyuv_wall_writes_the_same_bytes_as_the_command_line(part, tmp_path):
     """One file from every door (issue 71): the wall's G-code from ruled.cq, named as the command line's, is the
     command line's byte for byte (the same start, direction, post and comments)."""

@@ -61,7 +61,8 @@ def _freecad_has_numba(tmp_path) -> bool:
     return "NUMBA True" in run.stdout
 
 
-@pytest.mark.parametrize("kernels", [pytest.param("numpy", marks=pytest.mark.slow), "numba"])
+@pytest.mark.parametrize("kernels", [pytest.param("numpy", marks=pytest.mark.slow),
+                                     pytest.param("numba", marks=pytest.mark.slow)])   # (the loop: under 3 minutes)
 def test_same_numbers_in_freecad_python(tmp_path, kernels):
     """FreeCAD's Python with the NumPy twins (RULED_NO_NUMBA=1) and with Debian's numba: the same fits
     as the venv; with numba, the kernels' ruling distances and surface points bit for bit."""

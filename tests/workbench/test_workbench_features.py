@@ -285,6 +285,7 @@ def test_reopen_in_a_fresh_freecadcmd_with_the_addon_installed(tmp_path):
     assert b["fit"] == pytest.approx(a["fit"], rel=1e-12) and b["split"] == pytest.approx(a["split"], rel=1e-12)
 
 
+@pytest.mark.slow     # (6 s: the loop stays under 3 minutes; CI runs it)
 def test_a_result_that_contradicts_its_own_figures_is_an_invalid_object(tmp_path):
     """Issue 34 in FreeCAD: the bound of a face whose measure is within 0.02 % of it (the fuzz's face
     2202:7) broken to 0.9x itself inside freecadcmd: the RuledFit is invalid, its Status names both
