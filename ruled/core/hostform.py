@@ -186,23 +186,24 @@ class PolygonClassifier:
         if (self._poly_grid(us, vs) != self._exact_grid(us, vs)).any():
             self.P = None
 
+    def _into(self, x, ax: int):
+        """x (a float or an array) moved by whole periods into the face's bounds along ax where it lies outside
+        them and the direction is periodic."""
+        per = self.periods[ax]
+        lo, hi = self.bounds[2 * ax], self.bounds[2 * ax + 1]
+        out = (x < lo - 1e-12 * per) | (x > hi + 1e-12 * per)
+        return np.where(out, lo + np.mod(x - lo, per), x) if per > 0.0 else x
+
     def wrap(self, uv: np.ndarray) -> np.ndarray:
         """uv (N, 2) with each coordinate of a periodic direction that lies outside the face's bounds moved by
         whole periods into them: a local search on a periodic surface returns its foot in any period (a band
         round the seam, its bounds [a0, a0 + period), has points inside it at u < a0)."""
         uv = np.array(uv, float).reshape(-1, 2)
-        for ax, per in enumerate(self.periods):
-            if per > 0.0:
-                lo, hi = self.bounds[2 * ax], self.bounds[2 * ax + 1]
-                x = uv[:, ax]
-                tol = 1e-12 * per
-                out = (x < lo - tol) | (x > hi + tol)
-                x[out] = lo + np.mod(x[out] - lo, per)
-        return uv
+        return np.stack([self._into(uv[:, 0], 0), self._into(uv[:, 1], 1)], axis=1)
 
     def __call__(self, u, v) -> bool:
-        if any(self.periods):
-            u, v = self.wrap(np.array([[u, v]], float))[0]
+        if self.periods != (0.0, 0.0):
+            u, v = self._into(float(u), 0), self._into(float(v), 1)
         return bool(self.exact(float(u), float(v)))
 
     def _exact_grid(self, us, vs) -> np.ndarray:
@@ -253,7 +254,7 @@ class PolygonClassifier:
 
     def points(self, uv: np.ndarray) -> np.ndarray:
         """Booleans for scattered points uv (N, 2)."""
-        uv = self.wrap(uv) if any(self.periods) else np.asarray(uv, float).reshape(-1, 2)
+        uv = self.wrap(uv) if self.periods != (0.0, 0.0) else np.asarray(uv, float).reshape(-1, 2)
         if len(uv) > 64:
             self._build()
         if self.P is None or len(uv) <= 64:

@@ -59,7 +59,7 @@ def contour_patch(region: Region, bottom, top, name=""):
     from ruled.fit.face.fit import sided_patch
     sides = contour_sides(region, bottom, top, name)
     try:
-        # (the sampled patch's deviation is bounded cell by cell on a dense grid: ruled.fit.face.sampled)
+        # (the sampled patch's deviation is taken at eight points a span: ruled.fit.face.sampled.dense_deviation)
         return sided_patch(region, sides, coons_map(region, sides))
     except DegenerateFaceError as exc:
         raise BadInputError(f"face {name} of the wall cannot be mapped from its bottom contour edges to its top "
