@@ -128,7 +128,7 @@ def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None):
 GROUP_SECONDS = {
     "batch/test_fuzz.py": 330, "freecad": 325, "split/test_split_faces.py": 245, "batch/test_batch.py": 210,
     "cone/test_cone_faces.py": 130, "machine/test_machine.py": 110, "machine/test_posts.py": 100,
-    "fit/test_trimmed.py": 85, "fit/test_part_ruled.py": 90,
+    "fit/test_trimmed.py": 85, "fit/test_part_ruled.py": 90, "fit/test_ring_bound.py": 30,
     "fit/test_fit4d.py": 70, "fit/test_fit.py": 70, "cli/test_cli.py": 65, "cone/test_cone_acceptance.py": 55,
     "fit/test_figures.py": 50, "curves/test_cos_acceptance.py": 45, "split/test_split.py": 30,
     "machine/test_flank.py": 25, "cli/test_lint.py": 20, "fit/test_dp4d.py": 12, "core/test_distance.py": 10,

@@ -1,5 +1,5 @@
 """Random faces through the whole job (issue 19, point 5; issue 22's property test; issue 33's rotation):
-40 faces fitted in 2D and 10 in 4D by ``ruled batch`` with a per-face time limit, drawn from a seed that
+32 faces fitted in 2D and 10 in 4D by ``ruled batch`` with a per-face time limit, drawn from a seed that
 changes with every commit (its first eight hex digits; RULED_FUZZ_SEED overrides), plus the faces of
 tests/fuzz_faces.py's REGRESSIONS, each result measured by OCCT against the face as bounded by its edges.
 Asserted on every face: no crash and no hang (a refusal is a one-line RuledError), the certified bound at

@@ -158,6 +158,10 @@ def test_each_wall_is_fitted_within_its_bound_and_its_distance_from_ruled(parts,
         assert bow > 1e-5 * size                            # (the corners are not straight: the premise)
         assert measured <= bow * (1 + 1e-6), (measured, bow)   # within the corners' own distance from ruled
         assert rep["error_bound"] <= 1.25 * bow, (rep["error_bound"], bow)
+    if name == "die":
+        # issue 72: the ring certified as a whole, one way at a time (its joints bow 0.0025 off the corner lines
+        # the pieces' own certificates send them to; their points lie 0.00098 from the result past the corner)
+        assert rep["error_bound"] <= 2 * max(measured, corners, rep["hausdorff"]["max"]), rep
 
 
 @pytest.mark.slow

@@ -43,13 +43,17 @@ def _knot_grid(S: Surface, direction: str, target: int, extra=None, Sb: Surface 
         keep[-1] = True
         pts = pts[keep]
         pts = pts[np.concatenate([np.diff(pts) > 0, [True]])]
-    if Sb is not None:      # the spans of the bounding twin (the same surface, finer knots)
-        S = Sb
+    # the spans of the bounding twin (the same surface, finer knots)
+    return pts, knot_spans(S if Sb is None else Sb, direction, pts)
+
+
+def knot_spans(S: Surface, direction: str, pts: np.ndarray) -> tuple:
+    """Each cell's range (lo, hi) of S's knot spans along direction, inclusive, for the grid nodes pts."""
     knots, p = (S.knots_u, S.degree_u) if direction == "u" else (S.knots_v, S.degree_v)
     n = S.poles.shape[0] if direction == "u" else S.poles.shape[1]
     lo = np.clip(np.searchsorted(knots, pts[:-1], side="right") - 1, p, n - 1)
     hi = np.clip(np.searchsorted(knots, pts[1:], side="left") - 1, p, n - 1)
-    return pts, (lo - p, np.maximum(hi, lo) - p)
+    return lo - p, np.maximum(hi, lo) - p
 
 
 def crease_jumps(S: Surface, axis: int, closed: bool = False) -> tuple:

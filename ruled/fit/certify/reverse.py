@@ -72,30 +72,7 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
                 W[row, 1:-1] = _curve_feet(St, Y[row, 1:-1], W[row, 1:-1], uu, False)
                 U[row, :] = uu
             W[:, 0], W[:, -1] = v0, v1
-        F = S((u0 + np.mod(U - u0, L) if closed else U).ravel(), W.ravel()).reshape(ns, nt, 3)
-        f = np.linalg.norm(Y - F, axis=2)
-        hs = np.diff(ss)[:, None]
-        du_s = np.maximum(np.abs(np.diff(U, axis=0)[:, :-1]), np.abs(np.diff(U, axis=0)[:, 1:]))
-        dv_s = np.maximum(np.abs(np.diff(W, axis=0)[:, :-1]), np.abs(np.diff(W, axis=0)[:, 1:]))
-        du_t = np.maximum(np.abs(np.diff(U, axis=1)[:-1]), np.abs(np.diff(U, axis=1)[1:]))
-        dv_t = np.maximum(np.abs(np.diff(W, axis=1)[:-1]), np.abs(np.diff(W, axis=1)[1:]))
-        cu = np.stack([U[:-1, :-1], U[1:, :-1], U[:-1, 1:], U[1:, 1:]])
-        lo, hi = cu.min(axis=0), cu.max(axis=0)
-        if closed:
-            sh = L * np.floor((lo - u0) / L)
-            lo, hi = lo - sh, hi - sh
-        Muu, Muv, Mvv = M["Suu"](lo, hi), M["Suv"](lo, hi), M["Svv"](lo, hi)
-        rs = (hs ** 2 * _range_max(Rss_span, span_s)[:, None] + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s
-              + Mvv * dv_s ** 2) / 8.0
-        rt = (Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
-        if creases[0][0].size or creases[1][0].size:
-            # S o phi has a kink where phi crosses a crease of S: linear interpolation across a kink of
-            # slope jump J along an edge of parameter change d errs by up to J d / 4 more
-            cv = np.stack([W[:-1, :-1], W[1:, :-1], W[:-1, 1:], W[1:, 1:]])
-            Ju = _crease_term(creases[0], lo, hi, L if closed else 0.0)
-            Jv = _crease_term(creases[1], cv.min(axis=0), cv.max(axis=0))
-            rs = rs + (Ju * du_s + Jv * dv_s) / 4.0
-            rt = rt + (Ju * du_t + Jv * dv_t) / 4.0
+        f, rs, rt = _reverse_cells(S, Y, ss, span_s, tt, U, W, closed, M, Rss_span, creases)
         rem = rs + rt
         cell = _corner_max(f) + rem
         cert = Certificate(float(cell.max()), float(f.max()), float(rem.max()), (ns, nt))
@@ -110,3 +87,35 @@ def certify_reverse(S: Surface, pairing: Pairing, R: Surface, target_s: int = 24
             tt = np.unique(np.concatenate([tt, 0.5 * (tt[iv] + tt[iv + 1])]))
     return best
 
+
+def _reverse_cells(S, Y, ss, span_s, tt, U, W, closed, M, Rss_span, creases) -> tuple:
+    """For phi given at the nodes (U, W: S's parameters of R's grid points Y), the node distances f and per cell
+    the remainder's s and t parts (the module doc's bound on each cell is the corner maximum of f plus both)."""
+    u0, u1 = S.domain[:2]
+    L = u1 - u0
+    ns, nt = ss.size, tt.size
+    F = S((u0 + np.mod(U - u0, L) if closed else U).ravel(), W.ravel()).reshape(ns, nt, 3)
+    f = np.linalg.norm(Y - F, axis=2)
+    hs = np.diff(ss)[:, None]
+    du_s = np.maximum(np.abs(np.diff(U, axis=0)[:, :-1]), np.abs(np.diff(U, axis=0)[:, 1:]))
+    dv_s = np.maximum(np.abs(np.diff(W, axis=0)[:, :-1]), np.abs(np.diff(W, axis=0)[:, 1:]))
+    du_t = np.maximum(np.abs(np.diff(U, axis=1)[:-1]), np.abs(np.diff(U, axis=1)[1:]))
+    dv_t = np.maximum(np.abs(np.diff(W, axis=1)[:-1]), np.abs(np.diff(W, axis=1)[1:]))
+    cu = np.stack([U[:-1, :-1], U[1:, :-1], U[:-1, 1:], U[1:, 1:]])
+    lo, hi = cu.min(axis=0), cu.max(axis=0)
+    if closed:
+        sh = L * np.floor((lo - u0) / L)
+        lo, hi = lo - sh, hi - sh
+    Muu, Muv, Mvv = M["Suu"](lo, hi), M["Suv"](lo, hi), M["Svv"](lo, hi)
+    rs = (hs ** 2 * _range_max(Rss_span, span_s)[:, None] + Muu * du_s ** 2 + 2 * Muv * du_s * dv_s
+          + Mvv * dv_s ** 2) / 8.0
+    rt = (Muu * du_t ** 2 + 2 * Muv * du_t * dv_t + Mvv * dv_t ** 2) / 8.0
+    if creases[0][0].size or creases[1][0].size:
+        # S o phi has a kink where phi crosses a crease of S: linear interpolation across a kink of
+        # slope jump J along an edge of parameter change d errs by up to J d / 4 more
+        cv = np.stack([W[:-1, :-1], W[1:, :-1], W[:-1, 1:], W[1:, 1:]])
+        Ju = _crease_term(creases[0], lo, hi, L if closed else 0.0)
+        Jv = _crease_term(creases[1], cv.min(axis=0), cv.max(axis=0))
+        rs = rs + (Ju * du_s + Jv * dv_s) / 4.0
+        rt = rt + (Ju * du_t + Jv * dv_t) / 4.0
+    return f, rs, rt

@@ -2,7 +2,8 @@
 one closed ruled surface: with no corner both contours share, one periodic fit; else the ring cut at those
 corners into pieces, each fitted with its end rulings on the corner lines (pinned), and the pieces' results
 joined into one closed surface whose corner lines are C0 rulings.  Plain arrays only: every host's wall
-comes here."""
+comes here.  The closed result is certified twice: by the pieces' own certificates and as a whole, one way at
+a time (ring_bound), the lower kept."""
 
 from __future__ import annotations
 
@@ -14,6 +15,10 @@ import numpy as np
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
 from ruled.fit.wall.join import elevated_u, end_to_end, remapped
+
+# a ring's pieces' bound below this fraction of its size is kept as it is (certified a second time as a whole, one
+# way at a time, it could only come down where no CAD tolerance asks)
+RING_FLOOR = 1e-6
 
 
 def piece(S: Surface, a: float, b: float) -> Surface:
@@ -54,13 +59,17 @@ def clamped_u(R: Surface) -> Surface:
     return along_u(R, lambda c: clamp_segment(c, u0, u1))
 
 
-def smooth_parts(R: Surface) -> list:
+def smooth_parts(R: Surface, ranges: bool = False, unit: bool = False) -> list:
     """R cut at its creases along u (C0 rulings) into its smooth parts, each clamped: a closed wall result
-    measured part by part (a global distance search does not cross a crease)."""
+    measured part by part (a global distance search does not cross a crease).  ranges: (a, b, part) each, R's
+    [a, b] the part; unit: each part's u running on [0, 1] (else on [a, b])."""
     R = clamped_u(R)
     u0, u1 = R.domain[:2]
     cuts = [u0, *[float(c) for c in R.creases(0)], u1]
-    return [piece(R, a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
+    out = [(a, b, piece(R, a, b)) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
+    if unit:
+        out = [(a, b, remapped(P, 0.0, 1.0, *R.domain[2:])) for a, b, P in out]
+    return out if ranges else [P for _, _, P in out]
 
 
 def stacked(surfaces: list, ranges: list, size: float) -> tuple:
@@ -144,7 +153,23 @@ def fit_ring(S: Surface, breaks, corners, options, size: float, progress=None) -
         if b2 < bound:
             surface, bound = s2, b2
             results = [_replace(r, best=r.other, other=r.best) for r in results]
+    if bound > RING_FLOOR * size:
+        if progress is not None:
+            progress("certify the ring", 0.0)
+        bound = min(bound, ring_bound(S, surface))
     return RingFit(results, surface, bound, False)
 
 
-__all__ = ["RingFit", "fit_ring", "piece", "stacked", "own_net", "clamped_u", "smooth_parts"]
+def ring_bound(S: Surface, R: Surface) -> float:
+    """The closed result R certified against the wall's joined surface S as a whole, one way at a time
+    (ruled.fit.certify.onesided: where a joint bows off its corner line, its points are nearer the result past
+    the corner than the corner ruling the pieces' own certificates send them to), with round-off."""
+    from ruled.fit.certify.forward import rounding
+    from ruled.fit.certify.onesided import result_to_wall, wall_to_result
+    Rn = remapped(clamped_u(R), 0.0, 1.0, *R.domain[2:])
+    one = max(wall_to_result(S, Rn, smooth_parts(Rn, ranges=True, unit=True)),
+              result_to_wall(S, smooth_parts(S, ranges=True), Rn))
+    return one + rounding(S, R)
+
+
+__all__ = ["RingFit", "fit_ring", "ring_bound", "piece", "stacked", "own_net", "clamped_u", "smooth_parts"]
