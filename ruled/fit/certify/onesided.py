@@ -25,20 +25,28 @@ import numpy as np
 from ruled.core.basis import SpanRangeMax
 from ruled.core.distance import project_points
 from ruled.core.nurbs import Surface
-from ruled.fit.certify.bounds import _knot_grid, _polished_feet, _rail, _twin, crease_jumps, knot_spans
+from ruled.fit.certify.bounds import (
+    _knot_grid,
+    _nodes_of,
+    _polished_feet,
+    _rail,
+    _twin,
+    crease_jumps,
+    knot_spans,
+)
 from ruled.fit.certify.cells import FLOOR, Certificate, _cells_to_split, _corner_max
 from ruled.fit.certify.forward import _map_bound
 from ruled.fit.certify.reverse import _reverse_cells
 from ruled.fit.reparam import Boundaries
 
 # grid cells per smooth part along the ring (at least), and across it (S's v, R's t); refinement rounds
-PER_PART, GRID_V, GRID_T, ROUNDS = 64, 60, 30, 3
+PER_PART, GRID_V, GRID_T, ROUNDS = 48, 60, 30, 6
 # graded columns towards each crease: this many, halving from a cell's width
 GRADED = 12
 # seeds: the other side sampled this many times per grid column, and across
 SEED_ALONG, SEED_ACROSS = 4, 33
 # the refinement stops before the grid grows past this many times its first size
-GROWTH = 8
+GROWTH = 16
 
 
 class _Closed:
@@ -68,6 +76,24 @@ def _seeder(T: Surface, n_along: int):
     uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
     tree = cKDTree(T(uv[:, 0], uv[:, 1]))
     return lambda X: uv[tree.query(X)[1]]
+
+
+class _Known:
+    """Values computed at a grid's nodes, per map, kept for the next round's grid (whose nodes that the last one
+    had get them again: the same node, the same seed, the same closest point)."""
+
+    def __init__(self):
+        self.last = {}
+
+    def values(self, key, xs: np.ndarray, ys: np.ndarray, k: int) -> np.ndarray:
+        """(xs.size, ys.size, k): the last grid's values at its nodes, NaN at the others."""
+        out = np.full((xs.size, ys.size, k), np.nan)
+        if key in self.last:
+            _nodes_of(self.last[key], xs, ys, out)
+        return out
+
+    def keep(self, key, xs: np.ndarray, ys: np.ndarray, values: np.ndarray) -> None:
+        self.last[key] = (xs, ys, values)
 
 
 def _min_cells(cells: list) -> tuple:
@@ -142,6 +168,7 @@ def wall_to_result(S: Surface, R: Surface, R_parts: list) -> float:
     target = PER_PART * len(R_parts)
     creases = np.concatenate([[u0], S.creases(0)])
     seeds = _seeder(R, SEED_ALONG * target)
+    known = _Known()
 
     def cells_of(us, vs):
         span_u, span_v = knot_spans(Sb, "u", us), knot_spans(Sb, "v", vs)
@@ -151,13 +178,20 @@ def wall_to_result(S: Surface, R: Surface, R_parts: list) -> float:
         x = (us - u0) / (u1 - u0)
         out, best_d = [], np.full(X.shape[:2], np.inf)
         best_s, best_t = np.zeros(X.shape[:2]), np.zeros(X.shape[:2])
-        for a, c, Q, bd, tw in parts:
+        for p, (a, c, Q, bd, tw) in enumerate(parts):
             cols = _columns(seed, a, c, 1.0 / (SEED_ALONG * target))
             if cols is None:
                 continue
             Xc = np.ascontiguousarray(X[cols])
-            s, t = _polished_feet(bd, Q, Xc.reshape(-1, 3), _local(seed[cols], a, c).ravel(), False)
-            s, t = np.clip(s, 0.0, 1.0).reshape(Xc.shape[:2]), np.clip(t, 0.0, 1.0).reshape(Xc.shape[:2])
+            st = known.values(p, us, vs, 2)
+            sub = st[cols]
+            new = np.isnan(sub[:, :, 0])
+            if new.any():
+                s, t = _polished_feet(bd, Q, np.ascontiguousarray(Xc[new]), _local(seed[cols][new], a, c), False)
+                sub[new] = np.stack([np.clip(s, 0.0, 1.0), np.clip(t, 0.0, 1.0)], axis=1)
+                st[cols] = sub
+            known.keep(p, us, vs, st)
+            s, t = sub[:, :, 0].copy(), sub[:, :, 1].copy()
             d = np.linalg.norm(Xc - Q(s.ravel(), t.ravel()).reshape(Xc.shape), axis=2)
             better = d < best_d[cols]
             best_d[cols] = np.where(better, d, best_d[cols])
@@ -192,6 +226,7 @@ def result_to_wall(S: Surface, S_parts: list, R: Surface) -> float:
     whole = (maxima(S), (crease_jumps(S, 0, True), crease_jumps(S, 1)))
     target = PER_PART * len(S_parts)
     seeds = _seeder(S, SEED_ALONG * target)
+    known = _Known()
 
     def cells_of(ss, tt):
         span_s = knot_spans(Rb, "u", ss)
@@ -199,14 +234,21 @@ def result_to_wall(S: Surface, S_parts: list, R: Surface) -> float:
         Y = R(SS.ravel(), TT.ravel()).reshape(ss.size, tt.size, 3)
         seed = seeds(Y.reshape(-1, 3)).reshape(ss.size, tt.size, 2)
         out, best_d, best = [], np.full(SS.shape, np.inf), np.zeros(SS.shape + (2,))
-        for a, c, Q, M in parts:
+        for p, (a, c, Q, M) in enumerate(parts):
             cols = _columns(seed[:, :, 0], a, c, L / (SEED_ALONG * target))
             if cols is None:
                 continue
             Yc = np.ascontiguousarray(Y[cols])
-            sd = seed[cols].reshape(-1, 2)
-            uv, d = project_points(Q, Yc.reshape(-1, 3), np.stack([np.clip(sd[:, 0], a, c), sd[:, 1]], axis=1), 8)
-            uv, d = uv.reshape(Yc.shape[:2] + (2,)), d.reshape(Yc.shape[:2])
+            got = known.values(p, ss, tt, 2)
+            uv = got[cols]
+            new = np.isnan(uv[:, :, 0])
+            if new.any():
+                sd = seed[cols][new]
+                uv[new] = project_points(Q, np.ascontiguousarray(Yc[new]),
+                                         np.stack([np.clip(sd[:, 0], a, c), sd[:, 1]], axis=1), 8)[0]
+                got[cols] = uv
+            known.keep(p, ss, tt, got)
+            d = np.linalg.norm(Yc - Q(uv[:, :, 0].ravel(), uv[:, :, 1].ravel()).reshape(Yc.shape), axis=2)
             better = d < best_d[cols]
             best_d[cols] = np.where(better, d, best_d[cols])
             best[cols] = np.where(better[:, :, None], uv, best[cols])
