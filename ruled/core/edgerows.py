@@ -143,6 +143,9 @@ def edge_rows(views: list, n: int, offset: float, inside: Callable) -> np.ndarra
 
 # rulings graded towards a result's corner ruling (corner_rulings): this many a side, each this factor nearer
 CORNER_GRADES, CORNER_RATIO = 24, 2 ** 0.5
+# ... on a result with at most this many corners (degree 1 along the ring, every knot is one: a polyline result, whose
+# kinks are small)
+CORNER_GRADED_MAX = 24
 CORNERS = 8                 # a wall's edges and its result's corner rulings: this many times the measure's n
 EDGE_SAMPLES = 512          # points along each of a wall's edges for their distance from its joined surface
 
@@ -154,7 +157,7 @@ def corner_rulings(knots_u, knots_v, degree_u: int, degree_v: int, bounds, n: in
     n // 8 points along rulings graded towards each corner from both sides (CORNER_GRADES of them a side, each
     a factor CORNER_RATIO nearer, from half the knot span beside it): a piece whose corner ruling is pinned on
     a joint's chord lies off the wall just past it, within a thousandth of its span (a die's hole: 0.00098
-    there, 3e-5 on the corner ruling itself)."""
+    there, 3e-5 on the corner ruling itself); not on a result with more than CORNER_GRADED_MAX corners."""
     u0, u1, v0, v1 = bounds
     out = []
     for knots, across, along, lo, hi, t0, t1, swap in ((knots_u, degree_u, degree_v, u0, u1, v0, v1, False),
@@ -162,11 +165,12 @@ def corner_rulings(knots_u, knots_v, degree_u: int, degree_v: int, bounds, n: in
         if along != 1:
             continue
         k, mult = np.unique(np.asarray(knots, float), return_counts=True)
-        for x in k[(mult >= across) & (k >= lo) & (k <= hi)]:
+        corners = k[(mult >= across) & (k >= lo) & (k <= hi)]
+        for x in corners:
             uv = np.stack([np.full(n, x), np.linspace(t0, t1, n)], 1)
             m = max(8, n // 8)
             t = np.linspace(t0, t1, m)
-            for side in (-1.0, 1.0):
+            for side in (-1.0, 1.0) if corners.size <= CORNER_GRADED_MAX else ():
                 nb = k[k < x] if side < 0 else k[k > x]
                 if nb.size == 0:
                     continue

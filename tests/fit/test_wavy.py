@@ -73,7 +73,7 @@ def test_wavy_trimmed_faces_get_sound_results_that_cover_them(rows):
 def test_exactly_ruled_faces_across_their_iso_lines_are_certified_exact(rows):
     ruled = [r for r in rows if r["kind"] == "ruled"]
     print("\n" + "\n".join(_line(r) for r in ruled))
-    assert len(ruled) >= 30 and {r["name"].split(": ")[1].split(",")[0] for r in ruled} == {
+    assert len(ruled) == RULED and {r["name"].split(": ")[1].split(",")[0] for r in ruled} == {
         "skewed loft", "hyperbolic paraboloid", "hyperboloid"}
     bad = [r for r in ruled if r["status"] != "fitted" or not (
         r["measured"] <= r["bound"] <= EXACT * r["size"] and abs(r["occt_area"] - 1.0) < 1e-4)]

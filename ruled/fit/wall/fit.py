@@ -19,6 +19,9 @@ from ruled.fit.wall.join import elevated_u, end_to_end, remapped
 # a ring's pieces' bound below this fraction of its size is kept as it is (certified a second time as a whole, one
 # way at a time, it could only come down where no CAD tolerance asks)
 RING_FLOOR = 1e-6
+# ... nor one whose result or joined surface has more smooth parts than this (degree 1 along the ring: every knot a
+# crease), whose one-way certificates would map each grid cell into a part of a few cells
+RING_PARTS = 24
 
 
 def piece(S: Surface, a: float, b: float) -> Surface:
@@ -167,9 +170,10 @@ def ring_bound(S: Surface, R: Surface) -> float:
     from ruled.fit.certify.forward import rounding
     from ruled.fit.certify.onesided import result_to_wall, wall_to_result
     Rn = remapped(clamped_u(R), 0.0, 1.0, *R.domain[2:])
-    one = max(wall_to_result(S, Rn, smooth_parts(Rn, ranges=True, unit=True)),
-              result_to_wall(S, smooth_parts(S, ranges=True), Rn))
-    return one + rounding(S, R)
+    R_parts, S_parts = smooth_parts(Rn, ranges=True, unit=True), smooth_parts(S, ranges=True)
+    if max(len(R_parts), len(S_parts)) > RING_PARTS:
+        return np.inf       # (a polyline result or wall: a part per span, each a few grid columns)
+    return max(wall_to_result(S, Rn, R_parts), result_to_wall(S, S_parts, Rn)) + rounding(S, R)
 
 
 __all__ = ["RingFit", "fit_ring", "ring_bound", "piece", "stacked", "own_net", "clamped_u", "smooth_parts"]
