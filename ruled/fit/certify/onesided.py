@@ -85,15 +85,19 @@ class _Known:
     def __init__(self):
         self.last = {}
 
-    def values(self, key, xs: np.ndarray, ys: np.ndarray, k: int) -> np.ndarray:
-        """(xs.size, ys.size, k): the last grid's values at its nodes, NaN at the others."""
-        out = np.full((xs.size, ys.size, k), np.nan)
+    def at(self, key, xs: np.ndarray, ys: np.ndarray, cols: slice, compute) -> np.ndarray:
+        """(columns, ys.size, 2): the values at the grid's columns cols, the last grid's where it had the node,
+        compute(mask) (the values at the nodes of the mask, (k, 2)) at the others; all kept for the next grid."""
+        values = np.full((xs.size, ys.size, 2), np.nan)
         if key in self.last:
-            _nodes_of(self.last[key], xs, ys, out)
-        return out
-
-    def keep(self, key, xs: np.ndarray, ys: np.ndarray, values: np.ndarray) -> None:
+            _nodes_of(self.last[key], xs, ys, values)
+        sub = values[cols]
+        new = np.isnan(sub[:, :, 0])
+        if new.any():
+            sub[new] = compute(new)
+            values[cols] = sub
         self.last[key] = (xs, ys, values)
+        return sub
 
 
 def _min_cells(cells: list) -> tuple:
@@ -183,14 +187,11 @@ def wall_to_result(S: Surface, R: Surface, R_parts: list) -> float:
             if cols is None:
                 continue
             Xc = np.ascontiguousarray(X[cols])
-            st = known.values(p, us, vs, 2)
-            sub = st[cols]
-            new = np.isnan(sub[:, :, 0])
-            if new.any():
+
+            def feet(new, Xc=Xc, cols=cols, a=a, c=c, Q=Q, bd=bd):
                 s, t = _polished_feet(bd, Q, np.ascontiguousarray(Xc[new]), _local(seed[cols][new], a, c), False)
-                sub[new] = np.stack([np.clip(s, 0.0, 1.0), np.clip(t, 0.0, 1.0)], axis=1)
-                st[cols] = sub
-            known.keep(p, us, vs, st)
+                return np.stack([np.clip(s, 0.0, 1.0), np.clip(t, 0.0, 1.0)], axis=1)
+            sub = known.at(p, us, vs, cols, feet)
             s, t = sub[:, :, 0].copy(), sub[:, :, 1].copy()
             d = np.linalg.norm(Xc - Q(s.ravel(), t.ravel()).reshape(Xc.shape), axis=2)
             better = d < best_d[cols]
@@ -239,15 +240,12 @@ def result_to_wall(S: Surface, S_parts: list, R: Surface) -> float:
             if cols is None:
                 continue
             Yc = np.ascontiguousarray(Y[cols])
-            got = known.values(p, ss, tt, 2)
-            uv = got[cols]
-            new = np.isnan(uv[:, :, 0])
-            if new.any():
+
+            def feet(new, Yc=Yc, cols=cols, a=a, c=c, Q=Q):
                 sd = seed[cols][new]
-                uv[new] = project_points(Q, np.ascontiguousarray(Yc[new]),
-                                         np.stack([np.clip(sd[:, 0], a, c), sd[:, 1]], axis=1), 8)[0]
-                got[cols] = uv
-            known.keep(p, ss, tt, got)
+                return project_points(Q, np.ascontiguousarray(Yc[new]),
+                                      np.stack([np.clip(sd[:, 0], a, c), sd[:, 1]], axis=1), 8)[0]
+            uv = known.at(p, ss, tt, cols, feet)
             d = np.linalg.norm(Yc - Q(uv[:, :, 0].ravel(), uv[:, :, 1].ravel()).reshape(Yc.shape), axis=2)
             better = d < best_d[cols]
             best_d[cols] = np.where(better, d, best_d[cols])

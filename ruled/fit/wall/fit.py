@@ -12,6 +12,7 @@ from dataclasses import replace as _replace
 
 import numpy as np
 
+from ruled.core.edgerows import CORNER_GRADED_MAX
 from ruled.core.errors import BadInputError
 from ruled.core.nurbs import Surface
 from ruled.fit.wall.join import elevated_u, end_to_end, remapped
@@ -20,8 +21,9 @@ from ruled.fit.wall.join import elevated_u, end_to_end, remapped
 # way at a time, it could only come down where no CAD tolerance asks)
 RING_FLOOR = 1e-6
 # ... nor one whose result or joined surface has more smooth parts than this (degree 1 along the ring: every knot a
-# crease), whose one-way certificates would map each grid cell into a part of a few cells
-RING_PARTS = 24
+# crease), whose one-way certificates would map each grid cell into a part of a few cells (the measure's limit
+# for its graded corner rulings, the same kind of result)
+RING_PARTS = CORNER_GRADED_MAX
 
 
 def piece(S: Surface, a: float, b: float) -> Surface:
