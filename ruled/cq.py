@@ -384,8 +384,8 @@ def xyuv_wall(faces, chord_tol: Optional[float] = None, planes=None, axis="auto"
     wire sweeps against the wall's faces, each distance less the kerf."""
     from ruled.machine.paths import MachineOptions
     from ruled.occ.wallmachine import machine_of_wall
-    wf = fit if fit is not None else fit_wall(faces, samples, method=method, measure=measure,
-                                              measure_samples=measure_samples, progress=progress, wall=wall)
+    wf = fit if fit is not None else fit_wall(faces, samples, method=method, measure=False, progress=progress,
+                                              wall=wall)        # (measured with the path it cuts)
     opts = MachineOptions("xyuv", chord_tol, planes, axis, None, kerf, None, 0.0, lead, feed)
     fm = machine_of_wall(wf, opts, side, start, measure_samples if measure else None, progress)
     return MachineData(fm.path, _cq(fm.face), fm.report, None, fm.surface, tuple(fm.warnings))

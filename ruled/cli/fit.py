@@ -153,7 +153,8 @@ def cmd_fit_wall(args) -> int:
                    report=args.report, measure_samples=args.measure_samples, quiet=args.quiet,
                    per_face=args.per_face)
     h = rep["hausdorff"]
-    cut = (f", fitted in {rep['pieces']} pieces between the corners both contours share (C0 rulings there)"
+    across = f"; rulings paired across {rep['crossed_corners']} of them" if rep.get("crossed_corners") else ""
+    cut = (f", fitted in {rep['pieces']} pieces between the corners both contours share (C0 rulings there{across})"
            if rep["pieces"] > 1 else ", fitted from the one corner both contours share round to it (a C0 ruling "
            "there)" if rep["corners"] else ", one periodic fit (its rulings cross the faces' joints)")
     print(f"wall: faces {','.join(map(str, rep['faces']))} as one closed ruled surface, "

@@ -102,7 +102,7 @@ def _machine_wall(args, opts):
     fit_opts = replace(FitOptions(samples=args.samples, method=args.method), samples=args.samples * len(wall.faces))
 
     def work(bar):
-        fit = fit_wall(wall, fit_opts.checked(), bar, measure_samples=args.measure_samples)
+        fit = fit_wall(wall, fit_opts.checked(), bar, measure=False)     # (measured with the path it cuts)
         return machine_of_wall(fit, opts, args.side, args.start, args.measure_samples, bar)
     fm = with_bar(args.quiet, "the wall", work)
     what = f"the wall (faces {_face_text(list(wall.ring.faces))})"
@@ -148,6 +148,8 @@ def cmd_machine(args) -> int:
         print(f"wall: faces {_face_text(w['faces'])} as one closed ruled surface ({w['pieces']} "
               f"piece{'s' if w['pieces'] > 1 else ''}), fit bound {f['error_bound']:.6g}{meas}; the loop starts at "
               f"({w['start'][0]:.6g}, {w['start'][1]:.6g}, {w['start'][2]:.6g})")
+        if w.get("corners_note"):
+            print(f"  {w['corners_note']}")
     elif "patches" in rep:
         print(f"faces {_face_text(rep['face'])}: {len(rep['patches'])} ruled patches machined as one"
               if len(rep["patches"]) > 1 else f"face {rep['face'][0]}: a ruled result, rulings along {f['direction']}")

@@ -57,11 +57,13 @@ def _segment(X, a, b):
 def swept_nearest(lower: np.ndarray, upper: np.ndarray, moves: np.ndarray, X: np.ndarray, near: int = 4,
                   rounds: int = 40, spacing: float = 0.01) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(distances (N,), nearest points (N, 3), the move (N,) each lies on, the fraction (N,) of that move) of the
-    points X to the surface swept by
-    the lines lower[i]-upper[i] over the moves (indices i: the move from line i - 1 to line i): lines sampled
-    across every move no farther apart than `spacing` of the path's size (a long straight move gets many), the
-    `near` nearest of them by brute force (in chunks), then a golden-section search across each one's move
-    between its neighbouring samples."""
+    points X to the surface swept by the lines lower[i]-upper[i] over the moves (indices i: the move from line
+    i - 1 to line i): lines sampled across every move no farther apart than `spacing` of the path's size (a long
+    straight move gets many), the `near` nearest of them by brute force (in chunks), then a golden-section search
+    across each one's move between its neighbouring samples.  Then every stretch between two sampled lines of a
+    move that could hold a nearer point is searched too: the stretch's points lie within its step h (the most a
+    guide moves over it) of either line, so none is nearer than (d0 + d1 - h) / 2, d0 and d1 the lines'
+    distances (where the path twists, the nearest lines need not bracket the nearest point)."""
     X = np.asarray(X, float).reshape(-1, 3)
     moves = np.asarray(moves, np.int64)
     ends = np.concatenate([lower, upper])
@@ -72,36 +74,70 @@ def swept_nearest(lower: np.ndarray, upper: np.ndarray, moves: np.ndarray, X: np
     M = np.repeat(moves, per + 1)                                  # the sampled lines: move, fraction, spacing
     S = np.concatenate([np.arange(k + 1) / k for k in per])
     W = np.repeat(1.0 / per, per + 1)
+    H = np.repeat(step / per, per + 1)                             # the step from each sampled line to the next
     a = lower[M - 1] + S[:, None] * (lower[M] - lower[M - 1])
     b = upper[M - 1] + S[:, None] * (upper[M] - upper[M - 1])
     k = min(near, len(M))
     chunk = max(1, 2_000_000 // len(M))
+
+    def lines_to(c):
+        return _segment(X[c:c + chunk, None, :], a[None], b[None])[0]
     nearest = np.empty((len(X), k), np.int64)
     for c in range(0, len(X), chunk):
-        d, _ = _segment(X[c:c + chunk, None, :], a[None], b[None])
+        d = lines_to(c)
         nearest[c:c + chunk] = np.argpartition(d, k - 1, axis=1)[:, :k] if k < len(M) else np.arange(len(M))[None]
     rows = np.repeat(np.arange(len(X)), k)
     j = nearest.ravel()
-    m, P = M[j], X[rows]
-    lo, hi = np.maximum(S[j] - W[j], 0.0), np.minimum(S[j] + W[j], 1.0)
+    got = _searched(lower, upper, X, rows, M[j], np.maximum(S[j] - W[j], 0.0), np.minimum(S[j] + W[j], 1.0),
+                    S[j], rounds)
+    fs = _best(rows, got[1], len(X))[1]
+    # the stretches (sampled line i to i + 1 of one move) whose bound is below the best found
+    inner = np.flatnonzero(M[:-1] == M[1:])
+    more_r, more_i = [], []
+    for c in range(0, len(X), chunk):
+        d = lines_to(c)
+        lb = 0.5 * (d[:, inner] + d[:, inner + 1] - H[inner][None])
+        r, i = np.nonzero(lb < fs[c:c + chunk, None] * (1.0 - 1e-9))
+        more_r.append(r + c)
+        more_i.append(inner[i])
+    r, i = np.concatenate(more_r), np.concatenate(more_i)
+    if r.size:
+        more = _searched(lower, upper, X, r, M[i], S[i], S[i + 1], S[i], rounds)
+        rows = np.concatenate([rows, r])
+        got = tuple(np.concatenate([g, m]) for g, m in zip(got, more))
+    m, fs, s = got
+    sel = _best(rows, fs, len(X))[0]
+    a0, a1, b0, b1 = lower[m[sel] - 1], lower[m[sel]], upper[m[sel] - 1], upper[m[sel]]
+    ss = s[sel][:, None]
+    A, B = a0 + ss * (a1 - a0), b0 + ss * (b1 - b0)
+    _, t = _segment(X, A, B)
+    return fs[sel], A + t[:, None] * (B - A), m[sel], s[sel]
+
+
+def _searched(lower, upper, X, rows, m, lo, hi, at, rounds) -> tuple:
+    """(moves, distances, fractions): golden sections of the distance from X[rows] to the line across the move m
+    over the fractions [lo, hi] (its ends and the sample `at` tried too: a search ends a hair inside)."""
+    P = X[rows]
     a0, a1, b0, b1 = lower[m - 1], lower[m], upper[m - 1], upper[m]
 
     def f(s):
         s = s[:, None]
         return _segment(P, a0 + s * (a1 - a0), b0 + s * (b1 - b0))[0]
     s, fs = golden(f, lo, hi, rounds)
-    for edge in (lo, hi, S[j]):                    # the bracket's ends and the sample (a search ends a hair inside)
+    for edge in (lo, hi, at):
         fe = f(edge)
         s, fs = np.where(fe < fs, edge, s), np.minimum(fe, fs)
-    order = np.lexsort((fs, rows))                 # each point's best candidate
+    return m, fs, s
+
+
+def _best(rows: np.ndarray, fs: np.ndarray, n: int) -> tuple:
+    """(the index of each point's smallest candidate, ordered by point; those smallest values)."""
+    order = np.lexsort((fs, rows))
     first = np.ones(order.size, bool)
     first[1:] = rows[order][1:] != rows[order][:-1]
     sel = order[first]
     sel = sel[np.argsort(rows[sel])]
-    ss = s[sel][:, None]
-    A, B = a0[sel] + ss * (a1[sel] - a0[sel]), b0[sel] + ss * (b1[sel] - b0[sel])
-    _, t = _segment(X, A, B)
-    return fs[sel], A + t[:, None] * (B - A), m[sel], s[sel]
+    return sel, fs[sel]
 
 
 def swept_normals(lower: np.ndarray, upper: np.ndarray, move: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -112,6 +148,41 @@ def swept_normals(lower: np.ndarray, upper: np.ndarray, move: np.ndarray, s: np.
     wire = (b0 - a0) + s[:, None] * ((b1 - b0) - (a1 - a0))
     n = np.cross(along, wire)
     return n / np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+
+
+def loop_sides(lower: np.ndarray, upper: np.ndarray, moves: np.ndarray, leads: tuple, X: np.ndarray):
+    """(N,) +1 where a point of X lies on the side of a closed XYUV loop that most of them lie on (the material's:
+    the design lies a kerf from the wire, on its material side), -1 on the other, or None where the moves (past
+    the leads) are not one closed loop.  The guides lie on two parallel planes, so the surface the wire sweeps
+    meets each plane between them exactly in the polygon through the lines' points there: the side is the
+    winding number of that polygon, at each point's own height, about it (where the path twists at a corner its
+    swept surface folds, and no normal of it tells the sides apart)."""
+    body = moves[leads[0]:len(moves) - leads[1]] if len(moves) > sum(leads) else moves
+    if body.size < 3 or np.any(np.diff(body) != 1):
+        return None
+    lo, up = lower[body[0] - 1:body[-1] + 1], upper[body[0] - 1:body[-1] + 1]
+    size = float(np.linalg.norm(np.ptp(np.concatenate([lo, up]), axis=0)))
+    if max(np.linalg.norm(lo[-1] - lo[0]), np.linalg.norm(up[-1] - up[0])) > 1e-9 * size:
+        return None
+    c = lo.mean(axis=0)
+    d = np.linalg.svd(lo - c)[2][2]                # the planes' normal
+    h0, h1 = lo @ d, up @ d
+    if np.any(np.abs(h1 - h1[0]) > 1e-9 * size) or np.any(np.abs(h0 - h0[0]) > 1e-9 * size):
+        return None
+    e1 = np.linalg.svd(lo - c)[2][0]
+    e2 = np.cross(d, e1)
+    f = ((np.asarray(X, float) @ d) - h0[0]) / (h1[0] - h0[0])
+    w = np.empty(len(f))
+    chunk = max(1, 2_000_000 // len(lo))
+    for k in range(0, len(f), chunk):
+        Q = lo[None] + f[k:k + chunk, None, None] * (up - lo)[None]      # the polygon at each point's height
+        V = Q - X[k:k + chunk, None, :]
+        x, y = V @ e1, V @ e2
+        x1, y1 = np.roll(x, -1, axis=1), np.roll(y, -1, axis=1)
+        w[k:k + chunk] = np.arctan2(x * y1 - y * x1, x * x1 + y * y1).sum(axis=1)
+    turns = np.rint(w / (2.0 * np.pi)).astype(np.int64)
+    values, counts = np.unique(turns, return_counts=True)
+    return np.where(turns == values[np.argmax(counts)], 1.0, -1.0)
 
 
 def line_points(lower: np.ndarray, upper: np.ndarray, moves: np.ndarray, count: int, along: int = ALONG,
@@ -182,11 +253,13 @@ def wire_cut(target: Target, lower: np.ndarray, upper: np.ndarray, moves: np.nda
     # which side of the swept surface a design point lies on: by the surface's own normal (one orientation for
     # the whole path, turned to the wire's side by the design's normals, by a majority: a design normal alone is
     # not to be trusted at a sharp corner, where the point is on two faces, nor at a cone's apex)
-    nw = swept_normals(lower, upper, mv, sq)
-    nw *= 1.0 if float(np.sum(np.sign(np.einsum("ij,ij->i", nw, N)))) >= 0 else -1.0
-    side = np.einsum("ij,ij->i", q - P, nw)
-    dev_design = np.where(side >= 0, d, -d) - kerf
     moves = np.asarray(moves, np.int64)
+    side = loop_sides(lower, upper, moves, leads, P)
+    if side is None:
+        nw = swept_normals(lower, upper, mv, sq)
+        nw *= 1.0 if float(np.sum(np.sign(np.einsum("ij,ij->i", nw, N)))) >= 0 else -1.0
+        side = np.einsum("ij,ij->i", q - P, nw)
+    dev_design = np.where(side >= 0, d, -d) - kerf
     body = moves[leads[0]:len(moves) - leads[1]] if len(moves) > sum(leads) else moves
     C, cm, F, NF = cut_points(target, lower, upper, body, 3 * n * n)
     dev_cut = np.einsum("ij,ij->i", C - F, NF) - kerf
@@ -212,4 +285,4 @@ def wire_cut(target: Target, lower: np.ndarray, upper: np.ndarray, moves: np.nda
     return out
 
 
-__all__ = ["Target", "swept_nearest", "swept_normals", "line_points", "cut_points", "wire_cut", "ALONG"]
+__all__ = ["Target", "swept_nearest", "loop_sides", "swept_normals", "line_points", "cut_points", "wire_cut", "ALONG"]

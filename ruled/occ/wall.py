@@ -200,11 +200,14 @@ class WallFit:
     area_ratio: Optional[float] = None     # the result's area over the wall faces'
     warnings: tuple = ()
     surface: Optional[Surface] = None      # the closed ruled result (plain arrays)
+    crossed: int = 0                       # corners whose rulings were paired anew across them
+    plain: Optional[tuple] = None          # then (surface, bound) of the result with the corners' own rulings
 
     def report(self) -> dict:
         r = self.surface
         h = self.hausdorff
         return {"faces": list(self.wall.ring.faces), "closed": True, "pieces": len(self.result),
+                "crossed_corners": self.crossed,
                 "corners": [float(self.wall.breaks[k]) for k in self.wall.corners],
                 "method": self.result[0].best.method, "error_bound": self.error_bound,
                 "hausdorff": None if h is None else {"max": h.max, "mean": h.mean, "wall_to_result": h.max_a_to_b,
@@ -239,10 +242,8 @@ def measure_wall(faces, out_face, n: int = 40):
 def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_samples: int = 40) -> WallFit:
     """The wall's one closed ruled surface (ruled.fit.wall.fit.fit_ring on the joined surface), built as one face
     and measured against the wall's faces, both ways."""
-    from ruled.fit.face.verdict import measured_warnings
     from ruled.fit.wall.fit import fit_ring
     from ruled.occ.convert import container_to_face
-    from ruled.occ.io import face_area
     from ruled.occ.trimmed import built_slack, result_face
     ring = fit_ring(wall.surface, wall.breaks, wall.corners, options, wall.size, progress)
     results, surface, bound = ring.results, ring.surface, ring.bound
@@ -252,12 +253,24 @@ def fit_wall(wall: Wall, options, progress=None, measure: bool = True, measure_s
     else:
         out = container_to_face(surface)
     bound += wall.slack
-    if not measure:
-        return WallFit(wall, results, out, bound, None, surface=surface)
-    h = measure_wall(wall.faces, out, measure_samples)
-    ratio = face_area(out, 1e-6) / sum(face_area(f, 1e-6) for f in wall.faces)
-    return WallFit(wall, results, out, bound, h, ratio, measured_warnings(results[0], bound, h.max, wall.size, ratio),
-                   surface=surface)
+    plain = None if ring.plain is None else (ring.plain[0], ring.plain[1] + wall.slack)
+    fit = WallFit(wall, results, out, bound, None, surface=surface, crossed=ring.crossed, plain=plain)
+    return measured(fit, measure_samples) if measure else fit
 
 
-__all__ = ["Ring", "Wall", "WallFit", "ring_of", "find_walls", "joined_surface", "wall_of", "fit_wall", "measure_wall"]
+def measured(fit: WallFit, measure_samples: int = 40) -> WallFit:
+    """The wall's fit with its result measured against the wall's faces (measure_wall), its area ratio and the
+    warnings the measure gives."""
+    from dataclasses import replace as _replace
+
+    from ruled.fit.face.verdict import measured_warnings
+    from ruled.occ.io import face_area
+    wall, face = fit.wall, getattr(fit.face, "wrapped", fit.face)         # (a CadQuery face: its OCCT one)
+    h = measure_wall(wall.faces, face, measure_samples)
+    ratio = face_area(face, 1e-6) / sum(face_area(f, 1e-6) for f in wall.faces)
+    return _replace(fit, hausdorff=h, area_ratio=ratio,
+                    warnings=measured_warnings(fit.result[0], fit.error_bound, h.max, wall.size, ratio))
+
+
+__all__ = ["Ring", "Wall", "WallFit", "ring_of", "find_walls", "joined_surface", "wall_of", "fit_wall", "measured",
+           "measure_wall"]

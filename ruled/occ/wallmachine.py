@@ -67,15 +67,42 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
     if opts.mode == "xyuv" and isinstance(opts.axis, str) and opts.axis == "auto":
         opts = replace(opts, axis=wall_axis(wall))
     opts = opts.checked()
-    R = counter_clockwise(started(fit.surface, start_parameter(wall, fit.surface, start)), wall_axis(wall))
     off, where = wall_side(wall.ring.role, side)
     sign = outside_sign(wall) * off
-    path = machine_path(R, wall.surface, opts, sign, progress, None, fit.error_bound)
+
+    def path_of(surface, bound):
+        R = counter_clockwise(started(surface, start_parameter(wall, surface, start)), wall_axis(wall))
+        return R, machine_path(R, wall.surface, opts, sign, progress, None, bound)
+    R, path = path_of(fit.surface, fit.error_bound)
+    note = None
+    if fit.crossed and fit.plain is not None and (opts.mode == "flank" or opts.kerf > 0):
+        # a corner crossed twists its rulings through the corner's angle: their offset by the kerf or the tool
+        # is not ruled there, and the corners' own rulings can cut the nearer
+        R2, path2 = path_of(*fit.plain)
+        mine, other = _cut_bound(path, fit.error_bound), _cut_bound(path2, fit.plain[1])
+        what = f"the kerf {opts.kerf:g}" if opts.mode == "xyuv" else f"the tool radius {opts.tool_radius:g}"
+        if other < mine:
+            note = (f"the corners' own rulings are cut (fit bound {fit.plain[1]:.6g}), not the rulings paired across "
+                    f"{fit.crossed} corner{'s' if fit.crossed > 1 else ''} (fit bound {fit.error_bound:.6g}): at "
+                    f"{what} the wire's offset of a crossed corner twists with it (cut bound {other:.6g} against "
+                    f"{mine:.6g})")
+            fit = _plain_fit(fit)
+            R, path = R2, path2
+        else:
+            note = (f"the rulings paired across {fit.crossed} corner{'s' if fit.crossed > 1 else ''} are cut (cut "
+                    f"bound {mine:.6g} against {other:.6g} with the corners' own rulings, fit bound "
+                    f"{fit.plain[1]:.6g})")
+    if fit.hausdorff is None and measure_samples:
+        from ruled.occ.wall import measured
+        fit = measured(fit, measure_samples)
     rep: dict = {"fit": {"method": fit.result[0].best.method, "closed": True, "error_bound": fit.error_bound,
                          "notes": []},
                  "machine": path_report(path), "side": where,
                  "wall": {"faces": list(wall.ring.faces), "pieces": len(fit.result), "role": wall.ring.role,
-                          "start": [float(x) for x in R(np.array([R.domain[0]]), np.array([R.domain[2]]))[0]]}}
+                          "start": [float(x) for x in R(np.array([R.domain[0]]), np.array([R.domain[2]]))[0]],
+                          "crossed_corners": fit.crossed}}
+    if note:
+        rep["wall"]["corners_note"] = note
     warns = list(fit.warnings) + list(path.warnings)
     if fit.hausdorff is not None:
         rep["fit"]["measured"] = fit.hausdorff.max
@@ -100,6 +127,24 @@ def machine_of_wall(fit: WallFit, opts, side=None, start: Optional[tuple] = None
             warns.append(said)
     rep["warnings"] = warns
     return FaceMachine(None, R, path, container_to_face(R), rep, sign, warns)
+
+
+def _cut_bound(path, fit_bound: float) -> float:
+    """What a path's cut is certified within: the fit's bound, the chord tolerance and the kerf offset's deviation,
+    the round the wire leaves in inside corners (XYUV); the fit's bound and the tool's offset deviation (flank)."""
+    if path.mode == "xyuv":
+        return fit_bound + path.stats["cut_bound_beyond_fit"] + path.stats["inside_corner_fillet"]
+    return fit_bound + path.offset_deviation + path.chord_tol
+
+
+def _plain_fit(fit: WallFit) -> WallFit:
+    """The wall's fit with the corners' own rulings (WallFit.plain), built as fit_wall builds it (unmeasured)."""
+    from dataclasses import replace
+
+    from ruled.occ.convert import container_to_face
+    surface, bound = fit.plain
+    return replace(fit, face=container_to_face(surface), error_bound=bound, hausdorff=None, area_ratio=None,
+                   warnings=(), surface=surface, crossed=0, plain=None)
 
 
 __all__ = ["machine_of_wall", "start_parameter", "outside_sign", "wall_axis"]

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from dataclasses import replace as _replace
+from typing import Optional
 
 import numpy as np
 
@@ -22,7 +23,8 @@ from ruled.fit.wall.join import elevated_u, end_to_end, remapped
 RING_FLOOR = 1e-6
 # ... nor one whose result or joined surface has more smooth parts than this (degree 1 along the ring: every knot a
 # crease), whose one-way certificates would map each grid cell into a part of a few cells (the measure's limit
-# for its graded corner rulings, the same kind of result)
+# for its graded corner rulings, the same kind of result); a result whose corners were crossed (ruled.fit.wall.
+# corners) has its windows' breaks beside those, certified when the result before the crossing was
 RING_PARTS = CORNER_GRADED_MAX
 
 
@@ -121,6 +123,8 @@ class RingFit:
     surface: Surface
     bound: float
     periodic: bool
+    crossed: int = 0        # corners whose rulings were paired anew across them (ruled.fit.wall.corners)
+    plain: Optional[tuple] = None   # where they were: (surface, bound) of the result with the corners' own rulings
 
 
 def fit_ring(S: Surface, breaks, corners, options, size: float, progress=None) -> RingFit:
@@ -161,19 +165,46 @@ def fit_ring(S: Surface, breaks, corners, options, size: float, progress=None) -
     if bound > RING_FLOOR * size:
         if progress is not None:
             progress("certify the ring", 0.0)
-        bound = min(bound, ring_bound(S, surface))
+        whole = ring_bound(S, surface)
+        bound = min(bound, whole)
+        across, count = _across_corners(S, surface, cuts, spans) if np.isfinite(whole) else (surface, 0)
+        if count:
+            if progress is not None:
+                progress("certify the ring, its corners crossed", 0.5)
+            b2 = ring_bound(S, across, crossed=True)
+            if b2 < bound:
+                return RingFit(results, across, b2, False, count, (surface, bound))
     return RingFit(results, surface, bound, False)
 
 
-def ring_bound(S: Surface, R: Surface) -> float:
+def _across_corners(S: Surface, R: Surface, cuts: list, spans: list):
+    """(surface, count): R with its rulings paired anew across the corners whose corner ruling lies far from the
+    wall (ruled.fit.wall.corners), on R's own domain, and how many; (R, 0) where no corner gains (or R is
+    rational)."""
+    from ruled.fit.wall.corners import cross_corners
+    if R.weights is not None:
+        return R, 0
+    c0, c1 = R.domain[:2]
+    Rn = remapped(clamped_u(R), 0.0, 1.0, *R.domain[2:])
+    corners = [((c - c0) / (c1 - c0)) % 1.0 for c in cuts]
+    lengths = [min(spans[i], spans[i - 1]) / (c1 - c0) for i in range(len(cuts))]
+    got, count = cross_corners(smooth_parts(S, ranges=True), Rn, corners, lengths,
+                               lambda x: np.mod(c0 + (c1 - c0) * x - S.domain[0], S.domain[1] - S.domain[0])
+                               + S.domain[0])
+    return (remapped(got, c0, c1, *R.domain[2:]), count) if count and got is not None else (R, 0)
+
+
+def ring_bound(S: Surface, R: Surface, crossed: bool = False) -> float:
     """The closed result R certified against the wall's joined surface S as a whole, one way at a time
     (ruled.fit.certify.onesided: where a joint bows off its corner line, its points are nearer the result past
-    the corner than the corner ruling the pieces' own certificates send them to), with round-off."""
+    the corner than the corner ruling the pieces' own certificates send them to), with round-off; inf for a
+    polyline wall or result (RING_PARTS; crossed: R is a result whose corners were crossed, its windows' breaks
+    not counted)."""
     from ruled.fit.certify.forward import rounding
     from ruled.fit.certify.onesided import result_to_wall, wall_to_result
     Rn = remapped(clamped_u(R), 0.0, 1.0, *R.domain[2:])
     R_parts, S_parts = smooth_parts(Rn, ranges=True, unit=True), smooth_parts(S, ranges=True)
-    if max(len(R_parts), len(S_parts)) > RING_PARTS:
+    if max(0 if crossed else len(R_parts), len(S_parts)) > RING_PARTS:
         return np.inf       # (a polyline result or wall: a part per span, each a few grid columns)
     return max(wall_to_result(S, Rn, R_parts), result_to_wall(S, S_parts, Rn)) + rounding(S, R)
 
