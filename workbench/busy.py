@@ -99,13 +99,15 @@ class StatusDisplay:
 
 
 def show_panel(panel):
-    """A task panel in FreeCAD's combo view, the view widened (once, as a user drags its edge) so that the
-    panel is whole on first open: its widest row, the buttons and the panel's frame."""
+    """A task panel in FreeCAD's task view (the combo view's on 0.20, its own dock from 1.0 on), the view widened
+    (once, as a user drags its edge) so that the panel is whole on first open: its widest row, the buttons and the
+    panel's frame."""
     FreeCADGui.Control.showDialog(panel)
+    from .qtcompat import horizontal, task_dock
     mw = FreeCADGui.getMainWindow()
-    docks = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName() and d.isVisible()]
-    if docks:
+    dock = task_dock(panel.form, mw)
+    if dock is not None:
         need = panel.form.sizeHint().width() + 60          # (the task box's frame and the dock's margins)
-        if docks[0].width() < need:
-            mw.resizeDocks([docks[0]], [need], QtCore.Qt.Horizontal)
+        if dock.width() < need:
+            mw.resizeDocks([dock], [need], horizontal())
     return panel

@@ -11,6 +11,7 @@ import FreeCAD
 import FreeCADGui
 
 from . import icon
+from .names import is_face, short_name
 
 LAST_MESSAGE = ""        # the last refusal, also in the report view (for scripts and tests)
 
@@ -35,11 +36,11 @@ def selected_face():
     if not sel:
         return None, "nothing is selected: select one face of a part in the 3D view"
     if whole or len(subs) != 1:
-        what = ", ".join([n for _, n in subs] + [o.Label for o in whole])
+        what = ", ".join([short_name(n) for _, n in subs] + [o.Label for o in whole])
         return None, f"select exactly one face (the selection is {what})"
     obj, name = subs[0]
-    if not name.startswith("Face"):
-        return None, f"{name} of {obj.Label} is not a face: select one face"
+    if not is_face(name):
+        return None, f"{short_name(name)} of {obj.Label} is not a face: select one face"
     return obj, name
 
 
@@ -120,11 +121,11 @@ def selected_face_and_sketch():
     (None, what is wrong, None)."""
     sel = FreeCADGui.Selection.getSelectionEx()
     sketches = [s.Object for s in sel if not s.SubElementNames and hasattr(s.Object, "Geometry")]
-    faces = [(s.Object, n) for s in sel for n in (s.SubElementNames or []) if n.startswith("Face")]
-    other = [n for s in sel for n in (s.SubElementNames or []) if not n.startswith("Face")] + \
+    faces = [(s.Object, n) for s in sel for n in (s.SubElementNames or []) if is_face(n)]
+    other = [short_name(n) for s in sel for n in (s.SubElementNames or []) if not is_face(n)] + \
         [s.Object.Label for s in sel if not s.SubElementNames and s.Object not in sketches]
     if len(faces) != 1 or len(sketches) > 1 or other:
-        what = ", ".join([n for _, n in faces] + [k.Label for k in sketches] + other) or "nothing"
+        what = ", ".join([short_name(n) for _, n in faces] + [k.Label for k in sketches] + other) or "nothing"
         return None, f"select one face, and at most one sketch (the selection is {what})", None
     return faces[0][0], faces[0][1], (sketches[0] if sketches else None)
 
@@ -158,7 +159,7 @@ def selected_faces():
         if not s.SubElementNames:
             other.append(s.Object.Label)
         for n in s.SubElementNames:
-            (out if n.startswith("Face") else other).append((s.Object, n) if n.startswith("Face") else n)
+            (out if is_face(n) else other).append((s.Object, n) if is_face(n) else short_name(n))
     if other or not out:
         return None, f"select faces only (the selection has {', '.join(other) or 'no face'})"
     return out, ""

@@ -9,6 +9,7 @@ from PySide import QtGui
 
 from . import state
 from .features import value
+from .names import element, is_edge, short_name
 from .taskpanels import _editor, _length_box, _Panel
 from .units import length
 
@@ -105,13 +106,13 @@ class CurveTaskPanel(_Panel):
         one of the face's own edges alone snaps onto the face (its nearest point)."""
         hits = FreeCADGui.ActiveDocument.ActiveView.getObjectsInfo((int(pos[0]), int(pos[1]))) or []
         mine = [h for h in hits if h.get("Object") == self.source.Name]
-        info = next((h for h in mine if h.get("Component") == self.subname), None)
-        face = self.source.Shape.getElement(self.subname)
+        info = next((h for h in mine if short_name(h.get("Component", "")) == short_name(self.subname)), None)
+        face = element(self.source.Shape, self.subname)
         if info is not None:
             point = FreeCAD.Vector(info["x"], info["y"], info["z"])
         else:
-            edges = [h for h in mine if str(h.get("Component", "")).startswith("Edge")
-                     and any(e.isSame(self.source.Shape.getElement(h["Component"])) for e in face.Edges)]
+            edges = [h for h in mine if is_edge(h.get("Component", ""))
+                     and any(e.isSame(element(self.source.Shape, h["Component"])) for e in face.Edges)]
             if not edges:
                 return False
             import Part

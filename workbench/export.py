@@ -14,6 +14,8 @@ import FreeCAD
 import numpy as np
 import Part
 
+from .names import short_name
+
 # file-dialog filter -> what is written
 FORMATS = {
     "STEP, ruled faces (*.step *.stp)": "step",
@@ -216,7 +218,7 @@ def machine_export(objects, path: str, kind: str, chord_tol=None, kerf: float = 
         fallback = {"followed": "pinned", "pinned_bound": pinned, "trimmed_bound": fit_figures["error_bound"],
                     "trimmed_measured": fit_figures["measured"], "why": str(exc)}
         fit_figures = {"error_bound": pinned, "measured": pinned}
-    title = f"{obj.Label} ({obj.Source[0].Label}.{obj.Source[1][0]})"
+    title = f"{obj.Label} ({obj.Source[0].Label}.{short_name(obj.Source[1][0])})"
     program = write_checked(mp, path, settings, units, side)
     if cam_step:
         _cam_step(R, mp.u, cam_step, result if keep is not None else None)

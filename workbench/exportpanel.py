@@ -15,6 +15,8 @@ import os
 import FreeCAD
 from PySide import QtGui
 
+from .qtcompat import standard_buttons
+
 EXPORT_GROUP = "User parameter:BaseApp/Preferences/Mod/Ruled/Export"
 FIT_GROUP = "User parameter:BaseApp/Preferences/Mod/Ruled/Fit"
 
@@ -381,7 +383,7 @@ class ExportTaskPanel:
         ACTIVE = None
 
     def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+        return standard_buttons("Ok", "Cancel")
 
 
 def wrote_text(path: str, rep) -> str:

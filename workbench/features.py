@@ -21,6 +21,7 @@ import FreeCAD
 
 from . import quiet
 from .measure import measure_into  # noqa: F401  (objects and walls import it from here)
+from .names import element, is_face, short_name
 from .progress import _Progress
 from .state import LISTENERS, RUNNING, request_cancel  # noqa: F401  (the workbench's names for them)
 from .units import length, lengths_in
@@ -32,6 +33,12 @@ LIMITS = ("no limit", "at most Max Error")       # RuledFit's ErrorLimit
 
 # the data behind the view's colours and lines, not figures to read (a list of 0.00 mm): out of the property editor
 HIDDEN = ("Deviation", "RulingLines")
+
+
+# the links to the source faces and objects: global in scope (the source may lie in a part container or a
+# PartDesign body while the result lies at the document's root: a local link there is out of its scope, which
+# FreeCAD 1.0 warns about at every recompute)
+LINK_SUB, LINK = "App::PropertyLinkSubGlobal", "App::PropertyLinkGlobal"
 
 
 def _add(obj, kind, name, group, doc, value=None, readonly=False):
@@ -64,14 +71,14 @@ def source_face(obj):
         raise BadInputError("no source face: select one face of a part and run the command again")
     src, subs = link
     subs = [s for s in (subs or []) if s]
-    if len(subs) != 1 or not subs[0].startswith("Face"):
-        what = ", ".join(subs) if subs else "the whole object"
+    if len(subs) != 1 or not is_face(subs[0]):
+        what = ", ".join(map(short_name, subs)) if subs else "the whole object"
         raise BadInputError(f"the source must be exactly one face, not {what}: select one face of {src.Label}")
     try:
-        return src.Shape.getElement(subs[0])
+        return element(src.Shape, subs[0])
     except Exception:  # Part raises IndexError / OCCError for stale names
-        raise BadInputError(f"{src.Label} has no {subs[0]} any more (its shape changed); pick the face again") \
-            from None
+        raise BadInputError(f"{src.Label} has no {short_name(subs[0])} any more (its shape changed); pick the face "
+                            f"again") from None
 
 
 _KERNELS_SAID = False
@@ -195,7 +202,7 @@ class RuledFit(_Feature):
 
     @staticmethod
     def add_properties(obj):
-        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the face to fit (one face of a part)")
+        _add(obj, LINK_SUB, "Source", "Ruled", "the face to fit (one face of a part)")
         _enum(obj, "Method", FIT_GROUP, "2d: rulings between boundary samples (Elber); 4d: their ends also "
               "lifted along the normal (Wang & Elber), never worse than 2d", ["2d", "4d"], "2d")
         _add(obj, "App::PropertyInteger", "Samples", FIT_GROUP, "samples per boundary", 40)
@@ -317,7 +324,7 @@ class RuledSplit(_Feature):
     @staticmethod
     def add_properties(obj):
         group = "Split"
-        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the face to split (one face of a part)")
+        _add(obj, LINK_SUB, "Source", "Ruled", "the face to split (one face of a part)")
         _add(obj, "App::PropertyInteger", "Samples", group, "P-, Q- and M-columns of the split DP", 30)
         _add(obj, "App::PropertyInteger", "Interior", group, "interior M-rows of the split DP", 10)
         _enum(obj, "Dims", group, "split DP: 4 (nothing elevated), 5 (M-points lifted along the normal), 7 (P, Q "
@@ -427,7 +434,7 @@ def _make(doc, proxy, source, subname: str, properties: dict):
     obj = doc.addObject("Part::FeaturePython", proxy.__name__)
     proxy(obj)
     obj.Source = (source, [subname] if subname else [])
-    obj.Label = LABELS.get(proxy.__name__, "{}").format(subname or f"of {source.Label}")
+    obj.Label = LABELS.get(proxy.__name__, "{}").format(short_name(subname) if subname else f"of {source.Label}")
     for k, v in properties.items():
         setattr(obj, k, v)
     return obj

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .names import element
+
 
 def colour_ramp(t: np.ndarray) -> np.ndarray:
     """0 -> blue, 0.5 -> green, 1 -> red (N, 3)."""
@@ -43,7 +45,7 @@ def exact_bound(obj):
     tol = 0.0
     try:
         src, subs = obj.Source
-        tol = max([e.Tolerance for e in src.Shape.getElement(subs[0]).Edges], default=0.0)
+        tol = max([e.Tolerance for e in element(src.Shape, subs[0]).Edges], default=0.0)
     except Exception:       # (no source face: a wall's, or one gone)
         pass
     return bound if h <= EXACT * obj.Shape.BoundBox.DiagonalLength or bound <= tol else None

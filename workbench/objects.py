@@ -20,6 +20,8 @@ from __future__ import annotations
 import FreeCAD
 
 from .features import (
+    LINK,
+    LINK_SUB,
     RESULT_GROUP,
     _add,
     _enum,
@@ -45,7 +47,7 @@ class RuledPartition(_Feature):
     @staticmethod
     def add_properties(obj):
         group = "Partition"
-        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the face to partition (one face of a part)")
+        _add(obj, LINK_SUB, "Source", "Ruled", "the face to partition (one face of a part)")
         _add(obj, "App::PropertyLength", "Tolerance", group, "every strip's certified bound within this (against the "
              "face as bounded by its edges)", 0.05)
         _add(obj, "App::PropertyInteger", "MaxStrips", group, "refuse beyond this many strips", 16)
@@ -177,7 +179,7 @@ class RuledConeSpline(_Feature):
     @staticmethod
     def add_properties(obj):
         group = "Cone spline"
-        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "a Ruled fit (the whole object), or one ruled face of "
+        _add(obj, LINK_SUB, "Source", "Ruled", "a Ruled fit (the whole object), or one ruled face of "
              "a part")
         _add(obj, "App::PropertyLength", "Tolerance", group, "largest distance of the patches from the ruled surface "
              "(eq. 9)", 0.05)
@@ -280,8 +282,8 @@ class RuledCurveOnFace(_Feature):
     @staticmethod
     def add_properties(obj):
         group = "Curve"
-        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the face the curve lies on (one face of a part)")
-        _add(obj, "App::PropertyLink", "Sketch", group, "a sketch whose edges (x, y) are mapped onto the face's "
+        _add(obj, LINK_SUB, "Source", "Ruled", "the face the curve lies on (one face of a part)")
+        _add(obj, LINK, "Sketch", group, "a sketch whose edges (x, y) are mapped onto the face's "
              "(u, v) (see Mapping); each edge becomes a curve on the face")
         _add(obj, "App::PropertyVectorList", "Points", group, "points on the face (picked in the 3D view): the "
              "curve runs through them (used without a Sketch)")

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import FreeCAD
 
-from .features import RESULT_GROUP, _add, _Feature, value
+from .features import LINK, RESULT_GROUP, _add, _Feature, value
+from .names import element
 
 MARGIN = 1.1      # the edges' largest tolerance: this many times the fit's bound (as ruled.occ.replace)
 
@@ -18,7 +19,7 @@ class RuledReplace(_Feature):
 
     @staticmethod
     def add_properties(obj):
-        _add(obj, "App::PropertyLink", "Fit", "Ruled", "the RuledFit whose result replaces its face in its part")
+        _add(obj, LINK, "Fit", "Ruled", "the RuledFit whose result replaces its face in its part")
         _add(obj, "App::PropertyLength", "EdgeTolerance", RESULT_GROUP, "the largest tolerance of the replaced "
              "face's edges: how far the part's edges there lie from the ruled surface (at most 1.1 x its bound)",
              0.0, True)
@@ -36,7 +37,7 @@ class RuledReplace(_Feature):
         if not fit.isValid() or fit.Shape.isNull() or len(fit.Shape.Faces) != 1:
             raise RuledError(f"{fit.Label} has no result to put back; recompute it first")
         part, subs = fit.Source
-        old = part.Shape.getElement(subs[0])
+        old = element(part.Shape, subs[0])
         tol = max([MARGIN * value(fit.ErrorBound), 1e-7] + [e.Tolerance for e in old.Edges])
         owner = next((s for s in part.Shape.Solids if any(f.isSame(old) for f in s.Faces)), None)
         whole = (owner if owner is not None else part.Shape).copy()      # (the fix below must not touch the source)

@@ -13,7 +13,7 @@ import os
 import FreeCAD
 import numpy as np
 
-from .features import RESULT_GROUP, _add, _enum, _Feature
+from .features import LINK_SUB, RESULT_GROUP, _add, _enum, _Feature
 
 POSTS = ["auto", "linuxcnc", "grbl", "iso-wedm", "apt-sync", "apt"]     # (ruled.machine.posts.SHIPPED)
 
@@ -25,7 +25,7 @@ class RuledReplay(_Feature):
     def add_properties(obj):
         _add(obj, "App::PropertyFile", "File", "Ruled", "the machine file to replay: G-code or APT ('ruled machine' "
              "and Export for machining write them; a file edited by hand too)")
-        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the face, or the faces of a wall, that the file cuts")
+        _add(obj, LINK_SUB, "Source", "Ruled", "the face, or the faces of a wall, that the file cuts")
         _enum(obj, "Post", "Ruled", "the post the file was written for (auto: the one its Ruled comments name, else "
               "guessed from it)", POSTS, "auto")
         _enum(obj, "Side", "Ruled", "the side the wire runs on (file's: as the file says; outside: the faces' "

@@ -13,6 +13,7 @@ from PySide import QtGui
 
 from . import state
 from .features import make_ruled_fit, make_ruled_split, value
+from .qtcompat import standard_buttons
 from .state import LISTENERS
 from .units import length
 
@@ -153,7 +154,7 @@ class _Panel:
         state.set_active(None)
 
     def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+        return standard_buttons("Ok", "Cancel")
 
 
 def _length_box(special: str) -> QtGui.QDoubleSpinBox:

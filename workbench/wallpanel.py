@@ -9,6 +9,8 @@ import FreeCADGui
 from PySide import QtGui
 
 from . import state
+from .names import element, short_name
+from .qtcompat import standard_buttons
 from .taskpanels import _Panel
 from .units import length
 
@@ -79,7 +81,7 @@ class WallRefusal:
         FreeCAD.Console.PrintWarning(f"Ruled: Fit wall: {why}\n")
 
     def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Close)
+        return standard_buttons("Close")
 
     def reject(self):
         global REFUSED
@@ -109,7 +111,7 @@ def wall_refusal(part, subnames: list):
     from .adapter import ring_order
     from .features import in_our_terms
     try:
-        ring_order([part.Shape.getElement(s) for s in subnames], list(subnames))
+        ring_order([element(part.Shape, s) for s in subnames], [short_name(s) for s in subnames])
     except BadInputError as exc:
         return in_our_terms(exc)
     return None

@@ -9,6 +9,7 @@ from __future__ import annotations
 import FreeCAD
 
 from .features import (
+    LINK_SUB,
     RESULT_GROUP,
     _add,
     _enum,
@@ -20,6 +21,7 @@ from .features import (
     ruling_lines,
     say_kernels,
 )
+from .names import element, is_face, short_name
 
 
 def wall_source(obj) -> tuple:
@@ -31,15 +33,15 @@ def wall_source(obj) -> tuple:
                             "contours) and run Fit wall again")
     src, subs = link
     subs = list(dict.fromkeys(s for s in (subs or []) if s))
-    bad = [s for s in subs if not s.startswith("Face")]
+    bad = [short_name(s) for s in subs if not is_face(s)]
     if bad or not subs:
         raise BadInputError(f"a wall is made of faces, not {', '.join(bad) or 'the whole object'}: select the faces "
                             f"of {src.Label}'s wall")
     try:
-        return [src.Shape.getElement(s) for s in subs], subs
+        return [element(src.Shape, s) for s in subs], [short_name(s) for s in subs]
     except Exception:  # Part raises IndexError / OCCError for stale names
-        raise BadInputError(f"{src.Label} does not have all of {', '.join(subs)} any more (its shape changed); "
-                            f"select the wall's faces again") from None
+        raise BadInputError(f"{src.Label} does not have all of {', '.join(map(short_name, subs))} any more (its shape "
+                            f"changed); select the wall's faces again") from None
 
 
 class RuledWall(_Feature):
@@ -48,7 +50,7 @@ class RuledWall(_Feature):
     @staticmethod
     def add_properties(obj):
         group = "Wall"
-        _add(obj, "App::PropertyLinkSub", "Source", "Ruled", "the wall's faces (of one part): a ring of faces "
+        _add(obj, LINK_SUB, "Source", "Ruled", "the wall's faces (of one part): a ring of faces "
              "between the part's bottom and top contours")
         _enum(obj, "Method", group, "2d: rulings between the contours' samples (Elber); 4d: their ends also lifted "
               "along the normal (Wang & Elber)", ["2d", "4d"], "2d")

@@ -20,10 +20,9 @@ res = Results()
 def panel_width(mw, panel):
     """[the panel's whole width (its size hint and the task box's frame), the combo view's width]."""
     import FreeCADGui
-    from PySide import QtGui
+    from guitools import task_width
     FreeCADGui.updateGui()
-    combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
-    return [panel.form.sizeHint().width() + 40, combo[0].width() if combo else None]
+    return [panel.form.sizeHint().width() + 40, task_width(panel)]
 
 
 def shoot(name, obj=None):

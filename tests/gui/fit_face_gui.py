@@ -6,7 +6,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_preview, part_document, run_and_exit, toolbar_run  # noqa: E402
+from guitools import Results, click_preview, part_document, run_and_exit, task_width, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
@@ -61,8 +61,7 @@ def extra_checks(doc, imp, obj, res):
     sel.addSelection(imp, "Face7")
     res.setdefault("toolbar", []).append(toolbar_run("Ruled_Fit"))
     p2 = state.ACTIVE
-    combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
-    res["panel_width"] = [p2.form.sizeHint().width() + 40, combo[0].width() if combo else None]
+    res["panel_width"] = [p2.form.sizeHint().width() + 40, task_width(p2)]
     p2.method.setCurrentIndex(p2.method.findText("2d"))
     res["4d_disabled_in_2d"] = not p2.elevations.isEnabled() and not p2.step.isEnabled()
     p2.method.setCurrentIndex(p2.method.findText("4d"))
@@ -84,7 +83,8 @@ def extra_checks(doc, imp, obj, res):
     # application): meanwhile the window takes clicks (the combo view's Model tab, the tree, the 3D view),
     # each seen within a poll of 10 ms on a Qt timer (which runs only while the window processes events);
     # then Cancel (and, the second time, Esc) closes the panel, the document as it was
-    from guitools import click, combo_tab, key, task_button, tree_item, widgets
+    from guitools import click, combo_tab, key, task_button, tree_item
+    from guitools import view3d as viewer
     from ruled_workbench import viewproviders
     FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
     FreeCADGui.ActiveDocument.ActiveView.fitAll()
@@ -120,7 +120,7 @@ def extra_checks(doc, imp, obj, res):
             until("tree", lambda: [o.Name for o in sel.getSelection()] == ["Impeller"], t0)
 
         def view3d(live=live):
-            vp = widgets("SIM::Coin3D::Quarter::QuarterWidget")[0].viewport()
+            vp = viewer().viewport()
             view = FreeCADGui.ActiveDocument.ActiveView
             x, y = view.getPointOnScreen(imp.Shape.BoundBox.Center)      # the impeller there selects a face
             w, h = view.getSize()

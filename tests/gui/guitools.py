@@ -168,6 +168,24 @@ def widgets(class_name: str) -> list:
             if w.metaObject().className() == class_name and w.isVisible()]
 
 
+def view3d():
+    """The 3D view's viewer widget (Coin's Quarter widget: its own class on 0.20, Gui::View3DInventorViewer, a
+    subclass of it, on 1.0)."""
+    import FreeCADGui
+    from PySide import QtGui
+    return [w for w in FreeCADGui.getMainWindow().findChildren(QtGui.QWidget)
+            if w.inherits("SIM::Coin3D::Quarter::QuarterWidget") and w.isVisible()][0]
+
+
+def task_width(panel):
+    """The width of the dock a task panel is shown in (the combo view's on 0.20, the task view's own from 1.0 on),
+    or None."""
+    import FreeCADGui
+    from ruled_workbench.qtcompat import task_dock
+    dock = task_dock(panel.form, FreeCADGui.getMainWindow())
+    return dock.width() if dock is not None else None
+
+
 def combo_tab(label: str):
     """(the combo view's tab bar, the position of its tab named label)."""
     import FreeCADGui
@@ -218,11 +236,9 @@ def click_view(view, xy) -> None:
     """A real mouse click (QTest: move, press, release) on the 3D view's viewport at xy, in Coin's pixels from the
     lower left (as view.getPointOnScreen gives them; the viewport's Qt pixels may be fewer)."""
     import FreeCADGui
-    from PySide2 import QtCore, QtWidgets
+    from PySide2 import QtCore
     from PySide2.QtTest import QTest
-    quarter = [w for w in FreeCADGui.getMainWindow().findChildren(QtWidgets.QWidget)
-               if w.metaObject().className().endswith("QuarterWidget") and w.isVisible()][0]
-    port = quarter.viewport()
+    port = view3d().viewport()
     width, height = view.getSize()
     pos = QtCore.QPoint(round(xy[0] * port.width() / width), round((height - xy[1]) * port.height() / height))
     QTest.mouseMove(port, pos)

@@ -7,7 +7,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_greyed, grab_window, part_document, run_and_exit, shortcut, toolbar_run  # noqa: E402
+from guitools import Results, click_greyed, grab_window, part_document, run_and_exit, shortcut, task_width, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 res = Results()
@@ -95,9 +95,8 @@ def main():
             for _ in range(10):
                 FreeCADGui.updateGui()
             panel = module.ACTIVE
-            combo = [d for d in mw.findChildren(QtGui.QDockWidget) if "Combo" in d.objectName()]
             shot = grab_window(os.path.join(OUT, f"ruled_{name}_panel_{width}x{height}.png"))
-            size["panels"][name] = [panel.form.sizeHint().width() + 40, combo[0].width(), shot]
+            size["panels"][name] = [panel.form.sizeHint().width() + 40, task_width(panel), shot]
             panel.reject()
         sel.clearSelection()
         res["sizes"].append(size)

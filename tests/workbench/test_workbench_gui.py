@@ -5,11 +5,10 @@ message, and a screenshot of the coloured result with its rulings in artifacts/g
 import json
 import os
 import re
-import shutil
 import subprocess
 
 import pytest
-from conftest import ROOT, data_file
+from conftest import ROOT, data_file, freecad_command, freecad_has
 
 pytestmark = [pytest.mark.freecad, pytest.mark.gui]
 
@@ -20,7 +19,8 @@ OUT = os.path.join(ROOT, "artifacts", "gui")
 def run_gui(script: str, home, screen: str = "1280x1024", **env_more):
     """Run a script of tests/gui in FreeCAD's GUI under Xvfb, the repository linked into the user Mod
     folder of home (the README's install); asserts it exited 0."""
-    if shutil.which("freecad") is None or shutil.which("xvfb-run") is None:
+    cmd = freecad_command("xvfb-run", "freecad")
+    if cmd is None:
         pytest.skip("the FreeCAD GUI or xvfb-run is not installed (apt-get install -y freecad xvfb)")
     if not (home / "Mod" / "Ruled").exists():
         (home / "Mod").mkdir(parents=True, exist_ok=True)
@@ -30,7 +30,7 @@ def run_gui(script: str, home, screen: str = "1280x1024", **env_more):
            "RULED_STEP": data_file("kj66_impeller.step"), "RULED_GUI_OUT": OUT,
            "RULED_GUI_LIB": os.path.join(ROOT, "tests", "gui"), **env_more}
     env.pop("QT_QPA_PLATFORM", None)
-    run = subprocess.run(["xvfb-run", "-a", "-s", f"-screen 0 {screen}x24", "freecad",
+    run = subprocess.run([*cmd, "-a", "-s", f"-screen 0 {screen}x24", "freecad",
                           os.path.join(ROOT, "tests", "gui", script)],
                          capture_output=True, text=True, timeout=900, env=env)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
@@ -62,8 +62,7 @@ def test_the_workbench_in_the_gui(tmp_path):
 
 def needs_qttest():
     """Skip without PySide2's QtTest in FreeCAD's Python (the real clicks and key presses)."""
-    import glob
-    if not glob.glob("/usr/lib/python3/dist-packages/PySide2/QtTest*.so"):
+    if not freecad_has("/usr/lib/python3/dist-packages/PySide2/QtTest*.so"):
         pytest.skip("PySide2's QtTest is not installed for FreeCAD's Python (apt-get install -y "
                     "python3-pyside2.qttest; .ci/run installs it)")
 
