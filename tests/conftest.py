@@ -174,10 +174,10 @@ def run_freecadcmd(script: str, tmp_path, timeout: int = 600, env: dict = None):
     return run
 
 
-def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None):
+def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None, with_run: bool = False):
     """Run body (statements, at no indent, that fill a dict `out`) in freecadcmd with the workbench loaded;
     the wrapper writes `out` as JSON and exits with the script's outcome (freecadcmd itself exits 0 even
-    when a script raises).  Returns `out`."""
+    when a script raises).  Returns `out` (with_run: and the finished process, its output)."""
     import json
     import textwrap
     path = tmp_path / "freecad_out.json"
@@ -185,8 +185,9 @@ def freecad_json(body: str, tmp_path, timeout: int = 600, env: dict = None):
               + textwrap.indent(body.strip(), "    ")
               + f"\n    json.dump(out, open({str(path)!r}, 'w'))\n    code = 0\nexcept Exception:\n"
               "    import traceback; traceback.print_exc()\nsys.stdout.flush(); sys.stderr.flush()\nos._exit(code)\n")
-    run_freecadcmd(script, tmp_path, timeout, env)
-    return json.loads(path.read_text())
+    run = run_freecadcmd(script, tmp_path, timeout, env)
+    out = json.loads(path.read_text())
+    return (out, run) if with_run else out
 
 
 # How the suite shares the two cores (``-n auto``, pyproject.toml; the scheduler below):

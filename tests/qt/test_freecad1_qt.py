@@ -100,3 +100,32 @@ def test_a_mapped_sub_element_name_reads_as_its_indexed_name(sub, short, face):
     finally:
         sys.path.remove(str(ROOT))
     assert short_name(sub) == short and is_face(sub) == face
+
+
+def test_a_face_selected_by_its_mapped_name_is_a_face_to_the_commands(monkeypatch):
+    """FreeCAD 1.0's selection of a PartDesign body's face (its mapped name): the commands' selection checks take
+    it as the face it is and keep the name FreeCAD gave (a stand-in FreeCAD and FreeCADGui: the checks are plain
+    Python over the selection)."""
+    class Obj:
+        Label = "Fillet"
+
+    class Sel:
+        def __init__(self, names):
+            self.Object, self.SubElementNames = Obj(), names
+    picked = []
+    gui = types.ModuleType("FreeCADGui")
+    gui.Selection = types.SimpleNamespace(getSelectionEx=lambda *a: picked)
+    monkeypatch.setitem(sys.modules, "FreeCAD", types.ModuleType("FreeCAD"))
+    monkeypatch.setitem(sys.modules, "FreeCADGui", gui)
+    monkeypatch.syspath_prepend(str(ROOT))
+    monkeypatch.delitem(sys.modules, "workbench.commands", raising=False)
+    commands = importlib.import_module("workbench.commands")
+    mapped = ";#1a:2;:G;FLT;:H1054:7,F.Face3"
+    picked[:] = [Sel([mapped])]
+    obj, name = commands.selected_face()
+    assert obj is picked[0].Object and name == mapped
+    assert commands.selected_faces()[0] == [(picked[0].Object, mapped)]
+    assert commands.selected_face_and_sketch()[1] == mapped
+    picked[:] = [Sel([";#7:1;:G0;XTR;:H4d1:8,E.Edge3"])]
+    assert commands.selected_face() == (None, "Edge3 of Fillet is not a face: select one face")
+    sys.modules.pop("workbench.commands", None)
