@@ -9,7 +9,7 @@ import os
 import sys
 
 sys.path.insert(0, os.environ["RULED_GUI_LIB"])
-from guitools import Results, click_view, part_document, run_and_exit, shortcut, toolbar_run  # noqa: E402
+from guitools import Results, click_view, part_document, run_and_exit, settle, shortcut, toolbar_run  # noqa: E402
 
 OUT = os.environ["RULED_GUI_OUT"]
 PHASE = os.environ.get("RULED_GUI_PHASE", "main")
@@ -69,6 +69,7 @@ def face_on(view, face):
     u0, u1, v0, v1 = face.ParameterRange
     n = face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))
     view.setViewDirection((-n.x, -n.y, -n.z))
+    settle()
 
 
 def main():
@@ -265,7 +266,7 @@ def main():
     mid = face7.valueAt(0.5 * (fu0 + fu1), 0.5 * (fv0 + fv1))
     du = face7.Surface.getDN(0.5 * (fu0 + fu1), 0.5 * (fv0 + fv1), 1, 0)
     view.setViewDirection((du.x, du.y, du.z))
-    FreeCADGui.updateGui()
+    settle()
     n = len(k2.points)
     sel.clearSelection()
     click_view(view, view.getPointOnScreen(mid))

@@ -51,6 +51,9 @@ def part_document(doc_name: str, part_name: str = "Impeller", step_env: str = "R
     import FreeCAD
     import FreeCADGui
     import Part
+    # no camera animations (FreeCAD 1.0 animates a change of view direction: a click right after one can land on
+    # the scene half turned)
+    FreeCAD.ParamGet("User parameter:BaseApp/Preferences/View").SetBool("UseNavigationAnimations", False)
     FreeCADGui.activateWorkbench("RuledWorkbench")
     doc = FreeCAD.newDocument(doc_name)
     part = doc.addObject("Part::Feature", part_name)
@@ -166,6 +169,16 @@ def widgets(class_name: str) -> list:
     from PySide import QtGui
     return [w for w in FreeCADGui.getMainWindow().findChildren(QtGui.QWidget)
             if w.metaObject().className() == class_name and w.isVisible()]
+
+
+def settle(rounds: int = 10) -> None:
+    """Let the GUI finish what a view change started (events, redraws), a few 20 ms rounds."""
+    import time
+
+    import FreeCADGui
+    for _ in range(rounds):
+        FreeCADGui.updateGui()
+        time.sleep(0.02)
 
 
 def view3d():
