@@ -164,12 +164,12 @@ def loop_sides(lower: np.ndarray, upper: np.ndarray, moves: np.ndarray, leads: t
     size = float(np.linalg.norm(np.ptp(np.concatenate([lo, up]), axis=0)))
     if max(np.linalg.norm(lo[-1] - lo[0]), np.linalg.norm(up[-1] - up[0])) > 1e-9 * size:
         return None
-    c = lo.mean(axis=0)
-    d = np.linalg.svd(lo - c)[2][2]                # the planes' normal
+    frame = np.linalg.svd(lo - lo.mean(axis=0))[2]
+    d = frame[2]                                   # the planes' normal
     h0, h1 = lo @ d, up @ d
     if np.any(np.abs(h1 - h1[0]) > 1e-9 * size) or np.any(np.abs(h0 - h0[0]) > 1e-9 * size):
         return None
-    e1 = np.linalg.svd(lo - c)[2][0]
+    e1 = frame[0]
     e2 = np.cross(d, e1)
     f = ((np.asarray(X, float) @ d) - h0[0]) / (h1[0] - h0[0])
     w = np.empty(len(f))
